@@ -1,0 +1,172 @@
+"""Compiler-style diagnostics: ``file:line:col: error: message`` with an optional hint.
+
+Every problem found in user input (choreographies, world files) is a :class:`Diagnostic`.
+Positions are 1-based; ``col`` counts characters (a tab is one column). ``end_col`` marks the
+end (exclusive) of the offending text for the caret line under the source snippet.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+__all__ = [
+    "Diagnostic",
+    "DiagnosticError",
+    "Severity",
+    "format_diagnostics",
+    "has_errors",
+    "read_source_file",
+    "read_text_source",
+]
+
+MAX_INPUT_BYTES = 2 * 1024 * 1024
+"""Text inputs larger than this are refused (a choreography of 2 MiB is ~200,000 lines)."""
+
+MAX_REPORTED = 100
+"""At most this many diagnostics are printed; the rest are counted."""
+
+
+class Severity(enum.Enum):
+    ERROR = "error"
+    WARNING = "warning"
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    """One problem at a position of a text input."""
+
+    path: str
+    line: int
+    col: int
+    severity: Severity
+    message: str
+    hint: str | None = None
+    end_col: int | None = None
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity is Severity.ERROR
+
+    def headline(self) -> str:
+        """The one-line form ``path:line:col: severity: message`` (``path: ...`` if line is 0)."""
+        where = f"{self.path}:{self.line}:{self.col}" if self.line > 0 else self.path
+        return f"{where}: {self.severity.value}: {self.message}"
+
+    def format(self, source_lines: Sequence[str] | None = None) -> str:
+        """Headline, the source line with a caret under the problem (if given), and the hint."""
+        parts = [self.headline()]
+        if source_lines is not None and 1 <= self.line <= len(source_lines):
+            text = _printable(source_lines[self.line - 1])
+            if text.strip():
+                gutter = f"{self.line:>5} | "
+                parts.append(gutter + text)
+                width = max(1, (self.end_col or self.col + 1) - self.col)
+                width = min(width, max(1, len(text) - self.col + 1))
+                parts.append(" " * (len(gutter) - 2) + "| " + " " * (self.col - 1) + "^" * width)
+        if self.hint:
+            parts.append(f"  hint: {self.hint}")
+        return "\n".join(parts)
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "path": self.path,
+            "line": self.line,
+            "col": self.col,
+            "severity": self.severity.value,
+            "message": self.message,
+            "hint": self.hint,
+        }
+
+
+class DiagnosticError(Exception):
+    """Raised by loaders when an input is invalid; carries all its diagnostics."""
+
+    def __init__(self, diagnostics: Sequence[Diagnostic]) -> None:
+        self.diagnostics = tuple(diagnostics)
+        super().__init__("\n".join(d.headline() for d in self.diagnostics))
+
+
+def has_errors(diagnostics: Iterable[Diagnostic]) -> bool:
+    return any(d.is_error for d in diagnostics)
+
+
+def format_diagnostics(
+    diagnostics: Sequence[Diagnostic], sources: dict[str, Sequence[str]] | None = None
+) -> str:
+    """All diagnostics sorted by position, at most :data:`MAX_REPORTED`, then a count line."""
+    ordered = sorted(diagnostics, key=lambda d: (d.path, d.line, d.col, d.severity.value))
+    shown = ordered[:MAX_REPORTED]
+    blocks = [d.format((sources or {}).get(d.path)) for d in shown]
+    hidden = len(ordered) - len(shown)
+    if hidden:
+        blocks.append(f"... and {hidden} more diagnostics not shown")
+    errors = sum(d.is_error for d in ordered)
+    warnings = len(ordered) - errors
+    if ordered:
+        blocks.append(f"{_plural(errors, 'error')}, {_plural(warnings, 'warning')}")
+    return "\n".join(blocks)
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def _printable(text: str) -> str:
+    """The line with control characters escaped so that a terminal shows it safely."""
+    if text.isprintable():
+        return text
+    return "".join(ch if ch.isprintable() or ch == " " else "?" for ch in text)
+
+
+def read_text_source(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
+    """Decode UTF-8 input (an optional BOM is dropped); a decoding failure is a diagnostic.
+
+    Returns (text, []) or (None, [diagnostic at the first invalid byte]).
+    """
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    try:
+        return data.decode("utf-8"), []
+    except UnicodeDecodeError as exc:
+        before = data[: exc.start]
+        line = before.count(b"\n") + 1
+        line_start = before.rfind(b"\n") + 1
+        col = len(before[line_start:].decode("utf-8", errors="replace")) + 1
+        bad = data[exc.start : exc.end].hex(" ")
+        return None, [
+            Diagnostic(
+                path,
+                line,
+                col,
+                Severity.ERROR,
+                f"the file is not valid UTF-8 text (byte {bad} at byte offset {exc.start})",
+                hint="save the file as UTF-8 text; binary files cannot be read",
+            )
+        ]
+
+
+def read_source_file(path: str) -> tuple[str | None, list[Diagnostic]]:
+    """Read and decode a text input file; every failure is a diagnostic, never an exception."""
+
+    def fail(message: str, hint: str | None = None) -> tuple[None, list[Diagnostic]]:
+        return None, [Diagnostic(path, 0, 0, Severity.ERROR, message, hint)]
+
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(MAX_INPUT_BYTES + 1)
+    except FileNotFoundError:
+        return fail("no such file", "check the path; `dancebots demo` prints an example")
+    except IsADirectoryError:
+        return fail("is a directory, not a file", "give the path of a file inside it")
+    except PermissionError:
+        return fail("permission denied", "make the file readable")
+    except OSError as exc:
+        return fail(f"cannot read the file: {exc.strerror or exc}")
+    if len(data) > MAX_INPUT_BYTES:
+        return fail(
+            f"the file is larger than {MAX_INPUT_BYTES // (1024 * 1024)} MiB",
+            "split the show into smaller files; is this the right file?",
+        )
+    return read_text_source(path, data)

@@ -1,0 +1,101 @@
+"""Poses, transforms and angle helpers (REP 103: x forward, y left, angles CCW).
+
+All functions are pure. Scalar helpers take and return floats; the vectorised helpers take
+NumPy arrays whose shapes are given in their docstrings.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "Pose",
+    "footprint_corners",
+    "integrate_unicycle",
+    "wrap_angle",
+    "wrap_angles",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+def wrap_angle(angle: float) -> float:
+    """Wrap an angle in rad to (-pi, pi]."""
+    wrapped = math.remainder(angle, math.tau)
+    return math.pi if wrapped == -math.pi else wrapped
+
+
+def wrap_angles(angles: FloatArray) -> FloatArray:
+    """Vectorised :func:`wrap_angle`; any shape, rad -> (-pi, pi]."""
+    wrapped = np.remainder(angles + np.pi, 2.0 * np.pi) - np.pi
+    return np.where(wrapped == -np.pi, np.pi, wrapped)
+
+
+@dataclass(frozen=True, slots=True)
+class Pose:
+    """A planar pose: position (x, y) in m and heading theta in rad, in a named frame."""
+
+    x: float
+    y: float
+    theta: float
+
+    def compose(self, other: Pose) -> Pose:
+        """This pose followed by ``other`` expressed in this pose's frame (``self ⊕ other``)."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return Pose(
+            self.x + c * other.x - s * other.y,
+            self.y + s * other.x + c * other.y,
+            wrap_angle(self.theta + other.theta),
+        )
+
+    def inverse(self) -> Pose:
+        """The pose ``p`` with ``self.compose(p)`` the identity."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return Pose(-c * self.x - s * self.y, s * self.x - c * self.y, wrap_angle(-self.theta))
+
+    def to_local(self, x: float, y: float) -> tuple[float, float]:
+        """Express the world point (x, y) in this pose's frame."""
+        dx, dy = x - self.x, y - self.y
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return c * dx + s * dy, -s * dx + c * dy
+
+    def to_world(self, x: float, y: float) -> tuple[float, float]:
+        """Express the point (x, y) of this pose's frame in the parent frame."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
+        return self.x + c * x - s * y, self.y + s * x + c * y
+
+
+def integrate_unicycle(
+    x: FloatArray, y: FloatArray, theta: FloatArray, v: FloatArray, w: FloatArray, dt: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Exact unicycle motion for constant (v, w) over dt; all arrays broadcast together.
+
+    Straight line for w == 0, circular arc of radius v / w otherwise. Units m, rad, m/s, rad/s, s.
+    Returns (x, y, theta) with theta not wrapped (callers wrap when they need to).
+    """
+    dtheta = w * dt
+    # sin(a + d) - sin(a) = 2 cos(a + d/2) sin(d/2); the sinc form is exact and stable for w -> 0.
+    half = 0.5 * dtheta
+    chord = v * dt * np.sinc(half / np.pi)  # v dt sin(half) / half
+    mid = theta + half
+    return x + chord * np.cos(mid), y + chord * np.sin(mid), theta + dtheta
+
+
+def footprint_corners(
+    x: FloatArray, y: FloatArray, theta: FloatArray, length: float, width: float
+) -> FloatArray:
+    """Corners of rectangular footprints centred on (x, y) with heading theta.
+
+    Inputs have one shape S; returns shape S + (4, 2), corners counter-clockwise starting at
+    the front left. length along the heading, width across it, both in m.
+    """
+    half_l, half_w = 0.5 * length, 0.5 * width
+    local = np.array([[half_l, half_w], [-half_l, half_w], [-half_l, -half_w], [half_l, -half_w]])
+    c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
+    cx = x[..., None] + c * local[:, 0] - s * local[:, 1]
+    cy = y[..., None] + s * local[:, 0] + c * local[:, 1]
+    return np.stack([cx, cy], axis=-1)
