@@ -1,0 +1,458 @@
+"""Scenario -> Plan: where every virtual leader and every robot should be at any show time.
+
+The plan is a pure function of the scenario and :class:`PlanParameters` (thesis ch. 4.2: every
+robot computes the same virtual leader from the same scenario). The virtual leader is integrated
+with a fixed step by exact unicycle arcs, in Python floats, in file order, so every robot that
+runs the same code on the same scenario computes bit-identical numbers.
+
+Show time ``t`` is in s from the agreed start. Poses are (x, y, theta) in the *show frame*: the
+frame of the first virtual leader at t = 0 (x forward, y left).
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from dancebots.diagnostics import Diagnostic, Severity
+from dancebots.geometry import Pose, integrate_unicycle, wrap_angle
+from dancebots.plan.formation import DEFAULT_LEAD, formation_offsets
+from dancebots.plan.leader import (
+    MIN_LINEAR,
+    arc_angular_speed,
+    arc_command,
+    waypoint_command,
+)
+from dancebots.scenario.model import Circle, Formation, Move, Scenario, Span
+
+__all__ = [
+    "InstructionTiming",
+    "LeaderTrajectory",
+    "Plan",
+    "PlanParameters",
+    "PlannedFormation",
+    "build_plan",
+    "desired_pose",
+    "virtual_leader_pose",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class PlanParameters:
+    """Parameters of the plan. Defaults follow the thesis where it gives values.
+
+    vmax: maximal speed of the slowest robot, m/s; the leader moves at 0.7 vmax (ch. 4.1).
+    step: fixed integration step of the virtual leader, s.
+    waypoint_tolerance: a move's waypoint counts as reached within this distance, m.
+    lead: the virtual leader's distance ahead of the first row, m (ch. 6).
+    new_vl_hold: after newVL the robots stop and the new leader waits this long, s.
+    max_duration: longest show that is planned, s (a guard against absurd inputs).
+    """
+
+    vmax: float = 0.5
+    step: float = 0.05
+    waypoint_tolerance: float = 0.1
+    lead: float = DEFAULT_LEAD
+    new_vl_hold: float = 1.0
+    max_duration: float = 24 * 3600.0
+
+
+@dataclass(frozen=True, slots=True)
+class InstructionTiming:
+    """When a formation's virtual leader executed one instruction: [start, end) in show time."""
+
+    span: Span
+    start: float
+    end: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class LeaderTrajectory:
+    """A virtual leader's motion sampled at the plan step.
+
+    times: (N,) s, increasing. poses: (N, 3) x, y, theta in the show frame. commands: (N, 2)
+    linear m/s and angular rad/s, held from times[k] to times[k + 1]; the last row is zero and
+    the leader stands still after the last sample.
+    """
+
+    times: FloatArray
+    poses: FloatArray
+    commands: FloatArray
+
+    def poses_at(self, t: FloatArray) -> FloatArray:
+        """Poses (T, 3) at show times t (T,): exact unicycle motion from the previous sample.
+
+        Before the first sample the leader is at its first pose.
+        """
+        t = np.asarray(t, dtype=float)
+        k = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 1)
+        dt = np.maximum(t - self.times[k], 0.0)
+        x, y, theta = integrate_unicycle(self.poses[k, 0], self.poses[k, 1], self.poses[k, 2],
+                                         self.commands[k, 0], self.commands[k, 1], dt)
+        return np.stack([x, y, np.remainder(theta + np.pi, 2 * np.pi) - np.pi], axis=-1)
+
+    def commands_at(self, t: FloatArray) -> FloatArray:
+        """Commands (T, 2) in effect at show times t (T,)."""
+        k = np.searchsorted(self.times, np.asarray(t, dtype=float), side="right") - 1
+        inside = k >= 0
+        result = np.zeros((len(k), 2))
+        result[inside] = self.commands[k[inside]]
+        return result
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class PlannedFormation:
+    """One formation over time: its robots, their offsets and its virtual leader.
+
+    Robots follow it from ``start``; its leader runs its instructions until ``end`` and then
+    stands still. ``offsets`` are (x, y) in m in the leader's frame. ``waypoints`` (M, 3) are
+    the ideal poses of the scenario path (thesis fig. 6.1 left), for drawing.
+    """
+
+    index: int
+    robots: tuple[str, ...]
+    group: str | None
+    offsets: Mapping[str, tuple[float, float]]
+    start: float
+    end: float
+    leader: LeaderTrajectory
+    waypoints: FloatArray
+    timings: tuple[InstructionTiming, ...]
+    span: Span
+    new_vl: bool
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Plan:
+    """The compiled choreography: formations over time and each robot's assignments.
+
+    ``assignments[robot]`` lists (from show time, formation index), in time order.
+    """
+
+    scenario: Scenario
+    parameters: PlanParameters
+    formations: tuple[PlannedFormation, ...]
+    assignments: Mapping[str, tuple[tuple[float, int], ...]]
+    duration: float
+    diagnostics: tuple[Diagnostic, ...] = field(default=())
+
+    @property
+    def robots(self) -> tuple[str, ...]:
+        return self.scenario.robots
+
+    def formation_of(self, robot: str, show_time: float) -> PlannedFormation:
+        """The formation ``robot`` follows at ``show_time``."""
+        entries = self.assignments[robot]
+        k = bisect.bisect_right([start for start, _ in entries], show_time) - 1
+        return self.formations[entries[max(k, 0)][1]]
+
+    def formation_indices(self, robot: str, times: FloatArray) -> NDArray[np.int64]:
+        """Index of the formation ``robot`` follows at each of the times (T,)."""
+        entries = self.assignments[robot]
+        starts = np.array([start for start, _ in entries])
+        indices = np.array([index for _, index in entries])
+        k = np.clip(np.searchsorted(starts, times, side="right") - 1, 0, len(entries) - 1)
+        return indices[k]
+
+    def desired_poses(self, robot: str, times: FloatArray) -> FloatArray:
+        """Desired poses (T, 3) of ``robot`` at show times (T,): its leader's pose composed
+        with its offset, heading that of the leader (thesis ch. 4.2)."""
+        times = np.asarray(times, dtype=float)
+        result = np.empty((len(times), 3))
+        which = self.formation_indices(robot, times)
+        for index in np.unique(which):
+            mask = which == index
+            formation = self.formations[index]
+            leader = formation.leader.poses_at(times[mask])
+            ox, oy = formation.offsets[robot]
+            c, s = np.cos(leader[:, 2]), np.sin(leader[:, 2])
+            result[mask, 0] = leader[:, 0] + c * ox - s * oy
+            result[mask, 1] = leader[:, 1] + s * ox + c * oy
+            result[mask, 2] = leader[:, 2]
+        return result
+
+
+def virtual_leader_pose(plan: Plan, robot_or_group: str, show_time: float) -> Pose:
+    """The pose of the virtual leader that a robot (or all robots of a group) follows."""
+    if robot_or_group in plan.assignments:
+        robot = robot_or_group
+    else:
+        members = plan.scenario.group_robots(robot_or_group)
+        robot = members[0]
+        indices = {plan.formation_of(r, show_time).index for r in members}
+        if len(indices) > 1:
+            raise ValueError(f"the robots of group {robot_or_group!r} follow different virtual "
+                             f"leaders at t = {show_time:g} s")
+    formation = plan.formation_of(robot, show_time)
+    x, y, theta = formation.leader.poses_at(np.array([show_time]))[0]
+    return Pose(float(x), float(y), float(theta))
+
+
+def desired_pose(plan: Plan, robot: str, show_time: float) -> Pose:
+    """The desired pose of ``robot`` at ``show_time`` in the show frame."""
+    x, y, theta = plan.desired_poses(robot, np.array([show_time]))[0]
+    return Pose(float(x), float(y), float(theta))
+
+
+# --- building --------------------------------------------------------------------------------
+
+@dataclass
+class _LeaderState:
+    pose: Pose  # where the leader is
+    ideal: Pose  # where the scenario says it should be (the last waypoint)
+
+
+@dataclass
+class _Record:
+    """A formation being assembled from the instruction stream (mutable, private)."""
+
+    robots: frozenset[str]
+    offsets: dict[str, tuple[float, float]]
+    sources: list[int]
+    spec: Formation | None  # None for what remains of a split formation
+    inherit: int | None  # the record whose leader it continues (None: initial or newVL)
+    span: Span
+    program: list[Move | Circle] = field(default_factory=list)
+
+
+class _PlanError(Exception):
+    def __init__(self, diagnostic: Diagnostic) -> None:
+        self.diagnostic = diagnostic
+
+
+def build_plan(
+    scenario: Scenario, parameters: PlanParameters | None = None
+) -> tuple[Plan | None, list[Diagnostic]]:
+    """Compile a scenario into a :class:`Plan`; returns (plan or None, diagnostics)."""
+    params = parameters or PlanParameters()
+    records, assignment_order = _records(scenario, params)
+    try:
+        return _simulate(scenario, params, records, assignment_order)
+    except _PlanError as exc:
+        return None, [exc.diagnostic]
+
+
+def _records(scenario: Scenario, params: PlanParameters) -> tuple[list[_Record], list[list[int]]]:
+    """Split the instruction stream into formations and their per-formation programs."""
+    records: list[_Record] = []
+    current: dict[str, int] = {}
+    joined: list[list[int]] = [[] for _ in scenario.robots]  # per robot: record indices
+    robot_index = {r: i for i, r in enumerate(scenario.robots)}
+
+    def add(record: _Record) -> int:
+        records.append(record)
+        for robot in record.robots:
+            current[robot] = len(records) - 1
+            joined[robot_index[robot]].append(len(records) - 1)
+        return len(records) - 1
+
+    for instruction in scenario.instructions:
+        if isinstance(instruction, Formation):
+            robots = frozenset(instruction.robots)
+            touched = list(dict.fromkeys(current[r] for r in instruction.robots if r in current))
+            for source in touched:
+                rest = records[source].robots - robots
+                if rest:
+                    add(_Record(rest, {r: records[source].offsets[r] for r in rest}, [source],
+                                None, source, records[source].span))
+            add(_Record(robots, formation_offsets(instruction, params.lead), touched,
+                        instruction, None if instruction.new_vl or not touched
+                        else current[instruction.robots[0]], instruction.span))
+        else:
+            records[current[instruction.robots[0]]].program.append(instruction)
+    return records, joined
+
+
+def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record],
+              joined: list[list[int]]) -> tuple[Plan, list[Diagnostic]]:
+    diagnostics: list[Diagnostic] = []
+    finals: list[_LeaderState] = []
+    ends: list[float] = []
+    formations: list[PlannedFormation] = []
+    group_of = {frozenset(members): name for name, members in scenario.groups}
+    for index, record in enumerate(records):
+        start = max((ends[s] for s in record.sources), default=0.0)
+        hold = 0.0
+        if record.spec is not None and record.spec.new_vl and record.sources:
+            state = _new_leader_state(record, records, finals, params)
+            hold = params.new_vl_hold
+        elif record.inherit is not None:
+            inherited = finals[record.inherit]
+            state = _LeaderState(inherited.pose, inherited.ideal)
+            if record.spec is not None and len(record.sources) > 1:
+                diagnostics.extend(_join_warnings(scenario, record, records, finals))
+        else:
+            state = _LeaderState(Pose(0.0, 0.0, 0.0), Pose(0.0, 0.0, 0.0))
+        trajectory, timings, waypoints, final = _run_leader(
+            scenario.path, state, record.program, start, hold, params)
+        end = float(trajectory.times[-1])
+        if end > params.max_duration:
+            raise _PlanError(Diagnostic(
+                scenario.path, record.span.line, record.span.col, Severity.ERROR,
+                f"the show would last longer than {params.max_duration / 3600:g} h",
+                "is a distance or an angle much too large?"))
+        finals.append(final)
+        ends.append(end)
+        ordered = tuple(r for r in scenario.robots if r in record.robots)
+        formations.append(PlannedFormation(
+            index, ordered, group_of.get(record.robots), dict(record.offsets), start, end,
+            trajectory, timings, waypoints, record.span, hold > 0.0))
+    assignments = {
+        robot: tuple((formations[i].start, i) for i in joined[k])
+        for k, robot in enumerate(scenario.robots)
+    }
+    duration = max(ends)
+    plan = Plan(scenario, params, tuple(formations), assignments, duration, tuple(diagnostics))
+    return plan, diagnostics
+
+
+def _new_leader_state(record: _Record, records: Sequence[_Record],
+                      finals: Sequence[_LeaderState], params: PlanParameters) -> _LeaderState:
+    """newVL (thesis ch. 6): a new leader placed from the robots' *desired* positions.
+
+    Heading: the circular mean of the source leaders' headings, weighted by how many robots
+    each source gives. Position: ``lead`` ahead of the mean of the first row's desired positions
+    along that heading, and laterally in the middle of the formation's desired positions.
+    """
+    assert record.spec is not None
+    desired: dict[str, tuple[float, float]] = {}
+    sum_c = sum_s = 0.0
+    for source in record.sources:
+        leader = finals[source].pose
+        for robot in record.robots & records[source].robots:
+            desired[robot] = leader.to_world(*records[source].offsets[robot])
+            sum_c += math.cos(leader.theta)
+            sum_s += math.sin(leader.theta)
+    heading = math.atan2(sum_s, sum_c)
+    frame = Pose(0.0, 0.0, heading)
+    along = {r: frame.to_local(*p) for r, p in desired.items()}
+    first_row = record.spec.rows[0]
+    forward = sum(along[r][0] for r in first_row) / len(first_row) + params.lead
+    lateral = [along[r][1] for r in record.robots]
+    x, y = frame.to_world(forward, 0.5 * (min(lateral) + max(lateral)))
+    pose = Pose(x, y, heading)
+    return _LeaderState(pose, pose)
+
+
+def _join_warnings(scenario: Scenario, record: _Record, records: Sequence[_Record],
+                   finals: Sequence[_LeaderState]) -> list[Diagnostic]:
+    """A join without newVL keeps one leader; say so when the joined leaders disagree."""
+    assert record.inherit is not None
+    kept = finals[record.inherit].pose
+    messages = []
+    for source in record.sources:
+        other = finals[source].pose
+        gap = math.hypot(other.x - kept.x, other.y - kept.y)
+        turn = abs(wrap_angle(other.theta - kept.theta))
+        if gap > 0.01 or turn > math.radians(1.0):
+            names = " ".join(r for r in scenario.robots if r in records[source].robots)
+            messages.append(f"{names} ({gap:.2f} m, {math.degrees(turn):.0f} deg away)")
+    if not messages:
+        return []
+    kept_names = " ".join(r for r in scenario.robots if r in records[record.inherit].robots)
+    return [Diagnostic(
+        scenario.path, record.span.line, record.span.col, Severity.WARNING,
+        f"this formation joins robots that follow different virtual leaders; it keeps the "
+        f"leader of {kept_names} and drops that of {', '.join(messages)}",
+        "add `newVL` on the next line to place one leader from the robots' desired positions",
+        record.span.end_col)]
+
+
+def _run_leader(
+    path: str, state: _LeaderState, program: Sequence[Move | Circle], start: float,
+    hold: float, params: PlanParameters,
+) -> tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState]:
+    """Integrate the leader through its instructions with the fixed step (thesis eq. 4.1-4.3)."""
+    dt = params.step
+    times: list[float] = []
+    rows: list[tuple[float, float, float, float, float]] = []
+    x, y, theta = state.pose.x, state.pose.y, state.pose.theta
+    ideal = state.ideal
+    waypoints = [(ideal.x, ideal.y, ideal.theta)]
+    timings: list[InstructionTiming] = []
+    step_count = 0  # t = start + step_count * dt keeps times exact multiples of the step
+
+    def now() -> float:
+        return start + step_count * dt
+
+    def advance(v: float, w: float) -> None:
+        nonlocal x, y, theta, step_count
+        times.append(now())
+        rows.append((x, y, theta, v, w))
+        half = 0.5 * w * dt
+        chord = v * dt * (math.sin(half) / half if half != 0.0 else 1.0)
+        x += chord * math.cos(theta + half)
+        y += chord * math.sin(theta + half)
+        theta = wrap_angle(theta + w * dt)
+        step_count += 1
+
+    for _ in range(round(hold / dt)):
+        advance(0.0, 0.0)
+    for instruction in program:
+        begin = now()
+        if isinstance(instruction, Move):
+            goal = ideal.compose(Pose(0.0, 0.0, instruction.angle))
+            goal = goal.compose(Pose(instruction.distance, 0.0, 0.0))
+            budget = _step_budget(math.hypot(goal.x - x, goal.y - y) / MIN_LINEAR, dt)
+            for _ in range(budget):
+                here = Pose(x, y, theta)
+                gx, gy = here.to_local(goal.x, goal.y)
+                if math.hypot(gx, gy) < params.waypoint_tolerance:
+                    break
+                advance(*waypoint_command(gx, gy, params.vmax))  # thesis eq. 4.1
+            else:
+                raise _PlanError(_unreached(path, instruction, "waypoint of this move"))
+            ideal = goal
+            waypoints.append((goal.x, goal.y, goal.theta))
+        else:
+            sign = 1.0 if instruction.radius > 0 else -1.0
+            cx, cy = ideal.to_world(0.0, instruction.radius)  # centre on the y axis (ch. 6)
+            omega = arc_angular_speed(instruction.radius, instruction.omega, params.vmax)
+            phi_start = math.atan2(ideal.y - cy, ideal.x - cx)
+            phi = math.atan2(y - cy, x - cx)
+            progress = sign * wrap_angle(phi - phi_start)
+            budget = _step_budget(instruction.angle / omega, dt)
+            for _ in range(budget):
+                if progress >= instruction.angle:
+                    break
+                advance(*arc_command(instruction.radius, omega, math.hypot(x - cx, y - cy)))
+                new_phi = math.atan2(y - cy, x - cx)
+                progress += sign * wrap_angle(new_phi - phi)
+                phi = new_phi
+            else:
+                raise _PlanError(_unreached(path, instruction, "end of this arc"))
+            end_arc = Pose(cx, cy, ideal.theta).compose(
+                Pose(0.0, 0.0, sign * instruction.angle)).compose(
+                Pose(0.0, -instruction.radius, 0.0))
+            for fraction in np.linspace(0.0, 1.0, 2 + int(math.degrees(instruction.angle) / 5)):
+                arc_point = Pose(cx, cy, ideal.theta).compose(
+                    Pose(0.0, 0.0, sign * instruction.angle * float(fraction))).compose(
+                    Pose(0.0, -instruction.radius, 0.0))
+                waypoints.append((arc_point.x, arc_point.y, arc_point.theta))
+            ideal = end_arc
+        timings.append(InstructionTiming(instruction.span, begin, now()))
+    times.append(now())
+    rows.append((x, y, theta, 0.0, 0.0))
+    table = np.array(rows, dtype=float)
+    trajectory = LeaderTrajectory(np.array(times), table[:, :3].copy(), table[:, 3:].copy())
+    final = _LeaderState(Pose(x, y, theta), ideal)
+    return trajectory, tuple(timings), np.array(waypoints), final
+
+
+def _step_budget(nominal_duration: float, dt: float) -> int:
+    """Steps allowed for one instruction: twice its nominal duration plus two minutes."""
+    return int((2.0 * nominal_duration + 120.0) / dt) + 1
+
+
+def _unreached(path: str, instruction: Move | Circle, what: str) -> Diagnostic:
+    return Diagnostic(path, instruction.span.line, instruction.span.col, Severity.ERROR,
+                      f"the virtual leader does not reach the {what}",
+                      "report this scenario as a bug: the leader's controller should converge",
+                      instruction.span.end_col)
