@@ -68,9 +68,13 @@ class PlanParameters:
 class InstructionTiming:
     """When a formation's virtual leader executed one instruction: [start, end) in show time."""
 
-    span: Span
+    instruction: Move | Circle
     start: float
     end: float
+
+    @property
+    def span(self) -> Span:
+        return self.instruction.span
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -302,8 +306,9 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
         ends.append(end)
         ordered = tuple(r for r in scenario.robots if r in record.robots)
         formations.append(PlannedFormation(
-            index, ordered, group_of.get(record.robots), dict(record.offsets), start, end,
-            trajectory, timings, waypoints, record.span, hold > 0.0))
+            index=index, robots=ordered, group=group_of.get(record.robots),
+            offsets=dict(record.offsets), start=start, end=end, leader=trajectory,
+            waypoints=waypoints, timings=timings, span=record.span, new_vl=hold > 0.0))
     assignments = {
         robot: tuple((formations[i].start, i) for i in joined[k])
         for k, robot in enumerate(scenario.robots)
@@ -437,7 +442,7 @@ def _run_leader(
                     Pose(0.0, -instruction.radius, 0.0))
                 waypoints.append((arc_point.x, arc_point.y, arc_point.theta))
             ideal = end_arc
-        timings.append(InstructionTiming(instruction.span, begin, now()))
+        timings.append(InstructionTiming(instruction, begin, now()))
     times.append(now())
     rows.append((x, y, theta, 0.0, 0.0))
     table = np.array(rows, dtype=float)

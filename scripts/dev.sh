@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Set up dancebots in ./.venv (made from Debian's python3, seeing its system packages) and
+#   run the main job:  bash scripts/dev.sh show
+#   run every test:    bash scripts/dev.sh test
+# Works on a fresh Debian 12 as root; installs python3-venv with apt-get if it is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY=/usr/bin/python3
+[ -x "$PY" ] || PY=$(command -v python3)
+
+setup() {
+  if ! "$PY" -c 'import ensurepip, venv' 2>/dev/null; then
+    echo "dancebots: installing python3-venv (apt-get)" >&2
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-venv python3-pip >/dev/null
+  fi
+  if [ ! -x .venv/bin/python ]; then
+    "$PY" -m venv --system-site-packages .venv
+  fi
+  local stamp=.venv/.dancebots-installed
+  if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+    .venv/bin/python -m pip install -q --disable-pip-version-check -e ".[dev]"
+    touch "$stamp"
+  fi
+}
+
+show() {
+  mkdir -p out
+  .venv/bin/dancebots check src/dancebots/data/open_day.dance
+  .venv/bin/dancebots plan src/dancebots/data/open_day.dance --png out/open_day_plan.png
+}
+
+tests() {
+  .venv/bin/ruff check src tests benchmarks
+  .venv/bin/mypy
+  .venv/bin/python -m pytest
+}
+
+setup
+case "${1:-show}" in
+  show) show ;;
+  test) tests ;;
+  setup) ;;
+  *) echo "usage: bash scripts/dev.sh [show|test|setup]" >&2; exit 2 ;;
+esac

@@ -1,0 +1,400 @@
+"""``check_scenario`` (thesis ch. 6) as a pure function: a plan in, a report out.
+
+The report holds the show's summary and warnings that point at the scenario line concerned:
+footprints closer than a clearance, circles tighter than the formation is wide, desired speeds
+above a robot's maximum, and (with a world) robots leaving the room or entering obstacles.
+All geometry is evaluated on the *desired* poses of the plan, sampled every
+``CheckOptions.sample_period`` seconds and at every formation change.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from dancebots.diagnostics import Diagnostic, Severity
+from dancebots.geometry import Pose, footprint_corners, wrap_angle
+from dancebots.plan.planner import Plan, PlannedFormation, PlanParameters, build_plan
+from dancebots.scenario.model import Circle, Scenario
+from dancebots.scenario.parser import parse_scenario
+from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
+
+__all__ = [
+    "CheckOptions",
+    "CheckReport",
+    "RobotSummary",
+    "check_plan",
+    "compile_scenario",
+    "place_plan_in_world",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class CheckOptions:
+    """What ``check`` looks for.
+
+    clearance: smallest allowed gap between two robots' footprints, m.
+    sample_period: desired poses are checked at this period, s.
+    robot_type: footprint and limits of robots that the world does not define (or all robots
+        without a world); its max_speed is replaced by vmax when there is no world.
+    start_tolerance: a robot starting further than this from its first slot is reported, m.
+    """
+
+    clearance: float = 0.2
+    sample_period: float = 0.1
+    robot_type: RobotType = DEFAULT_ROBOT_TYPE
+    start_tolerance: float = 0.25
+
+
+@dataclass(frozen=True, slots=True)
+class RobotSummary:
+    """One robot over the whole show: length of its desired path (m), its largest desired
+    linear (m/s) and angular (rad/s) speeds, and its type's limits."""
+
+    name: str
+    robot_type: RobotType
+    path_length: float
+    max_speed: float
+    max_angular_speed: float
+
+
+@dataclass(frozen=True, slots=True)
+class CheckReport:
+    """The result of checking one plan."""
+
+    path: str
+    robots: tuple[str, ...]
+    groups: tuple[tuple[str, tuple[str, ...]], ...]
+    duration: float
+    summaries: tuple[RobotSummary, ...]
+    min_clearance: float | None
+    world_transform: Pose | None
+    diagnostics: tuple[Diagnostic, ...] = field(default=())
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "path": self.path,
+            "robots": list(self.robots),
+            "groups": {name: list(members) for name, members in self.groups},
+            "duration_s": round(self.duration, 3),
+            "min_clearance_m": None if self.min_clearance is None else round(
+                self.min_clearance, 3),
+            "world_transform": None if self.world_transform is None else {
+                "x": self.world_transform.x, "y": self.world_transform.y,
+                "yaw": self.world_transform.theta},
+            "per_robot": {
+                s.name: {
+                    "type": s.robot_type.name,
+                    "path_length_m": round(s.path_length, 3),
+                    "max_speed_mps": round(s.max_speed, 3),
+                    "max_angular_speed_radps": round(s.max_angular_speed, 3),
+                    "speed_limit_mps": s.robot_type.max_speed,
+                } for s in self.summaries
+            },
+        }
+
+
+def compile_scenario(
+    text: str, path: str, parameters: PlanParameters | None = None
+) -> tuple[Scenario | None, Plan | None, list[Diagnostic]]:
+    """Parse and plan; returns whatever could be built and every diagnostic so far."""
+    scenario, diagnostics = parse_scenario(text, path)
+    if scenario is None:
+        return None, None, diagnostics
+    plan, plan_diagnostics = build_plan(scenario, parameters)
+    return scenario, plan, diagnostics + plan_diagnostics
+
+
+def check_plan(plan: Plan, world: World | None = None,
+               options: CheckOptions | None = None) -> CheckReport:
+    """Check a plan (and its placement in a world); pure, deterministic."""
+    options = options or CheckOptions()
+    scenario = plan.scenario
+    diagnostics: list[Diagnostic] = []
+    types = _robot_types(plan, world, options)
+    times = _sample_times(plan, options.sample_period)
+    poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
+    which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
+    summaries = _summaries(plan, types, diagnostics)
+    min_gap = _check_clearance(plan, types, times, poses, which, options, diagnostics)
+    _check_circles(plan, diagnostics)
+    transform = None
+    if world is not None:
+        transform = place_plan_in_world(plan, world, diagnostics, options.start_tolerance)
+        if transform is not None:
+            _check_world(plan, world, transform, types, times, poses, which, diagnostics)
+    return CheckReport(scenario.path, scenario.robots, scenario.groups, plan.duration,
+                       tuple(summaries), min_gap, transform, tuple(diagnostics))
+
+
+def _robot_types(plan: Plan, world: World | None, options: CheckOptions) -> list[RobotType]:
+    types = []
+    for robot in plan.robots:
+        found = world.robot(robot) if world is not None else None
+        if found is not None:
+            types.append(found.type)
+        elif world is None:
+            base = options.robot_type
+            types.append(RobotType(base.name, base.length, base.width, plan.parameters.vmax,
+                                   base.max_angular_speed))
+        else:
+            types.append(options.robot_type)
+    return types
+
+
+def _sample_times(plan: Plan, period: float) -> FloatArray:
+    grid = np.arange(0.0, plan.duration + 0.5 * period, period)
+    starts = [f.start for f in plan.formations]
+    return np.unique(np.concatenate([grid, starts, [plan.duration]]))
+
+
+def _line_at(formation: PlannedFormation, time: float) -> tuple[int, int]:
+    """The scenario position of what the formation's leader is doing at ``time``."""
+    for timing in formation.timings:
+        if timing.start <= time < timing.end:
+            return timing.span.line, timing.span.col
+    return formation.span.line, formation.span.col
+
+
+def _runs(mask: NDArray[np.bool_]) -> Iterator[tuple[int, int]]:
+    """Index ranges [a, b) of the true runs of a 1-D boolean array."""
+    padded = np.concatenate([[False], mask, [False]])
+    edges = np.flatnonzero(np.diff(padded.astype(np.int8)))
+    yield from zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True)
+
+
+def _warn(plan: Plan, position: tuple[int, int], message: str, hint: str | None,
+          diagnostics: list[Diagnostic]) -> None:
+    diagnostics.append(Diagnostic(plan.scenario.path, position[0], position[1],
+                                  Severity.WARNING, message, hint))
+
+
+# --- speeds ----------------------------------------------------------------------------------
+
+def _summaries(plan: Plan, types: Sequence[RobotType],
+               diagnostics: list[Diagnostic]) -> list[RobotSummary]:
+    """Path lengths and peak speeds from the leaders' exact commands; speed warnings.
+
+    A robot at lateral offset oy of a leader moving with (v, w) drives the leader's path
+    shifted sideways by oy, at the along-track speed |v - w oy|. The longitudinal part w ox
+    is not required: the formation may stretch and shrink lengthwise in turns and keeps only
+    its lateral distances (thesis ch. 4.1), so it does not count as desired speed.
+    """
+    index = {r: k for k, r in enumerate(plan.robots)}
+    length = np.zeros(len(plan.robots))
+    peak = np.zeros(len(plan.robots))
+    peak_turn = np.zeros(len(plan.robots))
+    for formation in plan.formations:
+        leader = formation.leader
+        v, w = leader.commands[:, 0], leader.commands[:, 1]
+        dt = np.diff(leader.times, append=leader.times[-1])
+        members = list(formation.robots)
+        offsets = np.array([formation.offsets[r] for r in members])  # (M, 2)
+        speeds = np.abs(v[None, :] - w[None, :] * offsets[:, 1:2])  # (M, N)
+        for k, robot in enumerate(members):
+            i = index[robot]
+            length[i] += float(speeds[k] @ dt)
+            peak[i] = max(peak[i], float(speeds[k].max()))
+            peak_turn[i] = max(peak_turn[i], float(np.abs(w).max()))
+        limits = np.array([types[index[r]].max_speed for r in members])
+        for timing in formation.timings:
+            a, b = np.searchsorted(leader.times, [timing.start, timing.end])
+            if b <= a:
+                continue
+            window = speeds[:, a:b]
+            over = window.max(axis=1) > limits + 1e-9
+            if not over.any():
+                continue
+            worst = [f"{members[k]} {window[k].max():.2f} m/s (max {limits[k]:g})"
+                     for k in np.flatnonzero(over)]
+            when = float(leader.times[a + int(np.argmax(window.max(axis=0)))])
+            _warn(plan, (timing.span.line, timing.span.col),
+                  f"desired speed above the robot's maximum: {', '.join(worst)}, "
+                  f"around t = {when:.1f} s",
+                  "the formation turns faster than its outer robots can drive: turn by a "
+                  "smaller angle or along a circle of larger radius, or lower --vmax",
+                  diagnostics)
+    return [RobotSummary(r, types[i], float(length[i]), float(peak[i]), float(peak_turn[i]))
+            for i, r in enumerate(plan.robots)]
+
+
+# --- clearance -------------------------------------------------------------------------------
+
+def _footprints(corners: FloatArray) -> NDArray[np.object_]:
+    """Shapely polygons from corners (..., 4, 2)."""
+    return shapely.polygons(corners)
+
+
+def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
+                     poses: FloatArray, which: NDArray[np.int64], options: CheckOptions,
+                     diagnostics: list[Diagnostic]) -> float | None:
+    """Footprint gaps: once per formation for robots of the same formation (their relative
+    pose is fixed), at every sample for robots that follow different leaders."""
+    gaps: list[float] = []
+    robots = plan.robots
+    index = {r: k for k, r in enumerate(robots)}
+    checked: set[tuple[int, str, str]] = set()
+    for formation in plan.formations:
+        members = formation.robots
+        if len(members) < 2:
+            continue
+        offsets = np.array([formation.offsets[r] for r in members])
+        shapes = [_footprints(footprint_corners(
+            offsets[k, 0:1], offsets[k, 1:2], np.zeros(1), types[index[r]].length,
+            types[index[r]].width))[0] for k, r in enumerate(members)]
+        for a, b in itertools.combinations(range(len(members)), 2):
+            key = (formation.span.line, members[a], members[b])
+            if key in checked:  # what remains of a split formation keeps its offsets
+                continue
+            checked.add(key)
+            gap = float(shapely.distance(shapes[a], shapes[b]))
+            gaps.append(gap)
+            if gap < options.clearance:
+                _warn(plan, (formation.span.line, formation.span.col),
+                      f"{members[a]} and {members[b]} are {gap:.2f} m apart in this formation "
+                      f"(clearance {options.clearance:g} m)",
+                      "increase the spacing or the row distance", diagnostics)
+    radius = np.array([math.hypot(t.length, t.width) / 2 for t in types])
+    margin = max(options.clearance, 1.0)
+    for i, j in itertools.combinations(range(len(robots)), 2):
+        apart = which[i] != which[j]
+        centre = np.hypot(poses[i, :, 0] - poses[j, :, 0], poses[i, :, 1] - poses[j, :, 1])
+        candidates = np.flatnonzero(apart & (centre < radius[i] + radius[j] + margin))
+        if candidates.size == 0:
+            continue
+        shape_i = _footprints(footprint_corners(*poses[i, candidates].T, types[i].length,
+                                                types[i].width))
+        shape_j = _footprints(footprint_corners(*poses[j, candidates].T, types[j].length,
+                                                types[j].width))
+        distance = shapely.distance(shape_i, shape_j)
+        gaps.append(float(distance.min()))
+        close = np.zeros(len(times), dtype=bool)
+        close[candidates] = distance < options.clearance
+        gap_at = np.full(len(times), np.inf)
+        gap_at[candidates] = distance
+        for a, b in _runs(close):
+            formation = plan.formations[int(which[i, a])]
+            _warn(plan, _line_at(formation, float(times[a])),
+                  f"{robots[i]} and {robots[j]} come within {gap_at[a:b].min():.2f} m of each "
+                  f"other (clearance {options.clearance:g} m) from t = {times[a]:.1f} s to "
+                  f"{times[b - 1]:.1f} s",
+                  "their paths cross: move the formations further apart or let one wait",
+                  diagnostics)
+    return min(gaps) if gaps else None
+
+
+def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
+    """Thesis ch. 6: the radius must exceed every robot's lateral offset from the leader."""
+    for formation in plan.formations:
+        widest = max(formation.robots, key=lambda r: abs(formation.offsets[r][1]))
+        lateral = abs(formation.offsets[widest][1])
+        for timing in formation.timings:
+            circle = timing.instruction
+            if isinstance(circle, Circle) and abs(circle.radius) < lateral:
+                _warn(plan, (circle.span.line, circle.span.col),
+                      f"the circle's radius {abs(circle.radius):g} m is smaller than {widest}'s "
+                      f"lateral offset {lateral:g} m from the virtual leader: the inner robots "
+                      "would have to reverse",
+                      f"use a radius larger than {lateral:g} m or a narrower formation",
+                      diagnostics)
+
+
+# --- world -----------------------------------------------------------------------------------
+
+def place_plan_in_world(plan: Plan, world: World, diagnostics: list[Diagnostic],
+                        start_tolerance: float = 0.25) -> Pose | None:
+    """The show frame's pose in the world frame.
+
+    With start poses for every robot: the rigid transform that best puts each robot's first
+    slot on its start pose (heading: circular mean; position: mean residual), and a warning for
+    robots that start far from their slot. With none: the show's extent is centred in the room.
+    Robots of the scenario that a world with robots lacks are errors.
+    """
+    named = {r.name: r for r in world.robots}
+    present = [r for r in plan.robots if r in named]
+    missing = [r for r in plan.robots if r not in named]
+    path = plan.scenario.path
+    if present and missing:
+        diagnostics.append(Diagnostic(
+            world.path, 0, 0, Severity.ERROR,
+            f"the world places {' '.join(present)} but not {' '.join(missing)}",
+            "give every robot of the scenario a [[robots]] entry, or none to let the show be "
+            "centred in the room"))
+        return None
+    if not present:
+        every = np.concatenate([plan.desired_poses(r, _sample_times(plan, 1.0))[:, :2]
+                                for r in plan.robots])
+        room_centre = 0.5 * (world.room.min(axis=0) + world.room.max(axis=0))
+        show_centre = 0.5 * (every.min(axis=0) + every.max(axis=0))
+        shift = room_centre - show_centre
+        return Pose(float(shift[0]), float(shift[1]), 0.0)
+    slots = {r: plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots}
+    heading = math.atan2(sum(math.sin(named[r].start.theta - slots[r][2]) for r in present),
+                         sum(math.cos(named[r].start.theta - slots[r][2]) for r in present))
+    c, s = math.cos(heading), math.sin(heading)
+    residual = np.array([[named[r].start.x - (c * slots[r][0] - s * slots[r][1]),
+                          named[r].start.y - (s * slots[r][0] + c * slots[r][1])]
+                         for r in present])
+    shift = residual.mean(axis=0)
+    transform = Pose(float(shift[0]), float(shift[1]), heading)
+    first = plan.formations[0].span
+    for robot in present:
+        x, y = transform.to_world(float(slots[robot][0]), float(slots[robot][1]))
+        start = named[robot].start
+        off = math.hypot(start.x - x, start.y - y)
+        turn = abs(wrap_angle(start.theta - (heading + slots[robot][2])))
+        if off > start_tolerance or turn > math.radians(15.0):
+            diagnostics.append(Diagnostic(
+                path, first.line, first.col, Severity.WARNING,
+                f"{robot} starts {off:.2f} m and {math.degrees(turn):.0f} deg away from its "
+                f"place in the first formation ({world.path}:{named[robot].line})",
+                "place the robots on their slots of the first formation"))
+    return transform
+
+
+def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
+                 times: FloatArray, poses: FloatArray, which: NDArray[np.int64],
+                 diagnostics: list[Diagnostic]) -> None:
+    c, s = math.cos(transform.theta), math.sin(transform.theta)
+    x = transform.x + c * poses[..., 0] - s * poses[..., 1]
+    y = transform.y + s * poses[..., 0] + c * poses[..., 1]
+    theta = poses[..., 2] + transform.theta
+    room = shapely.Polygon(world.room)
+    shapely.prepare(room)
+    obstacles = [(o, shapely.Polygon(o.polygon)) for o in world.obstacles]
+    for i, robot in enumerate(plan.robots):
+        kind = types[i]
+        reach = math.hypot(kind.length, kind.width) / 2
+        near_wall = shapely.distance(room.exterior, shapely.points(x[i], y[i])) < reach
+        inside = shapely.contains_xy(room, x[i], y[i])
+        outside = ~inside
+        check = np.flatnonzero(near_wall & inside)
+        if check.size:
+            corners = footprint_corners(x[i, check], y[i, check], theta[i, check], kind.length,
+                                        kind.width)
+            outside[check] = ~shapely.contains(room, shapely.polygons(corners))
+        for a, b in _runs(outside):
+            _warn(plan, _line_at(plan.formations[int(which[i, a])], float(times[a])),
+                  f"{robot} leaves the room from t = {times[a]:.1f} s to {times[b - 1]:.1f} s",
+                  "move the show's start poses, or shorten the moves", diagnostics)
+        for obstacle, shape in obstacles:
+            distance = shapely.distance(shape, shapely.points(x[i], y[i]))
+            check = np.flatnonzero(distance < reach)
+            hit = np.zeros(len(times), dtype=bool)
+            if check.size:
+                corners = footprint_corners(x[i, check], y[i, check], theta[i, check],
+                                            kind.length, kind.width)
+                hit[check] = shapely.intersects(shape, shapely.polygons(corners))
+            for a, b in _runs(hit):
+                _warn(plan, _line_at(plan.formations[int(which[i, a])], float(times[a])),
+                      f"{robot} enters {obstacle.name} ({world.path}:{obstacle.line}) from "
+                      f"t = {times[a]:.1f} s to {times[b - 1]:.1f} s",
+                      "steer the formation around the obstacle", diagnostics)
