@@ -43,6 +43,12 @@ class _Token:
         return self.col + len(self.text)
 
 
+def _quote(text: str) -> str:
+    """``'text'`` for display; control characters escaped, long text cut."""
+    short = text[:40]
+    return f"'{short}'" if short.isprintable() else repr(short)
+
+
 def _tokenize(line: str) -> list[_Token]:
     return [_Token(m.group(), m.start() + 1) for m in re.finditer(r"[^ \t\f\v]+", line)]
 
@@ -161,7 +167,7 @@ def _check_identifier(state: _State, line: int, token: _Token, what: str) -> boo
                     f"choose another {what} name", token.end)
         return False
     if not _IDENT.match(token.text):
-        state.error(line, token.col, f"invalid {what} name {token.text!r}",
+        state.error(line, token.col, f"invalid {what} name {_quote(token.text)}",
                     f"a {what} name is a letter or '_' followed by letters, digits, '_', '-' "
                     "or '.'", token.end)
         return False
@@ -253,8 +259,7 @@ def _parse_instruction(state: _State, line: int, tokens: Sequence[_Token]) -> No
     originals = {k.lower(): k for k in _KEYWORDS}
     hint = (f"did you mean `{originals[close[0]]}`?" if close else
             "an instruction is one of: row, column, triangle, square, newVL, move, circle")
-    shown = keyword if keyword.isprintable() and len(keyword) <= 40 else repr(keyword[:40])
-    state.error(line, head.col, f"unknown instruction '{shown}'", hint, head.end)
+    state.error(line, head.col, f"unknown instruction {_quote(keyword)}", hint, head.end)
 
 
 # --- numbers ---------------------------------------------------------------------------------
@@ -268,8 +273,7 @@ def _number(state: _State, line: int, text: str, col: int, what: str, *, low: fl
         return None
     if not _NUMBER.match(text):
         hint = "use a decimal point, not a comma" if re.fullmatch(r"[+-]?\d+,\d+", text) else None
-        shown = text if text.isprintable() and len(text) <= 40 else repr(text[:40])
-        state.error(line, col, f"{what} must be a number, not '{shown}'", hint, end)
+        state.error(line, col, f"{what} must be a number, not {_quote(text)}", hint, end)
         return None
     value = float(text)
     if not math.isfinite(value):
@@ -285,6 +289,10 @@ def _number(state: _State, line: int, text: str, col: int, what: str, *, low: fl
         state.error(line, col, f"{what} must be at most {_fmt(high)}, not {text}", None, end)
         return None
     return value
+
+
+def _values(count: int) -> str:
+    return f"{count} value" + ("" if count == 1 else "s")
 
 
 def _fmt(value: float) -> str:
@@ -366,8 +374,7 @@ def _parse_arrangement(state: _State, line: int,
                 ok = False
                 continue
             if not _IDENT.match(role):
-                shown = role if role.isprintable() and len(role) <= 40 else repr(role[:40])
-                state.error(line, col, f"invalid robot name '{shown}' in the arrangement",
+                state.error(line, col, f"invalid robot name {_quote(role)} in the arrangement",
                             "rows are separated by ';', robots in a row by ','", col + len(role))
                 ok = False
                 continue
@@ -455,16 +462,25 @@ def _parse_spacings(state: _State, line: int, token: _Token,
     all_single = all(len(row) == 1 for row in rows)
     result: list[tuple[float, ...]] = []
     ok = True
+    reported: set[int] = set()  # one spacing text may apply to several rows: report it once
     for row, (text, col) in zip(rows, per_row, strict=True):
         values = _split(text, col, ",")
         gaps = len(row) - 1
         if len(values) != 1 and len(values) != gaps:
-            state.error(line, col, f"a row of {len(row)} robots takes 1 or {gaps} spacings "
-                        f"separated by ',', found {len(values)}", None, col + len(text))
+            if col not in reported:
+                takes = "1 spacing" if gaps <= 1 else f"1 or {gaps} spacings separated by ','"
+                state.error(line, col, f"a row of {len(row)} robots takes {takes}, found "
+                            f"{len(values)}", None, col + len(text))
+                reported.add(col)
+            ok = False
+            continue
+        if col in reported:
             ok = False
             continue
         numbers = [_number(state, line, v, c, "the spacing", low=0.0, high=MAX_DISTANCE)
                    for v, c in values]
+        if any(n is None for n in numbers):
+            reported.add(col)
         if any(n is None for n in numbers):
             ok = False
             continue
@@ -526,8 +542,7 @@ def _resolve_group(state: _State, line: int, token: _Token | None,
         hint = (f"did you mean '{close[0]}'? " if close else "") + (
             f"the groups are {' '.join(known)}" if known else
             "define it in a groups section closed by `start`")
-        shown = name if name.isprintable() and len(name) <= 40 else repr(name[:40])
-        state.error(line, token.col, f"unknown group '{shown}'", hint, token.end)
+        state.error(line, token.col, f"unknown group {_quote(name)}", hint, token.end)
         return None
     members = frozenset(state.groups[name])
     if members in state.formations:
@@ -555,7 +570,7 @@ def _parse_move(state: _State, line: int, tokens: Sequence[_Token]) -> None:
     usage = "move 2 -90"
     if len(tokens) not in (3, 4):
         state.error(line, head.col, f"move takes a distance in m, an angle in degrees and an "
-                    f"optional group, found {len(tokens) - 1} values",
+                    f"optional group, found {_values(len(tokens) - 1)}",
                     f"e.g. `{usage}` or `{usage} group1`", tokens[-1].end)
         return
     distance = _number(state, line, tokens[1].text, tokens[1].col, "the move distance",
@@ -578,8 +593,8 @@ def _parse_circle(state: _State, line: int, tokens: Sequence[_Token]) -> None:
     usage = "circle -3 270 0.1"
     if len(tokens) not in (4, 5):
         state.error(line, head.col, "circle takes a radius in m, a central angle in degrees, "
-                    f"an angular speed in rad/s and an optional group, found {len(tokens) - 1} "
-                    "values", f"e.g. `{usage}` or `{usage} group1`", tokens[-1].end)
+                    f"an angular speed in rad/s and an optional group, found "
+                    f"{_values(len(tokens) - 1)}", f"e.g. `{usage}` or `{usage} group1`", tokens[-1].end)
         return
     radius = _number(state, line, tokens[1].text, tokens[1].col, "the circle radius",
                      low=-MAX_DISTANCE, high=MAX_DISTANCE)

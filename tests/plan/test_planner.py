@@ -1,0 +1,169 @@
+"""The plan: deterministic, order-independent per group, newVL and joins as documented."""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
+from dancebots.scenario import parse_scenario
+
+
+def plan_of(text: str, parameters: PlanParameters | None = None) -> Plan:
+    scenario, diagnostics = parse_scenario(text, "test.dance")
+    assert scenario is not None, diagnostics
+    plan, diagnostics = build_plan(scenario, parameters)
+    assert plan is not None, diagnostics
+    return plan
+
+
+def fingerprint(plan: Plan) -> str:
+    digest = hashlib.sha256()
+    for formation in plan.formations:
+        for array in (formation.leader.times, formation.leader.poses, formation.leader.commands):
+            digest.update(np.ascontiguousarray(array).tobytes())
+    for robot in plan.robots:
+        digest.update(plan.desired_poses(robot, np.linspace(0, plan.duration, 997)).tobytes())
+    return digest.hexdigest()
+
+
+def test_same_input_gives_bit_identical_plan(examples: Path) -> None:
+    text = (examples / "thesis_6_3.dance").read_text()
+    assert fingerprint(plan_of(text)) == fingerprint(plan_of(text))
+
+
+def test_plan_is_bit_identical_in_another_process(examples: Path) -> None:
+    """Another interpreter (another hash seed, fresh state) computes the same numbers."""
+    path = examples / "thesis_6_3.dance"
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]);"
+        "from plan.test_planner import plan_of, fingerprint;"
+        "print(fingerprint(plan_of(open(sys.argv[2]).read())))"
+    )
+    tests = Path(__file__).resolve().parent.parent
+    out = subprocess.run([sys.executable, "-c", code, str(tests), str(path)], check=True,
+                         capture_output=True, text=True, env={"PYTHONHASHSEED": "12345"})
+    assert out.stdout.strip() == fingerprint(plan_of(path.read_text()))
+
+
+def test_listings_6_1_and_6_2_compile_to_the_same_plan(examples: Path) -> None:
+    first = plan_of((examples / "thesis_6_1.dance").read_text())
+    second = plan_of((examples / "thesis_6_2.dance").read_text())
+    assert fingerprint(first) == fingerprint(second)
+
+
+def test_straight_move_reaches_waypoint_at_leader_speed() -> None:
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 1\nmove 2 0\n")
+    leader = virtual_leader_pose(plan, "R1", plan.duration)
+    # eq. 4.1: 0.35 m/s until 1.5 Gx < 0.35 (Gx = 0.2333 m): 1.7667 / 0.35 = 5.048 s; then
+    # Gx decays as exp(-1.5 t) to the 0.1 m tolerance: ln(2.3333) / 1.5 = 0.565 s; 5.61 s.
+    assert 1.9 <= leader.x < 2.0
+    assert leader.y == 0.0
+    assert plan.duration == pytest.approx(5.61, abs=0.06)
+    r1 = desired_pose(plan, "R1", 1.0)
+    assert (r1.x, r1.y) == pytest.approx((0.35 - 0.5, 0.5))
+
+
+def test_vmax_scales_the_leader() -> None:
+    slow = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n", PlanParameters(vmax=0.5))
+    fast = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n", PlanParameters(vmax=1.0))
+    assert fast.duration < slow.duration
+    commands = fast.formations[0].leader.commands[:, 0]
+    assert commands.max() == pytest.approx(0.7)
+
+
+def test_circle_follows_its_arc() -> None:
+    plan = plan_of("robots R1\nrow R1 0 0\ncircle 2 180 0.1\n")
+    formation = plan.formations[0]
+    poses = formation.leader.poses
+    distance = np.hypot(poses[:, 0] - 0.0, poses[:, 1] - 2.0)  # centre at (0, 2)
+    assert np.all(np.abs(distance - 2.0) < 0.01)
+    end = poses[-1]
+    assert (end[0], end[1]) == pytest.approx((0.0, 4.0), abs=0.02)
+    assert abs(abs(end[2]) - math.pi) < 0.02
+    # v = omega r = 0.2 m/s, half a circle of 2 m: pi * 2 / 0.2 = 31.4 s
+    assert plan.duration == pytest.approx(math.pi * 2 / 0.2, abs=0.1)
+
+
+def test_circle_halves_omega_when_too_fast() -> None:
+    plan = plan_of("robots R1\nrow R1 0 0\ncircle -3 90 0.5\n")
+    speeds = plan.formations[0].leader.commands[:-1, 0]
+    # 0.5 * 3 = 1.5 -> 0.75 -> 0.375 -> 0.1875 m/s (omega 0.0625)
+    assert speeds == pytest.approx(0.1875)
+
+
+def test_new_vl_placed_from_desired_positions(examples: Path) -> None:
+    plan = plan_of((examples / "thesis_6_3.dance").read_text())
+    split = [f for f in plan.formations if f.new_vl and len(f.robots) == 2]
+    assert [f.robots for f in split] == [("R1", "R3"), ("R2", "R4")]
+    for formation in split:
+        at = formation.start
+        before = {r: desired_pose(plan, r, at - 1e-6) for r in formation.robots}
+        after = {r: desired_pose(plan, r, at) for r in formation.robots}
+        for robot in formation.robots:  # the robots keep their places: no jump
+            assert (after[robot].x, after[robot].y) == pytest.approx(
+                (before[robot].x, before[robot].y), abs=1e-6)
+        leader = virtual_leader_pose(plan, formation.robots[0], at)
+        front = after[formation.robots[0]]
+        assert math.hypot(leader.x - front.x, leader.y - front.y) == pytest.approx(0.5)
+
+
+def test_new_vl_holds_the_leader_still() -> None:
+    text = "robots R1 R2\nrow R1,R2 0 1\nmove 1 0\nrow R2,R1 0 1\nnewVL\nmove 1 0\n"
+    plan = plan_of(text, PlanParameters(new_vl_hold=2.0))
+    formation = plan.formations[-1]
+    assert formation.new_vl
+    hold = formation.leader.commands[formation.leader.times < formation.start + 2.0]
+    assert np.all(hold == 0.0)
+    assert formation.leader.commands[formation.leader.times >= formation.start + 2.0][0, 0] > 0
+
+
+def test_join_waits_for_every_group() -> None:
+    text = ("robots R1 R2\ngroups\na R1\nb R2\nstart\nrow R1,R2 0 2\nrow R1 0 0\nrow R2 0 0\n"
+            "newVL\nmove 1 0 a\nmove 3 0 b\nrow R1,R2 0 2\nnewVL\nmove 1 0\n")
+    plan = plan_of(text)
+    a, b, joined = (plan.formation_of("R1", 5.0), plan.formation_of("R2", 5.0),
+                    plan.formations[-1])
+    assert a.end < b.end
+    assert joined.start == b.end
+    # until the join, R1 waits at the end of its own move
+    waiting = desired_pose(plan, "R1", 0.5 * (a.end + b.end))
+    finished = desired_pose(plan, "R1", a.end)
+    assert (waiting.x, waiting.y) == (finished.x, finished.y)
+    assert plan.formation_of("R1", joined.start).index == joined.index
+
+
+def test_join_without_new_vl_keeps_first_robots_leader() -> None:
+    text = ("robots R1 R2\ngroups\na R1\nb R2\nstart\nrow R1,R2 0 2\nrow R1 0 0\nrow R2 0 0\n"
+            "newVL\nmove 1 0 a\nmove 2 0 b\nrow R1,R2 0 2\n")
+    scenario, _ = parse_scenario(text, "join.dance")
+    assert scenario is not None
+    plan, diagnostics = build_plan(scenario)
+    assert plan is not None
+    assert [d.line for d in diagnostics] == [12]
+    assert "keeps the leader of R1" in diagnostics[0].message
+    joined = plan.formations[-1]
+    r1_leader = plan.formations[[f.robots for f in plan.formations].index(("R1",))]
+    assert np.array_equal(joined.leader.poses[0], r1_leader.leader.poses[-1])
+
+
+def test_formation_change_without_new_vl_only_changes_offsets() -> None:
+    text = "robots R1 R2\nrow R1,R2 0 1\nmove 2 0\ncolumn R2;R1 1 0\nmove 2 0\n"
+    plan = plan_of(text)
+    first, second = plan.formations
+    assert np.array_equal(second.leader.poses[0], first.leader.poses[-1])
+    assert second.offsets == {"R2": (-0.5, 0.0), "R1": (-1.5, 0.0)}
+
+
+def test_too_long_show_is_an_error() -> None:
+    scenario, _ = parse_scenario("robots R1\nrow R1 0 0\n" + "move 1000 0\n" * 40, "long.dance")
+    assert scenario is not None
+    plan, diagnostics = build_plan(scenario)
+    assert plan is None
+    assert diagnostics[0].message == "the show would last longer than 24 h"
