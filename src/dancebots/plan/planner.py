@@ -43,6 +43,9 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
+ARC_CARROT_LENGTH = 0.5
+"""Arc recovery aims this far (m, along the arc) ahead of the leader's own angle on the arc."""
+
 
 @dataclass(frozen=True, slots=True)
 class PlanParameters:
@@ -54,6 +57,8 @@ class PlanParameters:
     lead: the virtual leader's distance ahead of the first row, m (ch. 6).
     new_vl_hold: after newVL the robots stop and the new leader waits this long, s.
     max_duration: longest show that is planned, s (a guard against absurd inputs).
+    arc_recovery_distance: on a circle, a leader further than this from the arc (m) steers
+        back to it by eq. 4.1 instead of eq. 4.3 (see ``_run_leader``).
     """
 
     vmax: float = 0.5
@@ -62,6 +67,7 @@ class PlanParameters:
     lead: float = DEFAULT_LEAD
     new_vl_hold: float = 1.0
     max_duration: float = 24 * 3600.0
+    arc_recovery_distance: float = 0.3
 
 
 @dataclass(frozen=True, slots=True)
@@ -374,7 +380,15 @@ def _run_leader(
     path: str, state: _LeaderState, program: Sequence[Move | Circle], start: float,
     hold: float, params: PlanParameters,
 ) -> tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState]:
-    """Integrate the leader through its instructions with the fixed step (thesis eq. 4.1-4.3)."""
+    """Integrate the leader through its instructions with the fixed step (thesis eq. 4.1-4.3).
+
+    Moves: eq. 4.1 towards the waypoint until it is within the tolerance. Circles: eq. 4.3
+    until the leader has swept the central angle around the centre. Eq. 4.3 assumes the leader
+    starts near the arc with the arc's heading (thesis ch. 4.2); after `move 0 90` or a sharp
+    corner it may not, and its saturated turn rate then spins the leader in place for ever. So
+    while the leader is more than ``arc_recovery_distance`` off the arc it steers by eq. 4.1
+    towards the point ``ARC_CARROT_LENGTH`` ahead on the arc (an addition to the thesis).
+    """
     dt = params.step
     times: list[float] = []
     rows: list[tuple[float, float, float, float, float]] = []
@@ -424,10 +438,19 @@ def _run_leader(
             phi = math.atan2(y - cy, x - cx)
             progress = sign * wrap_angle(phi - phi_start)
             budget = _step_budget(instruction.angle / omega, dt)
+            radius = abs(instruction.radius)
             for _ in range(budget):
                 if progress >= instruction.angle:
                     break
-                advance(*arc_command(instruction.radius, omega, math.hypot(x - cx, y - cy)))
+                off_arc = abs(math.hypot(x - cx, y - cy) - radius)
+                if off_arc <= params.arc_recovery_distance:
+                    advance(*arc_command(instruction.radius, omega, math.hypot(x - cx, y - cy)))
+                else:  # far off the arc (eq. 4.3 would spin): eq. 4.1 towards a point on it
+                    ahead = min(progress + ARC_CARROT_LENGTH / radius, instruction.angle)
+                    carrot = phi_start + sign * ahead
+                    gx, gy = Pose(x, y, theta).to_local(cx + radius * math.cos(carrot),
+                                                        cy + radius * math.sin(carrot))
+                    advance(*waypoint_command(gx, gy, params.vmax))
                 new_phi = math.atan2(y - cy, x - cx)
                 progress += sign * wrap_angle(new_phi - phi)
                 phi = new_phi
