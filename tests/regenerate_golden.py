@@ -15,9 +15,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from golden import DATA, VALID_SOURCES, plan_summary  # noqa: E402
-
-from dancebots.cli import main  # noqa: E402
+from dancebots.cli import main
+from golden import DATA, VALID_SOURCES, plan_summary
 
 
 def main_regenerate() -> None:

@@ -230,7 +230,8 @@ def _summaries(plan: Plan, types: Sequence[RobotType],
 
 def _footprints(corners: FloatArray) -> NDArray[np.object_]:
     """Shapely polygons from corners (..., 4, 2)."""
-    return shapely.polygons(corners)
+    polygons: NDArray[np.object_] = shapely.polygons(corners)
+    return polygons
 
 
 def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
@@ -270,10 +271,11 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         candidates = np.flatnonzero(apart & (centre < radius[i] + radius[j] + margin))
         if candidates.size == 0:
             continue
-        shape_i = _footprints(footprint_corners(*poses[i, candidates].T, types[i].length,
-                                                types[i].width))
-        shape_j = _footprints(footprint_corners(*poses[j, candidates].T, types[j].length,
-                                                types[j].width))
+        at_i, at_j = poses[i, candidates], poses[j, candidates]
+        shape_i = _footprints(footprint_corners(at_i[:, 0], at_i[:, 1], at_i[:, 2],
+                                                types[i].length, types[i].width))
+        shape_j = _footprints(footprint_corners(at_j[:, 0], at_j[:, 1], at_j[:, 2],
+                                                types[j].length, types[j].width))
         distance = shapely.distance(shape_i, shape_j)
         gaps.append(float(distance.min()))
         close = np.zeros(len(times), dtype=bool)

@@ -8,7 +8,7 @@ end (exclusive) of the offending text for the caret line under the source snippe
 from __future__ import annotations
 
 import enum
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 __all__ = [
@@ -93,7 +93,7 @@ def has_errors(diagnostics: Iterable[Diagnostic]) -> bool:
 
 
 def format_diagnostics(
-    diagnostics: Sequence[Diagnostic], sources: dict[str, Sequence[str]] | None = None
+    diagnostics: Sequence[Diagnostic], sources: Mapping[str, Sequence[str]] | None = None
 ) -> str:
     """All diagnostics sorted by position, at most :data:`MAX_REPORTED`, then a count line."""
     ordered = sorted(diagnostics, key=lambda d: (d.path, d.line, d.col, d.severity.value))

@@ -198,17 +198,17 @@ class _World:
             isinstance(p, list) and len(p) == 2 and all(
                 isinstance(c, int | float) and not isinstance(c, bool) for c in p) for p in value)
         if not ok:
-            self.error(position, f"'{key}' of the {what} must be a list of at least 3 [x, y] "
+            self.error(position, f"'{key}' of {what} must be a list of at least 3 [x, y] "
                        "points", "e.g. polygon = [[0, 0], [1, 0], [1, 1]]")
             return None
         points = np.array(value, dtype=float)
         if not np.all(np.isfinite(points)) or np.any(np.abs(points) > MAX_COORDINATE):
-            self.error(position, f"the {what}'s points must be finite numbers within "
+            self.error(position, f"the points of {what} must be finite numbers within "
                        f"+-{MAX_COORDINATE:g} m")
             return None
         shape = shapely.Polygon(points)
         if not shape.is_valid or shape.area <= 0.0:
-            self.error(position, f"the {what}'s polygon is not simple (its edges cross or it "
+            self.error(position, f"the polygon of {what} is not simple (its edges cross or it "
                        "has no area)", "list the corners in order around the outline")
             return None
         return points
@@ -226,7 +226,7 @@ class _World:
         obstacles = self.obstacles()
         robots = self.robots(types)
         if self.diagnostics or room is None:
-            return None, self.diagnostics
+            return None, sorted(self.diagnostics, key=lambda d: (d.line, d.col))
         return World(self.path, room, wall_height, tuple(obstacles), tuple(robots)), []
 
     def room(self) -> tuple[NDArray[np.float64] | None, float]:
@@ -245,7 +245,7 @@ class _World:
                 self.error(self.where.key("room", "size"), "give either 'size' or 'polygon' "
                            "for the room, not both")
             return self.polygon(table["polygon"], "polygon", self.where.key("room", "polygon"),
-                                "room"), wall or 2.0
+                                "the room"), wall or 2.0
         size = self.number(table, "size", ("room", 0), default=THESIS_ROOM_SIZE, positive=True)
         return (square_room(size) if size else None), wall or 2.0
 
@@ -301,11 +301,12 @@ class _World:
             height = self.number(entry, "height", ("obstacles", index), default=1.0,
                                  positive=True, high=100.0)
             if "polygon" not in entry:
-                self.error((line, 1), f"{name} has no 'polygon'",
+                self.error((line, 1), f"obstacle '{name}' has no 'polygon'",
                            "add polygon = [[x, y], ...] with its corners in order")
                 continue
             polygon = self.polygon(entry["polygon"], "polygon",
-                                   self.where.key("obstacles", "polygon", index), name)
+                                   self.where.key("obstacles", "polygon", index),
+                                   f"obstacle '{name}'")
             if polygon is not None and height is not None:
                 result.append(Obstacle(name, polygon, height, line))
         return result

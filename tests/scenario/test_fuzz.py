@@ -40,7 +40,7 @@ def assert_well_formed(diagnostics: list[Diagnostic], text: str) -> None:
 
 
 def compile_and_check(text: str) -> None:
-    scenario, plan, diagnostics = compile_scenario(text, "fuzz.dance")
+    _, plan, diagnostics = compile_scenario(text, "fuzz.dance")
     assert_well_formed(diagnostics, text)
     if any(d.is_error for d in diagnostics):
         assert plan is None

@@ -7,9 +7,9 @@ import json
 from pathlib import Path
 
 import pytest
-from golden import INVALID_SOURCES, VALID_SOURCES, plan_summary
 
 from dancebots.cli import main
+from golden import INVALID_SOURCES, VALID_SOURCES, plan_summary
 
 
 @pytest.mark.parametrize("path", VALID_SOURCES, ids=lambda p: p.name)

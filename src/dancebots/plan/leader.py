@@ -11,8 +11,8 @@ import math
 __all__ = [
     "ANGULAR_LIMIT",
     "MIN_LINEAR",
-    "arc_command",
     "arc_angular_speed",
+    "arc_command",
     "leader_speed",
     "waypoint_command",
 ]

@@ -8,6 +8,7 @@ The parser never raises on any input: it reports every problem it finds in one p
 from __future__ import annotations
 
 import difflib
+import itertools
 import math
 import re
 from collections.abc import Sequence
@@ -402,7 +403,7 @@ def _check_shape(state: _State, line: int, token: _Token, shape: Shape,
     elif shape is Shape.COLUMN and any(c != 1 for c in counts):
         problem = f"a column has one robot per row, this arrangement has {described}"
     elif shape is Shape.TRIANGLE and (
-        len(rows) < 2 or counts[0] != 1 or any(b <= a for a, b in zip(counts, counts[1:], strict=False))
+        len(rows) < 2 or counts[0] != 1 or any(b <= a for a, b in itertools.pairwise(counts))
     ):
         problem = ("a triangle has one robot in the first row and more robots in each next row, "
                    f"this arrangement has {described}")
@@ -420,7 +421,7 @@ def _suggest_shape(counts: Sequence[int]) -> str:
         return "use `row` for robots side by side"
     if all(c == 1 for c in counts):
         return "use `column` for robots one behind the other"
-    if counts[0] == 1 and all(b > a for a, b in zip(counts, counts[1:], strict=False)):
+    if counts[0] == 1 and all(b > a for a, b in itertools.pairwise(counts)):
         return "use `triangle` for this arrangement"
     if len(set(counts)) == 1:
         return "use `square` for rows of equal size"
@@ -594,7 +595,8 @@ def _parse_circle(state: _State, line: int, tokens: Sequence[_Token]) -> None:
     if len(tokens) not in (4, 5):
         state.error(line, head.col, "circle takes a radius in m, a central angle in degrees, "
                     f"an angular speed in rad/s and an optional group, found "
-                    f"{_values(len(tokens) - 1)}", f"e.g. `{usage}` or `{usage} group1`", tokens[-1].end)
+                    f"{_values(len(tokens) - 1)}", f"e.g. `{usage}` or `{usage} group1`",
+                    tokens[-1].end)
         return
     radius = _number(state, line, tokens[1].text, tokens[1].col, "the circle radius",
                      low=-MAX_DISTANCE, high=MAX_DISTANCE)

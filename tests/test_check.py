@@ -1,0 +1,114 @@
+"""check_plan: the summary and each kind of warning, pointing at the right line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from dancebots.check import CheckOptions, CheckReport, check_plan, compile_scenario
+from dancebots.world import World, load_world, parse_world
+
+
+def check(text: str, world: World | None = None, **options: float) -> CheckReport:
+    _, plan, diagnostics = compile_scenario(text, "show.dance")
+    assert plan is not None, diagnostics
+    return check_plan(plan, world, CheckOptions(**options))  # type: ignore[arg-type]
+
+
+def messages(report: CheckReport) -> list[str]:
+    return [f"{d.line}: {d.message}" for d in report.diagnostics]
+
+
+def test_summary_of_a_straight_show() -> None:
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\n")
+    assert report.robots == ("R1", "R2")
+    assert report.duration == pytest.approx(5.61, abs=0.06)
+    r1 = report.summaries[0]
+    # the leader stops 0.1 m short of the waypoint: 1.9 m < path <= 2.0 m
+    assert 1.9 < r1.path_length <= 2.0
+    assert r1.max_speed == pytest.approx(0.35)
+    assert r1.max_angular_speed == 0.0
+    assert report.min_clearance == pytest.approx(0.6)
+    assert report.diagnostics == ()
+
+
+def test_footprints_too_close_in_a_formation() -> None:
+    report = check("robots R1 R2\nrow R1,R2 0 0.7\nmove 1 0\n")
+    assert messages(report) == ["2: R1 and R2 are 0.10 m apart in this formation (clearance "
+                                "0.2 m)"]
+    assert report.min_clearance == pytest.approx(0.1)
+    assert check("robots R1 R2\nrow R1,R2 0 0.7\nmove 1 0\n", clearance=0.05).diagnostics == ()
+
+
+def test_crossing_groups_are_reported_at_the_moving_instruction() -> None:
+    text = ("robots R1 R2\ngroups\na R1\nb R2\nstart\nrow R1,R2 0 3\nrow R1 0 0\nrow R2 0 0\n"
+            "newVL\nmove 3 -60 a\nmove 3 60 b\n")
+    found = messages(check(text))
+    assert len(found) == 1
+    assert found[0].startswith("10: R1 and R2 come within 0.00 m of each other (clearance 0.2 m)")
+
+
+def test_circle_tighter_than_the_formation() -> None:
+    text = "robots R1 R2 R3\nrow R1,R2,R3 0 1.5\ncircle 1 90 0.1\n"
+    found = messages(check(text))
+    assert ("3: the circle's radius 1 m is smaller than R1's lateral offset 1.5 m from the "
+            "virtual leader: the inner robots would have to reverse") in found
+
+
+def test_speed_above_maximum_points_at_the_turn() -> None:
+    found = messages(check("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\n"))
+    assert len(found) == 1
+    assert found[0].startswith("4: desired speed above the robot's maximum: R1 1.29 m/s (max "
+                               "0.5), R2 0.79 m/s (max 0.5)")
+
+
+def test_world_types_set_the_limits(data: Path) -> None:
+    world = load_world(str(data / "worlds" / "two_robots.toml"))
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\n", world)
+    r1, r2 = report.summaries
+    assert (r1.robot_type.name, r2.robot_type.name) == ("HUSKY", "TRADR")
+    found = messages(report)
+    # HUSKY may drive 1.0 m/s, TRADR 0.5 m/s: only their excess is reported
+    assert found[0].startswith("4: desired speed above the robot's maximum: R1 1.29 m/s (max 1)"
+                               ", R2 0.79 m/s (max 0.5)")
+    transform = report.world_transform
+    assert transform is not None
+    assert (transform.x, transform.y, transform.theta) == pytest.approx((2.0, 3.0, 0.0))
+
+
+def test_leaving_the_room_and_entering_an_obstacle(data: Path) -> None:
+    world = load_world(str(data / "worlds" / "two_robots.toml"))
+    found = messages(check("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 3 45\nmove 9 0\n",
+                           world))
+    assert any(m.startswith("5: R1 enters pillar (") for m in found), found
+    assert any(m.startswith("5: R1 leaves the room from t = ") for m in found), found
+    assert any(m.startswith("5: R2 leaves the room from t = ") for m in found), found
+
+
+def test_robot_far_from_its_slot(data: Path) -> None:
+    text = ('[[robots]]\nname = "R1"\nx = 1\ny = 1\n[[robots]]\nname = "R2"\nx = 1\ny = 5\n')
+    world, _ = parse_world(text, "w.toml")
+    assert world is not None
+    found = messages(check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world))
+    # slots 1.2 m apart, left R1 (y + 0.6), but R1 starts 4 m to the right of R2: the best
+    # fit puts the slots at y = 3.6 (R1) and 2.4 (R2): 2.6 m from each start.
+    assert found == [
+        "2: R1 starts 2.60 m and 0 deg away from its place in the first formation (w.toml:1)",
+        "2: R2 starts 2.60 m and 0 deg away from its place in the first formation (w.toml:5)",
+    ]
+
+
+def test_world_without_some_robots_is_an_error() -> None:
+    world, _ = parse_world('[[robots]]\nname = "R1"\nx = 1\ny = 1\n', "w.toml")
+    assert world is not None
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
+    assert [d.headline() for d in report.diagnostics] == [
+        "w.toml: error: the world places R1 but not R2"]
+
+
+def test_world_without_robots_centres_the_show(examples: Path) -> None:
+    world = load_world(str(examples / "worlds" / "thesis_room.toml"))
+    report = check((examples / "thesis_7_1.dance").read_text(), world)
+    assert report.world_transform is not None
+    assert not any("leaves the room" in d.message for d in report.diagnostics)

@@ -1,0 +1,156 @@
+"""The dancebots command: exit statuses, output formats, and hostile inputs."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from dancebots.cli import main
+
+Capture = pytest.CaptureFixture[str]
+
+
+def run(capsys: Capture, *args: str) -> tuple[int, str, str]:
+    status = main(list(args))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_check_valid_prints_summary(capsys: Capture, tmp_path: Path) -> None:
+    path = tmp_path / "straight.dance"
+    path.write_text("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\n")
+    status, out, err = run(capsys, "check", str(path))
+    assert status == 0
+    assert out.splitlines() == [
+        f"{path}: 2 robots (R1 R2)",
+        "show duration 5.6 s, 1 formations, smallest gap between footprints 0.60 m",
+        "robot      type     path m  max |v| m/s  max |w| rad/s",
+        "R1         SIM        1.90         0.35           0.00",
+        "R2         SIM        1.90         0.35           0.00",
+        f"{path}: ok",
+    ]
+    assert err == ""
+
+
+def test_warnings_and_strict(capsys: Capture, examples: Path) -> None:
+    path = str(examples / "thesis_7_1.dance")
+    status, out, err = run(capsys, "check", path)
+    assert status == 0
+    assert "thesis_7_1.dance:4:1: warning: desired speed above the robot's maximum" in err
+    assert out.rstrip().endswith("ok (2 warnings)")
+    assert run(capsys, "check", "--strict", path)[0] == 1
+
+
+def test_json_report(capsys: Capture, examples: Path) -> None:
+    status, out, _ = run(capsys, "check", "--json", str(examples / "thesis_6_3.dance"))
+    assert status == 0
+    report = json.loads(out)
+    assert report["valid"] is True
+    assert report["report"]["robots"] == ["R1", "R2", "R3", "R4"]
+    assert report["report"]["groups"] == {"group1": ["R1", "R3"], "group2": ["R2", "R4"]}
+    assert set(report["report"]["per_robot"]["R1"]) == {
+        "type", "path_length_m", "max_speed_mps", "max_angular_speed_radps", "speed_limit_mps"}
+    assert all(d["severity"] == "warning" for d in report["diagnostics"])
+
+
+def test_json_errors(capsys: Capture, data: Path) -> None:
+    path = data / "scenarios" / "invalid" / "unknown_robot.dance"
+    status, out, _ = run(capsys, "check", "--json", str(path))
+    assert status == 2
+    report = json.loads(out)
+    assert report["valid"] is False
+    assert report["report"] is None
+    assert report["diagnostics"][0]["line"] == 2
+    assert report["diagnostics"][0]["col"] == 8
+    assert report["diagnostics"][0]["hint"] == "the robots are R1 R2 R3 R4"
+
+
+def test_demo_passes_strict_check(capsys: Capture, tmp_path: Path) -> None:
+    status, out, _ = run(capsys, "demo")
+    assert status == 0
+    for keyword in ("robots", "groups", "start", "row", "column", "triangle", "square",
+                    "move", "circle", "newVL"):
+        assert keyword in out
+    demo = tmp_path / "demo.dance"
+    demo.write_text(out)
+    status, _, err = run(capsys, "check", "--strict", str(demo))
+    assert (status, err) == (0, "")
+
+
+def test_plan_png(capsys: Capture, examples: Path, tmp_path: Path) -> None:
+    target = tmp_path / "plan.png"
+    status, out, _ = run(capsys, "plan", str(examples / "thesis_6_3.dance"), "--png",
+                         str(target))
+    assert status == 0
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not (tmp_path / "plan.png.partial").exists()
+    assert out == f"wrote {target}\n"
+
+
+def test_plan_png_in_a_world(capsys: Capture, examples: Path, data: Path,
+                             tmp_path: Path) -> None:
+    target = tmp_path / "plan.png"
+    status, _, _ = run(capsys, "plan", str(examples / "thesis_7_1.dance"), "--world",
+                       str(data / "worlds" / "two_robots.toml"), "--png", str(target))
+    assert status == 0
+    assert target.stat().st_size > 10_000
+
+
+def test_plan_unwritable_directory(capsys: Capture, examples: Path, tmp_path: Path) -> None:
+    target = tmp_path / "missing" / "plan.png"
+    status, _, err = run(capsys, "plan", str(examples / "thesis_7_1.dance"), "--png",
+                         str(target))
+    assert status == 2
+    assert err.startswith(f"{target}: error: cannot write here:")
+    assert not target.parent.exists()
+
+
+@pytest.mark.parametrize(("name", "content", "message"), [
+    ("missing.dance", None, "missing.dance: error: no such file"),
+    ("folder", "DIR", "folder: error: is a directory, not a file"),
+    ("binary.dance", b"\x00\x01\x02\xff\xfe" * 100, "binary.dance:1:4: error: the file is not "
+     "valid UTF-8 text (byte ff at byte offset 3)"),
+    ("big.dance", b"move 1 0\n" * 1_200_000, "big.dance: error: the file is larger than 2 MiB"),
+    ("nan.dance", b"robots R1\nrow R1 0 0\nmove NaN inf\n", "nan.dance:3:6: error: the move "
+     "distance must be a finite number, not 'NaN'"),
+    ("huge.dance", b"robots R1\nrow R1 0 0\nmove 1e308 1e308\n", "huge.dance:3:6: error: the "
+     "move distance must be at most 1000, not 1e308"),
+    ("empty.dance", b"", "empty.dance:1:1: error: the scenario is empty"),
+])
+def test_hostile_inputs(capsys: Capture, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                        name: str, content: bytes | str | None, message: str) -> None:
+    monkeypatch.chdir(tmp_path)
+    if content == "DIR":
+        (tmp_path / name).mkdir()
+    elif isinstance(content, bytes):
+        (tmp_path / name).write_bytes(content)
+    status, _, err = run(capsys, "check", name)
+    assert status == 2
+    assert err.splitlines()[0] == message
+    assert "Traceback" not in err
+
+
+def test_world_errors_reported_with_scenario_errors(capsys: Capture, data: Path,
+                                                    examples: Path) -> None:
+    status, _, err = run(capsys, "check", str(examples / "thesis_7_1.dance"), "--world",
+                         str(data / "worlds" / "bad.toml"))
+    assert status == 2
+    assert "bad.toml:2:1: error: 'size' must be greater than 0" in err
+    assert "8 errors, 0 warnings" in err
+
+
+def test_bad_arguments_exit_2(capsys: Capture) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        main(["check", "x.dance", "--vmax", "nan"])
+    assert exit_info.value.code == 2
+    assert "must be a finite number > 0" in capsys.readouterr().err
+
+
+def test_console_script_runs() -> None:
+    out = subprocess.run([sys.executable, "-m", "dancebots.cli", "--version"], check=True,
+                         capture_output=True, text=True)
+    assert out.stdout.startswith("dancebots ")
