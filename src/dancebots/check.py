@@ -234,6 +234,13 @@ def _footprints(corners: FloatArray) -> NDArray[np.object_]:
     return polygons
 
 
+def _rectangles(centres: FloatArray, sizes: FloatArray) -> FloatArray:
+    """Corners (M, 4, 2) of axis-aligned rectangles: centres (M, 2), sizes (M, 2) (l, w)."""
+    signs = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]], dtype=float)
+    result: FloatArray = centres[:, None, :] + 0.5 * signs[None, :, :] * sizes[:, None, :]
+    return result
+
+
 def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                      poses: FloatArray, which: NDArray[np.int64], options: CheckOptions,
                      diagnostics: list[Diagnostic]) -> float | None:
@@ -247,17 +254,18 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         members = formation.robots
         if len(members) < 2:
             continue
+        pairs = [(a, b) for a, b in itertools.combinations(range(len(members)), 2)
+                 if (formation.span.line, members[a], members[b]) not in checked]
+        if not pairs:  # what remains of a split formation keeps its offsets: checked already
+            continue
+        checked.update((formation.span.line, members[a], members[b]) for a, b in pairs)
         offsets = np.array([formation.offsets[r] for r in members])
-        shapes = [_footprints(footprint_corners(
-            offsets[k, 0:1], offsets[k, 1:2], np.zeros(1), types[index[r]].length,
-            types[index[r]].width))[0] for k, r in enumerate(members)]
-        for a, b in itertools.combinations(range(len(members)), 2):
-            key = (formation.span.line, members[a], members[b])
-            if key in checked:  # what remains of a split formation keeps its offsets
-                continue
-            checked.add(key)
-            gap = float(shapely.distance(shapes[a], shapes[b]))
-            gaps.append(gap)
+        sizes = np.array([(types[index[r]].length, types[index[r]].width) for r in members])
+        shapes = _footprints(_rectangles(offsets, sizes))
+        first, second = np.array(pairs).T
+        pair_gaps = shapely.distance(shapes[first], shapes[second])
+        gaps.append(float(pair_gaps.min()))
+        for (a, b), gap in zip(pairs, pair_gaps.tolist(), strict=True):
             if gap < options.clearance:
                 _warn(plan, (formation.span.line, formation.span.col),
                       f"{members[a]} and {members[b]} are {gap:.2f} m apart in this formation "

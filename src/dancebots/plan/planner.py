@@ -177,15 +177,18 @@ class Plan:
         times = np.asarray(times, dtype=float)
         result = np.empty((len(times), 3))
         which = self.formation_indices(robot, times)
-        for index in np.unique(which):
-            mask = which == index
-            formation = self.formations[index]
-            leader = formation.leader.poses_at(times[mask])
+        # runs of equal formation index (contiguous when times are sorted)
+        bounds = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1, [len(times)]])
+        for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+            if a == b:
+                continue
+            formation = self.formations[int(which[a])]
+            leader = formation.leader.poses_at(times[a:b])
             ox, oy = formation.offsets[robot]
             c, s = np.cos(leader[:, 2]), np.sin(leader[:, 2])
-            result[mask, 0] = leader[:, 0] + c * ox - s * oy
-            result[mask, 1] = leader[:, 1] + s * ox + c * oy
-            result[mask, 2] = leader[:, 2]
+            result[a:b, 0] = leader[:, 0] + c * ox - s * oy
+            result[a:b, 1] = leader[:, 1] + s * ox + c * oy
+            result[a:b, 2] = leader[:, 2]
         return result
 
 

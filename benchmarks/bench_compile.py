@@ -1,0 +1,74 @@
+"""Time to parse, plan and check a 1,000-instruction, 20-robot choreography (target < 1 s).
+
+Run: ``.venv/bin/python benchmarks/bench_compile.py [--repeat N]``. Prints the median and the
+spread of N runs of each stage (one core, wall clock: the machine is shared, so compare
+medians and ratios, not single runs).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+from dancebots.check import check_plan
+from dancebots.plan import build_plan
+from dancebots.scenario import parse_scenario
+
+
+def big_scenario(instructions: int = 1000, robots: int = 20) -> str:
+    """20 robots in a 4 x 5 grid that splits into two halves and joins again, repeatedly,
+    with gentle moves and circles: every construct of the language, deterministic."""
+    names = [f"R{i + 1}" for i in range(robots)]
+    left = [n for i, n in enumerate(names) if i % 5 < 2]
+    right = [n for n in names if n not in left]
+    rows = [names[r * 5:(r + 1) * 5] for r in range(4)]
+    grid = "square " + ";".join(",".join(row) for row in rows) + " 1.6 1.5"
+    half_l = "square " + ";".join(",".join(n for n in row if n in left) for row in rows)
+    half_r = "square " + ";".join(",".join(n for n in row if n in right) for row in rows)
+    lines = ["robots " + " ".join(names), "groups", "left " + " ".join(left),
+             "right " + " ".join(right), "start", grid]
+    body = 1
+    cycle = 0
+    while body < instructions:
+        block = [f"move {2 + cycle % 3} {(-1) ** cycle}", "circle 15 10 0.02",
+                 half_l + " 1.6 1.5", half_r + " 1.6 1.5", "newVL",
+                 "move 1 2 left", "move 1 -2 right", "move 1 -2 left", "move 1 2 right",
+                 grid, "newVL"]
+        lines.extend(block)
+        body += len(block)
+        cycle += 1
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+    text = big_scenario()
+    stages: dict[str, list[float]] = {"parse": [], "plan": [], "check": [], "total": []}
+    for _ in range(args.repeat):
+        t0 = time.perf_counter()
+        scenario, diagnostics = parse_scenario(text, "bench.dance")
+        t1 = time.perf_counter()
+        assert scenario is not None, diagnostics[:3]
+        plan, diagnostics = build_plan(scenario)
+        t2 = time.perf_counter()
+        assert plan is not None, diagnostics[:3]
+        report = check_plan(plan)
+        t3 = time.perf_counter()
+        for name, value in zip(stages, (t1 - t0, t2 - t1, t3 - t2, t3 - t0), strict=True):
+            stages[name].append(value)
+    count = sum(1 for line in text.splitlines()[5:] if line.strip())
+    print(f"scenario: {count} instruction lines, {len(scenario.robots)} robots, "
+          f"{len(plan.formations)} formations, show {plan.duration:.0f} s, "
+          f"{len(report.diagnostics)} warnings")
+    for name, values in stages.items():
+        print(f"{name:>6}: median {statistics.median(values) * 1000:8.1f} ms   "
+              f"min {min(values) * 1000:8.1f} ms   max {max(values) * 1000:8.1f} ms")
+    verdict = "meets" if statistics.median(stages["total"]) < 1.0 else "MISSES"
+    print(f"target: check and plan under 1 s on one core -> {verdict} it")
+
+
+if __name__ == "__main__":
+    main()
