@@ -27,7 +27,7 @@ def test_check_valid_prints_summary(capsys: Capture, tmp_path: Path) -> None:
     assert status == 0
     assert out.splitlines() == [
         f"{path}: 2 robots (R1 R2)",
-        "show duration 5.6 s, 1 formations, smallest gap between footprints 0.60 m",
+        "show duration 5.6 s, 1 formation, smallest gap between footprints 0.60 m",
         "robot      type     path m  max |v| m/s  max |w| rad/s",
         "R1         SIM        1.90         0.35           0.00",
         "R2         SIM        1.90         0.35           0.00",

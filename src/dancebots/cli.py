@@ -166,7 +166,8 @@ def _summary_text(report: CheckReport, plan: Plan | None) -> str:
         lines.append(f"groups: {groups}")
     formations = len(plan.formations) if plan else 0
     gap = "n/a" if report.min_clearance is None else f"{report.min_clearance:.2f} m"
-    lines.append(f"show duration {report.duration:.1f} s, {formations} formations, "
+    lines.append(f"show duration {report.duration:.1f} s, {formations} formation"
+                 f"{'' if formations == 1 else 's'}, "
                  f"smallest gap between footprints {gap}")
     if report.world_transform is not None:
         t = report.world_transform
