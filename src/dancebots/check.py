@@ -31,7 +31,10 @@ __all__ = [
     "RobotSummary",
     "check_plan",
     "compile_scenario",
+    "WorldViolation",
     "place_plan_in_world",
+    "robot_types",
+    "world_violations",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -119,7 +122,7 @@ def check_plan(plan: Plan, world: World | None = None,
     options = options or CheckOptions()
     scenario = plan.scenario
     diagnostics: list[Diagnostic] = []
-    types = _robot_types(plan, world, options)
+    types = robot_types(plan, world, options.robot_type)
     times = _sample_times(plan, options.sample_period)
     poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
     which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
@@ -135,18 +138,20 @@ def check_plan(plan: Plan, world: World | None = None,
                        tuple(summaries), min_gap, transform, tuple(diagnostics))
 
 
-def _robot_types(plan: Plan, world: World | None, options: CheckOptions) -> list[RobotType]:
+def robot_types(plan: Plan, world: World | None,
+                default: RobotType = DEFAULT_ROBOT_TYPE) -> list[RobotType]:
+    """Each robot's type: from the world, else ``default`` (whose max speed is the plan's
+    vmax when there is no world: vmax is then the user's statement of the robots' speed)."""
     types = []
     for robot in plan.robots:
         found = world.robot(robot) if world is not None else None
         if found is not None:
             types.append(found.type)
         elif world is None:
-            base = options.robot_type
-            types.append(RobotType(base.name, base.length, base.width, plan.parameters.vmax,
-                                   base.max_angular_speed))
+            types.append(RobotType(default.name, default.length, default.width,
+                                   plan.parameters.vmax, default.max_angular_speed))
         else:
-            types.append(options.robot_type)
+            types.append(default)
     return types
 
 
@@ -370,9 +375,47 @@ def place_plan_in_world(plan: Plan, world: World, diagnostics: list[Diagnostic],
     return transform
 
 
+@dataclass(frozen=True, slots=True)
+class WorldViolation:
+    """A robot's desired footprint outside the room (``obstacle`` None) or in an obstacle,
+    from ``start`` to ``end`` s of show time, during the instruction at ``line``:``col``."""
+
+    robot: str
+    obstacle: str | None
+    start: float
+    end: float
+    line: int
+    col: int
+
+
+def world_violations(plan: Plan, world: World, transform: Pose,
+                     types: Sequence[RobotType], period: float = 0.1) -> list[WorldViolation]:
+    """Where the plan, placed in the world by ``transform``, leaves the room or enters an
+    obstacle (robot footprints at their desired poses, sampled every ``period`` s)."""
+    times = _sample_times(plan, period)
+    poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])
+    which = np.stack([plan.formation_indices(r, times) for r in plan.robots])
+    return _world_violations(plan, world, transform, types, times, poses, which)
+
+
 def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
                  times: FloatArray, poses: FloatArray, which: NDArray[np.int64],
                  diagnostics: list[Diagnostic]) -> None:
+    for v in _world_violations(plan, world, transform, types, times, poses, which):
+        if v.obstacle is None:
+            _warn(plan, (v.line, v.col), f"{v.robot} leaves the room from t = {v.start:.1f} s "
+                  f"to {v.end:.1f} s", "move the show's start poses, or shorten the moves",
+                  diagnostics)
+        else:
+            _warn(plan, (v.line, v.col), f"{v.robot} enters {v.obstacle} from t = "
+                  f"{v.start:.1f} s to {v.end:.1f} s", "steer the formation around the obstacle",
+                  diagnostics)
+
+
+def _world_violations(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
+                      times: FloatArray, poses: FloatArray,
+                      which: NDArray[np.int64]) -> list[WorldViolation]:
+    found: list[WorldViolation] = []
     c, s = math.cos(transform.theta), math.sin(transform.theta)
     x = transform.x + c * poses[..., 0] - s * poses[..., 1]
     y = transform.y + s * poses[..., 0] + c * poses[..., 1]
@@ -380,7 +423,14 @@ def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[Robo
     room = shapely.Polygon(world.room)
     shapely.prepare(room)
     obstacles = [(o, shapely.Polygon(o.polygon)) for o in world.obstacles]
-    for i, robot in enumerate(plan.robots):
+
+    def add(robot: int, name: str | None, mask: NDArray[np.bool_]) -> None:
+        for a, b in _runs(mask):
+            line, col = _line_at(plan.formations[int(which[robot, a])], float(times[a]))
+            found.append(WorldViolation(plan.robots[robot], name, float(times[a]),
+                                        float(times[b - 1]), line, col))
+
+    for i in range(len(plan.robots)):
         kind = types[i]
         reach = math.hypot(kind.length, kind.width) / 2
         near_wall = shapely.distance(room.exterior, shapely.points(x[i], y[i])) < reach
@@ -391,10 +441,7 @@ def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[Robo
             corners = footprint_corners(x[i, check], y[i, check], theta[i, check], kind.length,
                                         kind.width)
             outside[check] = ~shapely.contains(room, shapely.polygons(corners))
-        for a, b in _runs(outside):
-            _warn(plan, _line_at(plan.formations[int(which[i, a])], float(times[a])),
-                  f"{robot} leaves the room from t = {times[a]:.1f} s to {times[b - 1]:.1f} s",
-                  "move the show's start poses, or shorten the moves", diagnostics)
+        add(i, None, outside)
         for obstacle, shape in obstacles:
             distance = shapely.distance(shape, shapely.points(x[i], y[i]))
             check = np.flatnonzero(distance < reach)
@@ -403,8 +450,5 @@ def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[Robo
                 corners = footprint_corners(x[i, check], y[i, check], theta[i, check],
                                             kind.length, kind.width)
                 hit[check] = shapely.intersects(shape, shapely.polygons(corners))
-            for a, b in _runs(hit):
-                _warn(plan, _line_at(plan.formations[int(which[i, a])], float(times[a])),
-                      f"{robot} enters {obstacle.name} ({world.path}:{obstacle.line}) from "
-                      f"t = {times[a]:.1f} s to {times[b - 1]:.1f} s",
-                      "steer the formation around the obstacle", diagnostics)
+            add(i, f"{obstacle.name} ({world.path}:{obstacle.line})", hit)
+    return sorted(found, key=lambda v: (v.start, v.robot))

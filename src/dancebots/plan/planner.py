@@ -36,6 +36,7 @@ __all__ = [
     "Plan",
     "PlanParameters",
     "PlannedFormation",
+    "RobotTrack",
     "build_plan",
     "desired_pose",
     "virtual_leader_pose",
@@ -109,9 +110,9 @@ class LeaderTrajectory:
         return np.stack([x, y, np.remainder(theta + np.pi, 2 * np.pi) - np.pi], axis=-1)
 
     def commands_at(self, t: FloatArray) -> FloatArray:
-        """Commands (T, 2) in effect at show times t (T,)."""
+        """Commands (T, 2) in effect at show times t (T,); zero outside the trajectory."""
         k = np.searchsorted(self.times, np.asarray(t, dtype=float), side="right") - 1
-        inside = k >= 0
+        inside = (k >= 0) & (k < len(self.times) - 1)
         result = np.zeros((len(k), 2))
         result[inside] = self.commands[k[inside]]
         return result
@@ -174,22 +175,49 @@ class Plan:
     def desired_poses(self, robot: str, times: FloatArray) -> FloatArray:
         """Desired poses (T, 3) of ``robot`` at show times (T,): its leader's pose composed
         with its offset, heading that of the leader (thesis ch. 4.2)."""
+        return self.track(robot, times).desired
+
+    def track(self, robot: str, times: FloatArray) -> RobotTrack:
+        """Everything ``robot`` needs from the plan at show times (T,), sorted ascending."""
         times = np.asarray(times, dtype=float)
-        result = np.empty((len(times), 3))
+        count = len(times)
+        leader = np.empty((count, 3))
+        desired = np.empty((count, 3))
+        offsets = np.empty((count, 2))
+        commands = np.empty((count, 2))
         which = self.formation_indices(robot, times)
         # runs of equal formation index (contiguous when times are sorted)
-        bounds = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1, [len(times)]])
+        bounds = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1, [count]])
         for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
             if a == b:
                 continue
             formation = self.formations[int(which[a])]
-            leader = formation.leader.poses_at(times[a:b])
-            ox, oy = formation.offsets[robot]
-            c, s = np.cos(leader[:, 2]), np.sin(leader[:, 2])
-            result[a:b, 0] = leader[:, 0] + c * ox - s * oy
-            result[a:b, 1] = leader[:, 1] + s * ox + c * oy
-            result[a:b, 2] = leader[:, 2]
-        return result
+            leader[a:b] = formation.leader.poses_at(times[a:b])
+            commands[a:b] = formation.leader.commands_at(times[a:b])
+            offsets[a:b] = formation.offsets[robot]
+        c, s = np.cos(leader[:, 2]), np.sin(leader[:, 2])
+        desired[:, 0] = leader[:, 0] + c * offsets[:, 0] - s * offsets[:, 1]
+        desired[:, 1] = leader[:, 1] + s * offsets[:, 0] + c * offsets[:, 1]
+        desired[:, 2] = leader[:, 2]
+        return RobotTrack(times, leader, desired, np.hypot(offsets[:, 0], offsets[:, 1]),
+                          commands, which)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RobotTrack:
+    """One robot's view of the plan at show times (T,), show frame.
+
+    leader, desired: (T, 3) poses of its virtual leader and of itself. required_distance:
+    (T,) |offset|, the desired distance to the leader, m (thesis eq. 4.4a d_req).
+    leader_commands: (T, 2) the leader's (v, w). formation: (T,) formation indices.
+    """
+
+    times: FloatArray
+    leader: FloatArray
+    desired: FloatArray
+    required_distance: FloatArray
+    leader_commands: FloatArray
+    formation: NDArray[np.int64]
 
 
 def virtual_leader_pose(plan: Plan, robot_or_group: str, show_time: float) -> Pose:

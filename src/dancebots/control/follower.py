@@ -1,0 +1,112 @@
+"""The follower controller of thesis ch. 4.3, eq. 4.4, as a pure function.
+
+Frames: every position is in the robot's own ``map`` frame (x, y in m); the robot's pose is
+(x, y, theta) in that frame. Commands are (linear m/s, angular rad/s) in ``base_link``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+__all__ = [
+    "FollowerParams",
+    "FollowerState",
+    "thesis_follower_step",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class FollowerParams:
+    """Parameters of the thesis follower (values from thesis ch. 4.3 unless noted).
+
+    vmax: maximal speed of the slowest robot, m/s (the leader moves at 0.7 vmax).
+    max_linear, max_angular: this robot's limits, m/s and rad/s; applied keeping the sign.
+    queue_period: the queue of desired positions is filled at 10 Hz, s.
+    pop_distance: the queue head is popped when nearer than this, m ("30 cm").
+    far_factor: the queue is cleared when the leader is further than this times the desired
+        distance ("double of the desired").
+    arrival_distance: an addition to the thesis: while the leader stands still (a newVL
+        hold, a join, the end of the show) a robot this near its desired position stops,
+        where eq. 4.4a as written would keep driving at 0.7 vmax |1 + 3 (d_act - d_req)|.
+    """
+
+    vmax: float = 0.5
+    max_linear: float = 0.5
+    max_angular: float = math.pi
+    queue_period: float = 0.1
+    pop_distance: float = 0.30
+    far_factor: float = 2.0
+    arrival_distance: float = 0.10
+
+
+@dataclass(frozen=True, slots=True)
+class FollowerState:
+    """The queue of desired positions (oldest first) and when it was last filled, s."""
+
+    queue: tuple[tuple[float, float], ...] = ()
+    last_fill: float = -math.inf
+
+
+def _sign(value: float) -> float:
+    return 1.0 if value > 0 else -1.0 if value < 0 else 0.0
+
+
+def _clip_keep_sign(value: float, limit: float) -> float:
+    return math.copysign(min(abs(value), limit), value)
+
+
+def thesis_follower_step(
+    params: FollowerParams,
+    state: FollowerState,
+    now: float,
+    pose: tuple[float, float, float],
+    leader: tuple[float, float],
+    desired: tuple[float, float],
+    required_distance: float,
+    leader_moving: bool,
+    force: tuple[float, float] = (0.0, 0.0),
+) -> tuple[FollowerState, tuple[float, float]]:
+    """One control tick of thesis eq. 4.4. Returns the new state and (linear, angular).
+
+    pose: the robot (x, y, theta); leader: the virtual leader's position; desired: this
+    robot's desired position; all in the robot's map frame. required_distance: d_req, the
+    desired distance to the leader, m. force: the virtual repulsive force (Fx, Fy) in
+    ``base_link`` (zero until obstacle avoidance adds it).
+
+        linear  = sgn(Gx) * 0.7 vmax * |1 + 3 (d_act - d_req)|            (4.4a)
+        angular = 3 sgn(Gx Gy) alpha - 2 sgn(Fx) alpha2 |F|               (4.4b)
+
+    G is the target in ``base_link``: the queue head, or the leader itself when the queue is
+    empty or the leader is further than twice d_req (the queue is then cleared). alpha is the
+    smallest angle between the x axis and the line to G (alpha or pi - alpha, so a target
+    behind is reached by reversing); alpha2 is the direction of F.
+    """
+    x, y, theta = pose
+    queue = state.queue
+    last_fill = state.last_fill
+    if now - last_fill >= params.queue_period - 1e-9:  # filled at 10 Hz
+        queue = (*queue, desired)
+        last_fill = now
+    d_act = math.hypot(leader[0] - x, leader[1] - y)
+    if not leader_moving and math.hypot(desired[0] - x, desired[1] - y) <= params.arrival_distance:
+        return FollowerState((), last_fill), (0.0, 0.0)
+    if d_act > params.far_factor * required_distance:
+        queue = ()
+        target = leader
+    else:
+        if queue and math.hypot(queue[0][0] - x, queue[0][1] - y) < params.pop_distance:
+            queue = queue[1:]  # "new point is popped from the queue (if not empty)"
+        target = queue[0] if queue else leader
+    c, s = math.cos(theta), math.sin(theta)
+    dx, dy = target[0] - x, target[1] - y
+    gx, gy = c * dx + s * dy, -s * dx + c * dy
+    alpha = math.atan2(abs(gy), abs(gx))  # smallest angle to the line through G
+    linear = _sign(gx) * 0.7 * params.vmax * abs(1.0 + 3.0 * (d_act - required_distance))
+    fx, fy = force
+    magnitude = math.hypot(fx, fy)
+    alpha2 = math.atan2(abs(fy), abs(fx)) if magnitude > 0 else 0.0
+    angular = 3.0 * _sign(gx * gy) * alpha - 2.0 * _sign(fx) * alpha2 * magnitude
+    command = (_clip_keep_sign(linear, params.max_linear),
+               _clip_keep_sign(angular, params.max_angular))
+    return replace(state, queue=queue, last_fill=last_fill), command

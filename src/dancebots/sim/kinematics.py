@@ -1,0 +1,57 @@
+"""Robot motion in the simulator: actuation profiles and unicycle integration, vectorised.
+
+Arrays have shape (R,), one entry per robot; units m, rad, m/s, rad/s, s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["IDEAL", "PROFILES", "REALISTIC", "Profile", "actuate"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class Profile:
+    """How commands become motion.
+
+    lag: first-order actuator time constant, s (0: commands act at once).
+    linear_acceleration, angular_acceleration: limits, m/s^2 and rad/s^2 (inf: none).
+    linear_noise, angular_noise: standard deviation of the velocity noise added each step,
+        m/s and rad/s, drawn from the run's seeded generator.
+    """
+
+    name: str
+    lag: float = 0.0
+    linear_acceleration: float = math.inf
+    angular_acceleration: float = math.inf
+    linear_noise: float = 0.0
+    angular_noise: float = 0.0
+
+
+IDEAL = Profile("ideal")
+"""Commands act at once, no noise: the thesis's 2D simulator (ch. 7.1)."""
+REALISTIC = Profile("realistic", lag=0.25, linear_acceleration=1.0, angular_acceleration=4.0,
+                    linear_noise=0.01, angular_noise=0.02)
+"""Inertia, actuator lag and noise: standing in for the thesis's 3D simulation (ch. 7.2.1)."""
+PROFILES = {profile.name: profile for profile in (IDEAL, REALISTIC)}
+
+
+def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: float,
+            rng: np.random.Generator) -> FloatArray:
+    """The velocities (R, 2) after one step of dt s from ``velocity`` towards ``command``."""
+    if profile.lag > 0.0:
+        target = velocity + (command - velocity) * (1.0 - math.exp(-dt / profile.lag))
+    else:
+        target = command
+    limits = np.array([profile.linear_acceleration, profile.angular_acceleration]) * dt
+    result: FloatArray = velocity + np.clip(target - velocity, -limits, limits)
+    if profile.linear_noise > 0.0 or profile.angular_noise > 0.0:
+        noise = rng.normal(0.0, 1.0, size=result.shape)
+        result = result + noise * np.array([profile.linear_noise, profile.angular_noise])
+    return result
