@@ -50,6 +50,7 @@ class BrainState:
 @dataclass(frozen=True, slots=True)
 class _Sample:
     leader: tuple[float, float]
+    path_point: tuple[float, float]
     desired: tuple[float, float]
     required: float
     moving: bool
@@ -74,19 +75,22 @@ class RobotBrain:
         self.slot0 = Pose(float(slot[0]), float(slot[1]), float(slot[2]))
         self._to_own = self.slot0.inverse()
         self.grid_period = grid_period
-        count = int(math.ceil(plan.duration / grid_period)) + 2
-        self._grid = self._samples(plan.track(robot, np.arange(count) * grid_period))
+        count = math.ceil(plan.duration / grid_period) + 2
+        grid = np.arange(count, dtype=np.float64) * grid_period
+        self._grid = self._samples(plan.track(robot, grid))
 
     def _samples(self, track: RobotTrack) -> list[_Sample]:
         own = self._to_own
         c, s = math.cos(own.theta), math.sin(own.theta)
         lx = own.x + c * track.leader[:, 0] - s * track.leader[:, 1]
         ly = own.y + s * track.leader[:, 0] + c * track.leader[:, 1]
+        px = own.x + c * track.lateral[:, 0] - s * track.lateral[:, 1]
+        py = own.y + s * track.lateral[:, 0] + c * track.lateral[:, 1]
         dx = own.x + c * track.desired[:, 0] - s * track.desired[:, 1]
         dy = own.y + s * track.desired[:, 0] + c * track.desired[:, 1]
         moving = np.any(track.leader_commands != 0.0, axis=1)
-        return [_Sample((a, b), (e, f), r, m) for a, b, e, f, r, m in zip(
-            lx.tolist(), ly.tolist(), dx.tolist(), dy.tolist(),
+        return [_Sample((a, b), (p, q), (e, f), r, m) for a, b, p, q, e, f, r, m in zip(
+            lx.tolist(), ly.tolist(), px.tolist(), py.tolist(), dx.tolist(), dy.tolist(),
             track.required_distance.tolist(), moving.tolist(), strict=True)]
 
     def _sample(self, show_time: float) -> _Sample:
@@ -106,8 +110,8 @@ class RobotBrain:
             return state, STOP, ()
         sample = self._sample(show_time)
         follower, (linear, angular) = thesis_follower_step(
-            self.params, state.follower, show_time, pose, sample.leader, sample.desired,
-            sample.required, sample.moving)
+            self.params, state.follower, show_time, pose, sample.leader, sample.path_point,
+            sample.desired, sample.required, sample.moving)
         return replace(state, follower=follower), Command(linear, angular), ()
 
     def leader_in_own_frame(self, show_time: float) -> tuple[float, float]:

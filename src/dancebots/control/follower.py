@@ -10,10 +10,15 @@ import math
 from dataclasses import dataclass, replace
 
 __all__ = [
+    "ARRIVAL_GAIN",
     "FollowerParams",
     "FollowerState",
     "thesis_follower_step",
 ]
+
+
+ARRIVAL_GAIN = 1.5
+"""Speed per metre of remaining distance when arriving at a standing leader, 1/s (eq. 4.1a)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -27,8 +32,10 @@ class FollowerParams:
     far_factor: the queue is cleared when the leader is further than this times the desired
         distance ("double of the desired").
     arrival_distance: an addition to the thesis: while the leader stands still (a newVL
-        hold, a join, the end of the show) a robot this near its desired position stops,
-        where eq. 4.4a as written would keep driving at 0.7 vmax |1 + 3 (d_act - d_req)|.
+        hold, a join, the end of the show) eq. 4.4a as written would keep driving at
+        0.7 vmax |1 + 3 (d_act - d_req)| and overshoot; instead the robot then aims at its
+        desired position, at most ARRIVAL_GAIN * distance fast (the form of eq. 4.1a), and
+        stops within this distance, m.
     """
 
     vmax: float = 0.5
@@ -62,6 +69,7 @@ def thesis_follower_step(
     now: float,
     pose: tuple[float, float, float],
     leader: tuple[float, float],
+    path_point: tuple[float, float],
     desired: tuple[float, float],
     required_distance: float,
     leader_moving: bool,
@@ -69,40 +77,57 @@ def thesis_follower_step(
 ) -> tuple[FollowerState, tuple[float, float]]:
     """One control tick of thesis eq. 4.4. Returns the new state and (linear, angular).
 
-    pose: the robot (x, y, theta); leader: the virtual leader's position; desired: this
-    robot's desired position; all in the robot's map frame. required_distance: d_req, the
-    desired distance to the leader, m. force: the virtual repulsive force (Fx, Fy) in
-    ``base_link`` (zero until obstacle avoidance adds it).
+    pose: the robot (x, y, theta); leader: the virtual leader's position; path_point: the
+    leader's position shifted sideways by the robot's lateral offset; desired: the robot's
+    desired position (leader pose + offset); all in the robot's map frame. required_distance:
+    d_req, the desired distance to the leader, m. force: the virtual repulsive force (Fx, Fy)
+    in ``base_link`` (zero until obstacle avoidance adds it).
 
         linear  = sgn(Gx) * 0.7 vmax * |1 + 3 (d_act - d_req)|            (4.4a)
         angular = 3 sgn(Gx Gy) alpha - 2 sgn(Fx) alpha2 |F|               (4.4b)
 
-    G is the target in ``base_link``: the queue head, or the leader itself when the queue is
-    empty or the leader is further than twice d_req (the queue is then cleared). alpha is the
-    smallest angle between the x axis and the line to G (alpha or pi - alpha, so a target
-    behind is reached by reversing); alpha2 is the direction of F.
+    The queue holds the leader's positions shifted by the robot's lateral offset, one every
+    0.1 s: so the robot drives the leader's path at its lateral distance, and eq. 4.4a keeps
+    its distance to the leader, which lets the formation stretch and shrink lengthwise in
+    turns while it keeps its lateral distances (thesis ch. 4.1, 4.3). Queuing the rigid
+    desired positions instead makes the rear robots of a turning formation swing sideways
+    through loops. G is the target in ``base_link``: the queue head, or the current shifted
+    leader position ("following the virtual leader directly") when the queue is empty or the
+    leader is further than twice d_req (the queue is then cleared). alpha is the smallest
+    angle between the x axis and the line to G (alpha or pi - alpha, so a target behind is
+    reached by reversing); alpha2 is the direction of F.
     """
     x, y, theta = pose
     queue = state.queue
     last_fill = state.last_fill
     if now - last_fill >= params.queue_period - 1e-9:  # filled at 10 Hz
-        queue = (*queue, desired)
+        queue = (*queue, path_point)
         last_fill = now
     d_act = math.hypot(leader[0] - x, leader[1] - y)
-    if not leader_moving and math.hypot(desired[0] - x, desired[1] - y) <= params.arrival_distance:
-        return FollowerState((), last_fill), (0.0, 0.0)
-    if d_act > params.far_factor * required_distance:
+    speed_limit = math.inf
+    if not leader_moving:  # arrival (an addition, see FollowerParams.arrival_distance)
+        gap = math.hypot(desired[0] - x, desired[1] - y)
+        if gap <= params.arrival_distance:
+            return FollowerState((), last_fill), (0.0, 0.0)
         queue = ()
-        target = leader
+        target = desired
+        speed_limit = ARRIVAL_GAIN * gap
+    elif d_act > params.far_factor * required_distance:
+        queue = ()
+        target = path_point
     else:
-        if queue and math.hypot(queue[0][0] - x, queue[0][1] - y) < params.pop_distance:
-            queue = queue[1:]  # "new point is popped from the queue (if not empty)"
-        target = queue[0] if queue else leader
+        # "If the robot is closer to the queue head than 30 cm, new point is popped": popped
+        # until the head is 30 cm away. One pop per tick lets a robot faster than the leader
+        # close in on the head, where its angle is noise (thesis 7.2.2) and the robot spins.
+        while queue and math.hypot(queue[0][0] - x, queue[0][1] - y) < params.pop_distance:
+            queue = queue[1:]
+        target = queue[0] if queue else path_point
     c, s = math.cos(theta), math.sin(theta)
     dx, dy = target[0] - x, target[1] - y
     gx, gy = c * dx + s * dy, -s * dx + c * dy
     alpha = math.atan2(abs(gy), abs(gx))  # smallest angle to the line through G
-    linear = _sign(gx) * 0.7 * params.vmax * abs(1.0 + 3.0 * (d_act - required_distance))
+    linear = _sign(gx) * min(0.7 * params.vmax * abs(1.0 + 3.0 * (d_act - required_distance)),
+                             speed_limit)
     fx, fy = force
     magnitude = math.hypot(fx, fy)
     alpha2 = math.atan2(abs(fy), abs(fx)) if magnitude > 0 else 0.0

@@ -199,22 +199,30 @@ class Plan:
         desired[:, 0] = leader[:, 0] + c * offsets[:, 0] - s * offsets[:, 1]
         desired[:, 1] = leader[:, 1] + s * offsets[:, 0] + c * offsets[:, 1]
         desired[:, 2] = leader[:, 2]
-        return RobotTrack(times, leader, desired, np.hypot(offsets[:, 0], offsets[:, 1]),
-                          commands, which)
+        lateral = np.empty((count, 2))
+        lateral[:, 0] = leader[:, 0] - s * offsets[:, 1]
+        lateral[:, 1] = leader[:, 1] + c * offsets[:, 1]
+        return RobotTrack(times, leader, desired, lateral, offsets,
+                          np.hypot(offsets[:, 0], offsets[:, 1]), commands, which)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
 class RobotTrack:
     """One robot's view of the plan at show times (T,), show frame.
 
-    leader, desired: (T, 3) poses of its virtual leader and of itself. required_distance:
-    (T,) |offset|, the desired distance to the leader, m (thesis eq. 4.4a d_req).
+    leader, desired: (T, 3) poses of its virtual leader and of itself. lateral: (T, 2) the
+    leader's position shifted sideways by the robot's lateral offset: the path the robot
+    drives when the formation keeps its lateral distances (thesis ch. 4.1). offsets: (T, 2)
+    the robot's offset in the leader's frame. required_distance: (T,) |offset|, the desired
+    distance to the leader, m (thesis eq. 4.4a d_req).
     leader_commands: (T, 2) the leader's (v, w). formation: (T,) formation indices.
     """
 
     times: FloatArray
     leader: FloatArray
     desired: FloatArray
+    lateral: FloatArray
+    offsets: FloatArray
     required_distance: FloatArray
     leader_commands: FloatArray
     formation: NDArray[np.int64]

@@ -93,6 +93,6 @@ class Boundaries:
                     result.append((robot, k))
         for k, obstacle in enumerate(self.obstacles):  # a robot entirely inside an obstacle
             inside = shapely.contains_xy(obstacle, centres[:, 0], centres[:, 1])
-            for robot in np.flatnonzero(inside & ~near[:, self._owner == k].any(axis=1)):
-                result.append((int(robot), k))
+            for robot in np.flatnonzero(inside & ~near[:, self._owner == k].any(axis=1)).tolist():
+                result.append((robot, k))
         return result

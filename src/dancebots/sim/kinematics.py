@@ -22,8 +22,8 @@ class Profile:
 
     lag: first-order actuator time constant, s (0: commands act at once).
     linear_acceleration, angular_acceleration: limits, m/s^2 and rad/s^2 (inf: none).
-    linear_noise, angular_noise: standard deviation of the velocity noise added each step,
-        m/s and rad/s, drawn from the run's seeded generator.
+    linear_noise, angular_noise: standard deviation of the velocity noise added each step
+        to robots that are commanded to move, m/s and rad/s, from the run's seeded generator.
     """
 
     name: str
@@ -52,6 +52,9 @@ def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: flo
     limits = np.array([profile.linear_acceleration, profile.angular_acceleration]) * dt
     result: FloatArray = velocity + np.clip(target - velocity, -limits, limits)
     if profile.linear_noise > 0.0 or profile.angular_noise > 0.0:
+        # wheels that are told to stand still do not drift: noise only on commanded motion
         noise = rng.normal(0.0, 1.0, size=result.shape)
-        result = result + noise * np.array([profile.linear_noise, profile.angular_noise])
+        driven = np.any(command != 0.0, axis=1, keepdims=True)
+        result = result + driven * noise * np.array([profile.linear_noise,
+                                                     profile.angular_noise])
     return result

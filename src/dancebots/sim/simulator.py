@@ -1,0 +1,248 @@
+"""The 2D simulation loop: fixed step, vectorised over robots, deterministic.
+
+Each step of ``dt`` seconds: the brains tick at the control rate (10 Hz), a robot whose last
+command is older than ``command_timeout`` stops (the robots' 10 Hz rule, thesis ch. 2), the
+actuation profile turns commands into velocities, the robots move along exact unicycle arcs,
+and any robot whose move would touch another robot, a wall or an obstacle stays where it was
+(the contact is counted and reported, never passed through). Noise comes from a
+``numpy.random.Generator`` seeded by the configuration.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from dancebots.control.follower import FollowerParams
+from dancebots.geometry import Pose, integrate_unicycle, wrap_angles
+from dancebots.plan.planner import Plan
+from dancebots.robot import BrainState, RobotBrain
+from dancebots.sim.collision import Boundaries, overlapping_pairs
+from dancebots.sim.kinematics import IDEAL, Profile, actuate
+from dancebots.sim.setup import Arena, Placement
+
+__all__ = ["CollisionEvent", "RunResult", "SimConfig", "simulate"]
+
+FloatArray = NDArray[np.float64]
+Progress = Callable[[float, float], None]
+
+
+@dataclass(frozen=True, slots=True)
+class SimConfig:
+    """Simulation settings.
+
+    profile: how commands become motion (ideal or realistic).
+    dt: simulation step, s. control_period: the brains' tick, s (10 Hz).
+    command_timeout: a robot stops when its last command is older than this, s.
+    seed: seed of the noise generator. settle: extra time after the planned show, s; the run
+        ends earlier once every robot has stood still for a second after the show.
+    follower: the follower strategy of the robots' brains.
+    """
+
+    profile: Profile = IDEAL
+    dt: float = 0.05
+    control_period: float = 0.1
+    command_timeout: float = 0.1
+    seed: int = 0
+    settle: float = 20.0
+    follower: str = "thesis"
+
+
+@dataclass(frozen=True, slots=True)
+class CollisionEvent:
+    """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
+    obstacle's name); ``kind`` is "robot", "wall" or "obstacle"; (x, y) the robot's centre."""
+
+    time: float
+    robot: str
+    other: str
+    kind: str
+    x: float
+    y: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RunResult:
+    """A simulated show, sampled at every control tick.
+
+    times (T,) s of show time. Per robot r and tick k, in the world frame: poses (R, T, 3);
+    velocities (R, T, 2) actual (v, w); commands (R, T, 2) commanded (v, w); desired (R, T, 3)
+    and leader (R, T, 3): where the robot believes its desired pose and its virtual leader are
+    (computed in its own frame from its start pose); required_distance (R, T) its desired
+    distance to the leader, m; formation (R, T) the index of the plan formation it follows.
+    min_clearance: the smallest gap between two robots' footprints at any tick, m (None for
+    one robot).
+    """
+
+    plan: Plan
+    arena: Arena
+    placement: Placement
+    config: SimConfig
+    times: FloatArray
+    poses: FloatArray
+    velocities: FloatArray
+    commands: FloatArray
+    desired: FloatArray
+    leader: FloatArray
+    required_distance: FloatArray
+    formation: NDArray[np.int64]
+    collisions: tuple[CollisionEvent, ...]
+    min_clearance: float | None
+
+    @property
+    def robots(self) -> tuple[str, ...]:
+        return self.placement.robots
+
+    @property
+    def leader_distance(self) -> FloatArray:
+        """(R, T) distance from each robot to its virtual leader, m (d_act of eq. 4.4a)."""
+        result: FloatArray = np.hypot(self.poses[..., 0] - self.leader[..., 0],
+                                      self.poses[..., 1] - self.leader[..., 1])
+        return result
+
+
+def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
+    """Show-frame poses (T, 3) as robot ``robot`` believes them in the world: start ⊕ slot0⁻¹."""
+    own = slots[robot].inverse()
+    start = Pose(*(float(v) for v in starts[robot]))
+    frame = start.compose(own)
+    c, s = math.cos(frame.theta), math.sin(frame.theta)
+    result = np.empty_like(show)
+    result[:, 0] = frame.x + c * show[:, 0] - s * show[:, 1]
+    result[:, 1] = frame.y + s * show[:, 0] + c * show[:, 1]
+    result[:, 2] = wrap_angles(show[:, 2] + frame.theta)
+    return result
+
+
+def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig = SimConfig(),
+             progress: Progress | None = None) -> RunResult:
+    """Run the show; ``progress(show_time, end_time)`` is called about once per second."""
+    rng = np.random.default_rng(config.seed)
+    count = len(placement.robots)
+    brains = [RobotBrain(plan, robot, FollowerParams(
+        vmax=plan.parameters.vmax, max_linear=kind.max_speed,
+        max_angular=kind.max_angular_speed), config.follower)
+        for robot, kind in zip(placement.robots, placement.types, strict=True)]
+    states: list[BrainState] = [brain.initial_state() for brain in brains]
+    starts = placement.starts
+    start_poses = [Pose(*(float(v) for v in starts[i])) for i in range(count)]
+    lengths = np.array([t.length for t in placement.types])
+    widths = np.array([t.width for t in placement.types])
+    reach = 0.5 * np.hypot(lengths, widths)
+    limits = np.array([[t.max_speed, t.max_angular_speed] for t in placement.types])
+    boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles])
+    names = {-1: "wall", **{k: o.name for k, o in enumerate(arena.obstacles)}}
+
+    pose = starts.astype(float).copy()
+    velocity = np.zeros((count, 2))
+    command = np.zeros((count, 2))
+    issued = np.full(count, -math.inf)
+    steps_per_tick = max(1, round(config.control_period / config.dt))
+    end = plan.duration + config.settle
+    total_steps = math.ceil(end / config.dt)
+    active: dict[tuple[int, int | str], float] = {}
+    collisions: list[CollisionEvent] = []
+    records: list[tuple[float, FloatArray, FloatArray, FloatArray]] = []
+    still_since: float | None = None
+    min_gap = math.inf
+    last_report = -math.inf
+    for step in range(total_steps + 1):
+        now = step * config.dt
+        if step % steps_per_tick == 0:
+            for i, brain in enumerate(brains):
+                own = start_poses[i].inverse().compose(Pose(*pose[i].tolist()))
+                states[i], cmd, _events = brain.step(states[i], now, (own.x, own.y, own.theta))
+                command[i] = (cmd.linear, cmd.angular)
+                issued[i] = now
+            records.append((now, pose.copy(), velocity.copy(), command.copy()))
+            if count > 1:
+                min_gap = min(min_gap, _smallest_gap(pose, lengths, widths, reach))
+            if progress is not None and now - last_report >= 1.0:
+                progress(now, end)
+                last_report = now
+            moving = np.abs(velocity).max() > 1e-3 or np.abs(command).max() > 1e-9
+            if now >= plan.duration and not moving:
+                still_since = now if still_since is None else still_since
+                if now - still_since >= 1.0:
+                    break
+            else:
+                still_since = None
+        if step == total_steps:
+            break
+        fresh = (now - issued) <= config.command_timeout + 1e-9  # the 10 Hz rule
+        wanted = np.where(fresh[:, None], np.clip(command, -limits, limits), 0.0)
+        velocity = actuate(config.profile, velocity, wanted, config.dt, rng)
+        x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2], velocity[:, 0],
+                                         velocity[:, 1], np.full(count, config.dt))
+        proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
+        corners = _corners(proposed, lengths, widths)
+        blocked = np.zeros(count, dtype=bool)
+        contacts: list[tuple[int, int | str, str]] = []
+        for i, j in overlapping_pairs(corners, reach):
+            blocked[[i, j]] = True
+            contacts.append((i, placement.robots[j], "robot"))
+        for i, what in boundaries.contacts(corners, reach):
+            blocked[i] = True
+            contacts.append((i, names[what], "wall" if what == -1 else "obstacle"))
+        for i, other, kind in contacts:
+            key = (i, other)
+            if now + config.dt - active.get(key, -math.inf) > 1.0:  # a new contact
+                collisions.append(CollisionEvent(round(now + config.dt, 6), placement.robots[i],
+                                                 str(other), kind, float(pose[i, 0]),
+                                                 float(pose[i, 1])))
+            active[key] = now + config.dt
+        proposed[blocked] = pose[blocked]
+        velocity[blocked] = 0.0
+        pose = proposed
+    if progress is not None:
+        progress(end, end)
+    return _result(plan, arena, placement, config, records, brains, tuple(collisions),
+                   None if count < 2 else float(min_gap))
+
+
+def _corners(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> FloatArray:
+    """Footprint corners (R, 4, 2) of robots of different sizes."""
+    half = np.stack([0.5 * lengths, 0.5 * widths], axis=1)  # (R, 2)
+    signs = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]], dtype=float)
+    local = signs[None, :, :] * half[:, None, :]  # (R, 4, 2)
+    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
+    return np.stack([poses[:, 0:1] + c * local[..., 0] - s * local[..., 1],
+                     poses[:, 1:2] + s * local[..., 0] + c * local[..., 1]], axis=-1)
+
+
+def _smallest_gap(pose: FloatArray, lengths: FloatArray, widths: FloatArray,
+                  reach: FloatArray) -> float:
+    """The smallest gap between footprints of robots whose centres are near, m (inf if none
+    are within a metre of touching)."""
+    i, j = np.triu_indices(len(pose), k=1)
+    near = np.hypot(pose[i, 0] - pose[j, 0], pose[i, 1] - pose[j, 1]) < reach[i] + reach[j] + 1.0
+    if not near.any():
+        return math.inf
+    shapes = shapely.polygons(_corners(pose, lengths, widths))
+    return float(shapely.distance(shapes[i[near]], shapes[j[near]]).min())
+
+
+def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
+            records: list[tuple[float, FloatArray, FloatArray, FloatArray]],
+            brains: list[RobotBrain],
+            collisions: tuple[CollisionEvent, ...], min_gap: float | None) -> RunResult:
+    times = np.array([r[0] for r in records])
+    poses = np.stack([r[1] for r in records], axis=1)
+    velocities = np.stack([r[2] for r in records], axis=1)
+    commands = np.stack([r[3] for r in records], axis=1)
+    slots = [brain.slot0 for brain in brains]
+    desired, leader, required, formation = [], [], [], []
+    for i, robot in enumerate(placement.robots):
+        track = plan.track(robot, times)
+        desired.append(_to_world(placement.starts, slots, track.desired, i))
+        leader.append(_to_world(placement.starts, slots, track.leader, i))
+        required.append(track.required_distance)
+        formation.append(track.formation)
+    return RunResult(plan, arena, placement, config, times, poses, velocities, commands,
+                     np.stack(desired), np.stack(leader), np.stack(required),
+                     np.stack(formation), collisions, min_gap)
