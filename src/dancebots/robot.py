@@ -75,8 +75,8 @@ class RobotBrain:
         self.slot0 = Pose(float(slot[0]), float(slot[1]), float(slot[2]))
         self._to_own = self.slot0.inverse()
         self.grid_period = grid_period
-        count = math.ceil(plan.duration / grid_period) + 2
-        grid = np.arange(count, dtype=np.float64) * grid_period
+        count = math.ceil(plan.duration / grid_period) + 1
+        grid = np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
         self._grid = self._samples(plan.track(robot, grid))
 
     def _samples(self, track: RobotTrack) -> list[_Sample]:
@@ -94,6 +94,8 @@ class RobotBrain:
             track.required_distance.tolist(), moving.tolist(), strict=True)]
 
     def _sample(self, show_time: float) -> _Sample:
+        if show_time >= self.plan.duration:  # the plan stands still after its end
+            return self._grid[-1]
         k = round(show_time / self.grid_period)
         if 0 <= k < len(self._grid) and abs(k * self.grid_period - show_time) < 1e-9:
             return self._grid[k]

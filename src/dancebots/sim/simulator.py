@@ -37,7 +37,9 @@ class SimConfig:
     """Simulation settings.
 
     profile: how commands become motion (ideal or realistic).
-    dt: simulation step, s. control_period: the brains' tick, s (10 Hz).
+    dt: simulation step, s (one step per control tick by default: motion between ticks is
+        integrated exactly along arcs, so the ideal profile loses nothing).
+    control_period: the brains' tick, s (10 Hz).
     command_timeout: a robot stops when its last command is older than this, s.
     seed: seed of the noise generator. settle: extra time after the planned show, s; the run
         ends earlier once every robot has stood still for a second after the show.
@@ -45,7 +47,7 @@ class SimConfig:
     """
 
     profile: Profile = IDEAL
-    dt: float = 0.05
+    dt: float = 0.1
     control_period: float = 0.1
     command_timeout: float = 0.1
     seed: int = 0
@@ -149,7 +151,6 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     collisions: list[CollisionEvent] = []
     records: list[tuple[float, FloatArray, FloatArray, FloatArray]] = []
     still_since: float | None = None
-    min_gap = math.inf
     last_report = -math.inf
     for step in range(total_steps + 1):
         now = step * config.dt
@@ -160,8 +161,6 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                 command[i] = (cmd.linear, cmd.angular)
                 issued[i] = now
             records.append((now, pose.copy(), velocity.copy(), command.copy()))
-            if count > 1:
-                min_gap = min(min_gap, _smallest_gap(pose, lengths, widths, reach))
             if progress is not None and now - last_report >= 1.0:
                 progress(now, end)
                 last_report = now
@@ -201,8 +200,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         pose = proposed
     if progress is not None:
         progress(end, end)
-    return _result(plan, arena, placement, config, records, brains, tuple(collisions),
-                   None if count < 2 else float(min_gap))
+    return _result(plan, arena, placement, config, records, brains, tuple(collisions))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> FloatArray:
@@ -215,22 +213,33 @@ def _corners(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> Floa
                      poses[:, 1:2] + s * local[..., 0] + c * local[..., 1]], axis=-1)
 
 
-def _smallest_gap(pose: FloatArray, lengths: FloatArray, widths: FloatArray,
-                  reach: FloatArray) -> float:
-    """The smallest gap between footprints of robots whose centres are near, m (inf if none
-    are within a metre of touching)."""
-    i, j = np.triu_indices(len(pose), k=1)
-    near = np.hypot(pose[i, 0] - pose[j, 0], pose[i, 1] - pose[j, 1]) < reach[i] + reach[j] + 1.0
-    if not near.any():
-        return math.inf
-    shapes = shapely.polygons(_corners(pose, lengths, widths))
-    return float(shapely.distance(shapes[i[near]], shapes[j[near]]).min())
+def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> float | None:
+    """The smallest gap between any two robots' footprints over all ticks, m.
+
+    poses (R, T, 3); lengths, widths (R,). Pairs whose centres are more than a metre beyond
+    touching are skipped; None for fewer than two robots, inf when no pair ever comes near.
+    """
+    count = poses.shape[0]
+    if count < 2:
+        return None
+    reach = 0.5 * np.hypot(lengths, widths)
+    best = math.inf
+    for i, j in zip(*np.triu_indices(count, k=1), strict=True):
+        centre = np.hypot(poses[i, :, 0] - poses[j, :, 0], poses[i, :, 1] - poses[j, :, 1])
+        near = np.flatnonzero(centre < reach[i] + reach[j] + 1.0)
+        if near.size == 0:
+            continue
+        first = shapely.polygons(_corners(poses[i, near], np.full(near.size, lengths[i]),
+                                          np.full(near.size, widths[i])))
+        second = shapely.polygons(_corners(poses[j, near], np.full(near.size, lengths[j]),
+                                           np.full(near.size, widths[j])))
+        best = min(best, float(shapely.distance(first, second).min()))
+    return best
 
 
 def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
             records: list[tuple[float, FloatArray, FloatArray, FloatArray]],
-            brains: list[RobotBrain],
-            collisions: tuple[CollisionEvent, ...], min_gap: float | None) -> RunResult:
+            brains: list[RobotBrain], collisions: tuple[CollisionEvent, ...]) -> RunResult:
     times = np.array([r[0] for r in records])
     poses = np.stack([r[1] for r in records], axis=1)
     velocities = np.stack([r[2] for r in records], axis=1)
@@ -245,4 +254,6 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
         formation.append(track.formation)
     return RunResult(plan, arena, placement, config, times, poses, velocities, commands,
                      np.stack(desired), np.stack(leader), np.stack(required),
-                     np.stack(formation), collisions, min_gap)
+                     np.stack(formation), collisions,
+                     smallest_gap(poses, np.array([t.length for t in placement.types]),
+                                  np.array([t.width for t in placement.types])))
