@@ -23,6 +23,7 @@ from dancebots.diagnostics import (
     read_source_file,
 )
 from dancebots.plan.planner import Plan, PlanParameters
+from dancebots.sim.kinematics import PROFILES
 from dancebots.world import World, load_world
 
 __all__ = ["main"]
@@ -74,6 +75,23 @@ def _parser() -> argparse.ArgumentParser:
 
     commands.add_parser("demo", help="print a commented scenario that explains every "
                         "instruction")
+
+    run = commands.add_parser("run", help="simulate a show and write metrics, plots, an "
+                              "animation and a log")
+    run.add_argument("scenario", metavar="SCENARIO", nargs="?",
+                     help="choreography file (default: the bundled open-day show, thesis "
+                     "listing 6.3)")
+    run.add_argument("--world", metavar="W", help="world file (TOML, docs/worlds.md); default: "
+                     "an open arena around the show")
+    run.add_argument("--out", metavar="DIR", help="output directory (default: out/NAME)")
+    run.add_argument("--profile", choices=sorted(PROFILES), default="ideal",
+                     help="ideal: commands act at once (thesis 2D); realistic: inertia, lag and "
+                     "noise (default: ideal)")
+    run.add_argument("--seed", type=int, default=0, help="seed of the noise (default 0)")
+    run.add_argument("--vmax", type=_positive, metavar="V",
+                     help="max speed of the slowest robot, m/s (default: from the world, else "
+                     "0.5)")
+    run.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
     return parser
 
 
@@ -84,6 +102,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _demo()
         if args.command == "check":
             return _check(args)
+        if args.command == "run":
+            from dancebots.run_command import run_show
+
+            return run_show(args)
         return _plan(args)
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
@@ -96,14 +118,14 @@ def _demo() -> int:
     return EXIT_OK
 
 
-def _print_diagnostics(diagnostics: Sequence[Diagnostic], sources: dict[str, list[str]]) -> None:
+def print_diagnostics(diagnostics: Sequence[Diagnostic], sources: dict[str, list[str]]) -> None:
     if diagnostics:
         sys.stdout.flush()
         print(format_diagnostics(diagnostics, sources), file=sys.stderr)
         sys.stderr.flush()
 
 
-def _compile(args: argparse.Namespace, sources: dict[str, list[str]]
+def compile_files(args: argparse.Namespace, sources: dict[str, list[str]]
              ) -> tuple[Plan | None, World | None, list[Diagnostic]]:
     """Read the world and the scenario and plan it; every failure becomes a diagnostic."""
     diagnostics: list[Diagnostic] = []
@@ -133,7 +155,7 @@ def _compile(args: argparse.Namespace, sources: dict[str, list[str]]
 
 def _check(args: argparse.Namespace) -> int:
     sources: dict[str, list[str]] = {}
-    plan, world, diagnostics = _compile(args, sources)
+    plan, world, diagnostics = compile_files(args, sources)
     report = None
     if plan is not None:
         report = check_plan(plan, world, CheckOptions(clearance=args.clearance))
@@ -149,7 +171,7 @@ def _check(args: argparse.Namespace) -> int:
     else:
         if report is not None and not invalid:
             print(_summary_text(report, plan))
-        _print_diagnostics(diagnostics, sources)
+        print_diagnostics(diagnostics, sources)
         if not invalid:
             count = len(diagnostics)
             print(f"{args.scenario}: ok" + (
@@ -183,8 +205,8 @@ def _summary_text(report: CheckReport, plan: Plan | None) -> str:
 
 def _plan(args: argparse.Namespace) -> int:
     sources: dict[str, list[str]] = {}
-    plan, world, diagnostics = _compile(args, sources)
-    _print_diagnostics(diagnostics, sources)
+    plan, world, diagnostics = compile_files(args, sources)
+    print_diagnostics(diagnostics, sources)
     if plan is None:
         return EXIT_INVALID
     directory = os.path.dirname(os.path.abspath(args.png))
@@ -204,7 +226,7 @@ def _plan(args: argparse.Namespace) -> int:
     if world is not None:
         placement: list[Diagnostic] = []
         transform = place_plan_in_world(plan, world, placement)
-        _print_diagnostics(placement, sources)
+        print_diagnostics(placement, sources)
         if has_errors(placement):
             return EXIT_INVALID
     figure = plot_plan(plan, world, transform)

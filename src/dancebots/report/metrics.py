@@ -1,0 +1,146 @@
+"""Formation metrics of a simulated show (pure functions of a :class:`RunResult`).
+
+Per robot: the error to its desired pose (the leader's pose composed with the robot's offset,
+thesis ch. 4.2) and the deviation of its distance to the leader from the desired one (d_act -
+d_req, eq. 4.4a, thesis fig. 7.5). Per row of each formation: the largest change of the
+distance between neighbours from their desired spacing (thesis ch. 7.2.1: "the maximal change
+in the distance between the robots ... around 16 cm for 2D and 18 cm for 3D").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dancebots.sim.simulator import RunResult
+
+__all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics"]
+
+
+@dataclass(frozen=True, slots=True)
+class RobotMetrics:
+    """One robot: RMS and max position error to its desired pose, m; RMS and max of
+    |d_act - d_req|, m; while the show runs (0 <= t <= show duration)."""
+
+    robot: str
+    rms_error: float
+    max_error: float
+    rms_leader_distance_deviation: float
+    max_leader_distance_deviation: float
+
+
+@dataclass(frozen=True, slots=True)
+class RowMetrics:
+    """Neighbours in one row of one formation (scenario ``line``): their desired spacings (m)
+    and the largest |distance - desired spacing| while they follow that formation, m."""
+
+    line: int
+    robots: tuple[str, ...]
+    desired_spacings: tuple[float, ...]
+    max_spacing_change: float
+
+
+@dataclass(frozen=True, slots=True)
+class RunMetrics:
+    """Everything ``metrics.json`` holds."""
+
+    scenario: str
+    profile: str
+    seed: int
+    show_duration: float
+    run_duration: float
+    robots: tuple[RobotMetrics, ...]
+    rows: tuple[RowMetrics, ...]
+    collisions: int
+    collision_events: tuple[dict[str, object], ...]
+    min_clearance: float | None
+
+    @property
+    def max_spacing_change(self) -> float | None:
+        return max((r.max_spacing_change for r in self.rows), default=None)
+
+    def to_json(self) -> dict[str, object]:
+        def r3(value: float | None) -> float | None:
+            return None if value is None or not math.isfinite(value) else round(value, 4)
+
+        return {
+            "scenario": self.scenario,
+            "profile": self.profile,
+            "seed": self.seed,
+            "show_duration_s": r3(self.show_duration),
+            "run_duration_s": r3(self.run_duration),
+            "collisions": self.collisions,
+            "collision_events": list(self.collision_events),
+            "min_clearance_m": r3(self.min_clearance),
+            "max_spacing_change_m": r3(self.max_spacing_change),
+            "per_robot": {
+                m.robot: {
+                    "rms_error_m": r3(m.rms_error),
+                    "max_error_m": r3(m.max_error),
+                    "rms_leader_distance_deviation_m": r3(m.rms_leader_distance_deviation),
+                    "max_leader_distance_deviation_m": r3(m.max_leader_distance_deviation),
+                } for m in self.robots
+            },
+            "rows": [
+                {"line": row.line, "robots": list(row.robots),
+                 "desired_spacings_m": [r3(s) for s in row.desired_spacings],
+                 "max_spacing_change_m": r3(row.max_spacing_change)}
+                for row in self.rows
+            ],
+        }
+
+
+def run_metrics(result: RunResult) -> RunMetrics:
+    """Compute the metrics of a run."""
+    plan = result.plan
+    during = result.times <= plan.duration + 1e-9
+    error = np.hypot(result.poses[..., 0] - result.desired[..., 0],
+                     result.poses[..., 1] - result.desired[..., 1])[:, during]
+    deviation = np.abs(result.leader_distance - result.required_distance)[:, during]
+    robots = tuple(
+        RobotMetrics(name, float(np.sqrt(np.mean(error[i] ** 2))), float(error[i].max()),
+                     float(np.sqrt(np.mean(deviation[i] ** 2))), float(deviation[i].max()))
+        for i, name in enumerate(result.robots))
+    return RunMetrics(
+        plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
+        float(result.times[-1]), robots, tuple(_rows(result)), len(result.collisions),
+        tuple({"t_s": c.time, "robot": c.robot, "with": c.other, "kind": c.kind,
+               "x_m": round(c.x, 3), "y_m": round(c.y, 3)} for c in result.collisions),
+        result.min_clearance)
+
+
+def _rows(result: RunResult) -> list[RowMetrics]:
+    """Rows are robots with the same longitudinal offset, ordered left to right."""
+    index = {name: i for i, name in enumerate(result.robots)}
+    rows: list[RowMetrics] = []
+    seen: set[tuple[int, tuple[str, ...]]] = set()
+    for formation in result.plan.formations:
+        by_x: dict[float, list[str]] = {}
+        for robot in formation.robots:
+            by_x.setdefault(round(formation.offsets[robot][0], 6), []).append(robot)
+        for members in by_x.values():
+            if len(members) < 2:
+                continue
+            ordered = tuple(sorted(members, key=lambda r: -formation.offsets[r][1]))
+            key = (formation.span.line, ordered)
+            if key in seen:  # what remains of a split formation
+                continue
+            seen.add(key)
+            spacings, changes = [], []
+            for a, b in zip(ordered, ordered[1:], strict=False):
+                i, j = index[a], index[b]
+                spacing = abs(formation.offsets[a][1] - formation.offsets[b][1])
+                active = (result.formation[i] == formation.index) & (
+                    result.formation[j] == formation.index)
+                if not active.any():
+                    continue
+                distance = np.hypot(result.poses[i, active, 0] - result.poses[j, active, 0],
+                                    result.poses[i, active, 1] - result.poses[j, active, 1])
+                spacings.append(spacing)
+                changes.append(float(np.abs(distance - spacing).max()))
+            if changes:
+                rows.append(RowMetrics(formation.span.line, ordered, tuple(spacings),
+                                       max(changes)))
+    return rows

@@ -1,0 +1,97 @@
+"""Figures of a simulated show, thin layers over a :class:`RunResult`.
+
+``plot_speeds_and_distances`` is thesis fig. 7.5 (commanded speeds and the distance to the
+virtual leader over time); ``plot_trajectories`` is fig. 7.6 (robot paths with the virtual
+leader's path, the desired paths, the room and obstacles).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from dancebots.sim.simulator import RunResult
+
+__all__ = ["plot_speeds_and_distances", "plot_trajectories", "robot_colours"]
+
+
+def robot_colours(count: int) -> list[Any]:
+    import matplotlib.pyplot as plt
+
+    cmap = plt.get_cmap("tab10" if count <= 10 else "tab20")
+    return [cmap(i % cmap.N) for i in range(count)]
+
+
+def plot_speeds_and_distances(result: RunResult) -> Any:
+    """Commanded linear and angular speeds and the distance to the leader (solid) against
+    the desired one (dashed) over show time, one colour per robot (thesis fig. 7.5)."""
+    import matplotlib.pyplot as plt
+
+    fig, (linear, angular, distance) = plt.subplots(3, 1, figsize=(10, 9), sharex=True,
+                                                    layout="constrained")
+    colours = robot_colours(len(result.robots))
+    for i, robot in enumerate(result.robots):
+        linear.plot(result.times, result.commands[i, :, 0], color=colours[i], label=robot)
+        angular.plot(result.times, result.commands[i, :, 1], color=colours[i])
+        distance.plot(result.times, result.leader_distance[i], color=colours[i])
+        distance.plot(result.times, result.required_distance[i], "--", color=colours[i],
+                      linewidth=0.8)
+    for event in result.collisions:
+        for axis in (linear, angular, distance):
+            axis.axvline(event.time, color="red", linewidth=0.8, alpha=0.6)
+    linear.set_ylabel("linear [m/s]")
+    angular.set_ylabel("angular [rad/s]")
+    distance.set_ylabel("distance to leader [m]\n(dashed: desired)")
+    distance.set_xlabel("show time [s]")
+    for axis in (linear, angular, distance):
+        axis.grid(True, linewidth=0.3)
+        axis.axvline(result.plan.duration, color="0.5", linewidth=0.8, linestyle=":")
+    linear.legend(loc="upper right", fontsize="small", ncol=min(6, len(result.robots)))
+    linear.set_title(f"{result.plan.scenario.path}: commanded speeds and distance to the "
+                     f"virtual leader ({result.config.profile.name})")
+    return fig
+
+
+def plot_trajectories(result: RunResult) -> Any:
+    """Robot paths (solid), their desired paths (dashed), the virtual leaders (black), the
+    room and obstacles, footprints at start and end, collisions as red crosses (fig. 7.6)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Polygon as PolygonPatch
+
+    from dancebots.geometry import footprint_corners
+
+    fig, ax = plt.subplots(figsize=(9, 9), layout="constrained")
+    arena = result.arena
+    ax.add_patch(PolygonPatch(arena.room, closed=True, fill=False, edgecolor="black",
+                              linewidth=2.0))
+    for obstacle in arena.obstacles:
+        ax.add_patch(PolygonPatch(obstacle.polygon, closed=True, facecolor="0.35",
+                                  edgecolor="black"))
+    colours = robot_colours(len(result.robots))
+    for i, robot in enumerate(result.robots):
+        ax.plot(result.leader[i, :, 0], result.leader[i, :, 1], color="black", linewidth=0.8,
+                label="virtual leader" if i == 0 else None)
+        ax.plot(result.desired[i, :, 0], result.desired[i, :, 1], "--", color=colours[i],
+                linewidth=0.8)
+        ax.plot(result.poses[i, :, 0], result.poses[i, :, 1], color=colours[i], linewidth=1.6,
+                label=robot)
+        kind = result.placement.types[i]
+        for k, style in ((0, "-"), (-1, ":")):
+            pose = result.poses[i, k]
+            corners = footprint_corners(np.array(pose[0]), np.array(pose[1]), np.array(pose[2]),
+                                        kind.length, kind.width)
+            ax.add_patch(PolygonPatch(corners, closed=True, fill=False, edgecolor=colours[i],
+                                      linestyle=style))
+    if result.collisions:
+        ax.plot([c.x for c in result.collisions], [c.y for c in result.collisions], "x",
+                color="red", markersize=10, markeredgewidth=2, label="collision")
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.grid(True, linewidth=0.3)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title(f"{result.plan.scenario.path}: trajectories ({result.config.profile.name}; "
+                 "dashed: desired)")
+    return fig

@@ -1,0 +1,37 @@
+"""The run log: every sample of a run as a CSV table in long format (docs/run-outputs.md).
+
+One row per robot per control tick; ``pandas.read_csv("log.csv")`` reads it.
+"""
+
+from __future__ import annotations
+
+import csv
+from typing import TextIO
+
+from dancebots.sim.simulator import RunResult
+
+__all__ = ["LOG_COLUMNS", "write_log"]
+
+LOG_COLUMNS = (
+    "t", "robot", "x", "y", "theta", "v", "w", "v_cmd", "w_cmd", "x_des", "y_des", "theta_des",
+    "x_vl", "y_vl", "theta_vl", "d_vl", "d_req", "formation",
+)
+"""Column names; units s, m, rad, m/s, rad/s; poses in the world frame (docs/run-outputs.md)."""
+
+
+def write_log(result: RunResult, handle: TextIO) -> None:
+    """Write the run's samples as CSV to an open text file."""
+    writer = csv.writer(handle, lineterminator="\n")
+    writer.writerow(LOG_COLUMNS)
+    distance = result.leader_distance
+    for k, t in enumerate(result.times.tolist()):
+        for i, robot in enumerate(result.robots):
+            pose, velocity = result.poses[i, k], result.velocities[i, k]
+            command, desired, leader = (result.commands[i, k], result.desired[i, k],
+                                        result.leader[i, k])
+            writer.writerow([
+                f"{t:.2f}", robot, *(f"{v:.4f}" for v in pose), *(f"{v:.4f}" for v in velocity),
+                *(f"{v:.4f}" for v in command), *(f"{v:.4f}" for v in desired),
+                *(f"{v:.4f}" for v in leader), f"{distance[i, k]:.4f}",
+                f"{result.required_distance[i, k]:.4f}", int(result.formation[i, k]),
+            ])
