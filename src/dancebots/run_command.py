@@ -59,6 +59,8 @@ def _check_output(target: Path) -> str | None:
     probe = parent
     while not probe.exists():
         probe = probe.parent
+    if not probe.is_dir():
+        return f"cannot create {target}: {probe} is not a directory; choose another --out"
     if not os.access(probe, os.W_OK):
         return f"cannot write to {probe}; choose a writable --out"
     return None

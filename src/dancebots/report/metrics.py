@@ -9,6 +9,7 @@ in the distance between the robots ... around 16 cm for 2D and 18 cm for 3D").
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -129,7 +130,7 @@ def _rows(result: RunResult) -> list[RowMetrics]:
                 continue
             seen.add(key)
             spacings, changes = [], []
-            for a, b in zip(ordered, ordered[1:], strict=False):
+            for a, b in itertools.pairwise(ordered):
                 i, j = index[a], index[b]
                 spacing = abs(formation.offsets[a][1] - formation.offsets[b][1])
                 active = (result.formation[i] == formation.index) & (

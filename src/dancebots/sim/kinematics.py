@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["IDEAL", "PROFILES", "REALISTIC", "Profile", "actuate"]
+__all__ = ["IDEAL", "PROFILES", "REALISTIC", "Profile", "actuate", "fresh_commands"]
 
 FloatArray = NDArray[np.float64]
 
@@ -57,4 +57,13 @@ def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: flo
         driven = np.any(command != 0.0, axis=1, keepdims=True)
         result = result + driven * noise * np.array([profile.linear_noise,
                                                      profile.angular_noise])
+    return result
+
+
+def fresh_commands(command: FloatArray, issued: FloatArray, now: float,
+                   timeout: float) -> FloatArray:
+    """The robots' 10 Hz rule (thesis ch. 2): commands (R, 2) issued at ``issued`` (R,) s act
+    only while they are at most ``timeout`` s old at ``now``; older ones become zero."""
+    fresh = (now - issued) <= timeout + 1e-9
+    result: FloatArray = np.where(fresh[:, None], command, 0.0)
     return result

@@ -23,7 +23,7 @@ from dancebots.geometry import Pose, integrate_unicycle, wrap_angles
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainState, RobotBrain
 from dancebots.sim.collision import Boundaries, overlapping_pairs
-from dancebots.sim.kinematics import IDEAL, Profile, actuate
+from dancebots.sim.kinematics import IDEAL, Profile, actuate, fresh_commands
 from dancebots.sim.setup import Arena, Placement
 
 __all__ = ["CollisionEvent", "RunResult", "SimConfig", "simulate"]
@@ -173,8 +173,8 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                 still_since = None
         if step == total_steps:
             break
-        fresh = (now - issued) <= config.command_timeout + 1e-9  # the 10 Hz rule
-        wanted = np.where(fresh[:, None], np.clip(command, -limits, limits), 0.0)
+        wanted = fresh_commands(np.clip(command, -limits, limits), issued, now,
+                                config.command_timeout)
         velocity = actuate(config.profile, velocity, wanted, config.dt, rng)
         x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2], velocity[:, 0],
                                          velocity[:, 1], np.full(count, config.dt))

@@ -1,0 +1,169 @@
+"""The simulator: deterministic, the 10 Hz rule, no passing through, the thesis scenarios."""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dancebots.check import compile_scenario
+from dancebots.plan import Plan
+from dancebots.sim import (
+    IDEAL,
+    REALISTIC,
+    Profile,
+    RunResult,
+    SetupError,
+    SimConfig,
+    prepare_show,
+    simulate,
+)
+from dancebots.sim.collision import Boundaries, rectangles_overlap
+from dancebots.sim.kinematics import actuate, fresh_commands
+from dancebots.sim.simulator import _corners
+from dancebots.world import parse_world
+
+
+def plan_of(text: str) -> Plan:
+    _, plan, diagnostics = compile_scenario(text, "test.dance")
+    assert plan is not None, diagnostics
+    return plan
+
+
+def run(text: str, config: SimConfig | None = None) -> RunResult:
+    plan = plan_of(text)
+    arena, placement = prepare_show(plan, None)
+    return simulate(plan, arena, placement, config or SimConfig())
+
+
+def no_overlaps(result: RunResult) -> bool:
+    lengths = np.array([t.length for t in result.placement.types])
+    widths = np.array([t.width for t in result.placement.types])
+    for k in range(len(result.times)):
+        corners = _corners(result.poses[:, k], lengths, widths)
+        for i, j in itertools.combinations(range(len(result.robots)), 2):
+            if rectangles_overlap(corners[i:i + 1], corners[j:j + 1])[0]:
+                return False
+    return True
+
+
+@pytest.mark.parametrize("name", ["thesis_7_1.dance", "thesis_7_2.dance"])
+@pytest.mark.parametrize("profile", [IDEAL, REALISTIC], ids=lambda p: p.name)
+def test_thesis_scenarios_run_without_collision(examples: Path, name: str,
+                                                profile: Profile) -> None:
+    result = run((examples / name).read_text(), SimConfig(profile=profile))
+    assert result.collisions == ()
+    assert result.times[-1] >= result.plan.duration
+    assert no_overlaps(result)
+    # every robot ends near its final desired pose
+    final_error = np.hypot(*(result.poses[:, -1, :2] - result.desired[:, -1, :2]).T)
+    assert np.all(final_error < 0.25), final_error
+
+
+def test_scenario_7_1_keeps_the_row_like_the_thesis(examples: Path) -> None:
+    """Thesis 7.2.1: the distance between the two robots changes by about 16 cm (2D)."""
+    result = run((examples / "thesis_7_1.dance").read_text())
+    distance = np.hypot(*(result.poses[0, :, :2] - result.poses[1, :, :2]).T)
+    assert 0.05 < np.abs(distance - 1.2).max() < 0.25
+
+
+def test_same_seed_same_run_other_seed_other_run(examples: Path) -> None:
+    text = (examples / "thesis_7_3.dance").read_text()
+    first = run(text, SimConfig(profile=REALISTIC, seed=3))
+    second = run(text, SimConfig(profile=REALISTIC, seed=3))
+    other = run(text, SimConfig(profile=REALISTIC, seed=4))
+    assert np.array_equal(first.poses, second.poses)
+    assert not np.array_equal(first.poses, other.poses)
+
+
+def test_robots_start_on_their_slots_and_follow(examples: Path) -> None:
+    result = run((examples / "thesis_7_3.dance").read_text())
+    assert np.allclose(result.poses[:, 0], result.desired[:, 0])
+    during = result.times <= result.plan.duration
+    error = np.hypot(*(result.poses[:, during, :2] - result.desired[:, during, :2])
+                     .transpose(2, 0, 1))
+    assert error.max() < 0.6
+
+
+def test_ten_hertz_rule() -> None:
+    command = np.array([[0.5, 0.1], [0.4, 0.0], [0.3, -0.2]])
+    issued = np.array([1.0, 0.9, 0.85])
+    assert fresh_commands(command, issued, 1.0, 0.1).tolist() == [
+        [0.5, 0.1], [0.4, 0.0], [0.0, 0.0]]
+
+
+def test_robot_stops_when_commands_come_too_rarely() -> None:
+    """Commands every 0.3 s: each one acts for the steps starting 0 s and 0.1 s after it and
+    is stale (older than 0.1 s) for the third, so by t = 0.3 s the robot has driven 0.2 s at
+    0.35 m/s = 0.07 m, against 0.105 m when stale commands were still obeyed."""
+    text = "robots R1\nrow R1 0 0\nmove 3 0\n"
+    strict = run(text, SimConfig(control_period=0.3))
+    lenient = run(text, SimConfig(control_period=0.3, command_timeout=1.0))
+    assert strict.times[1] == pytest.approx(0.3)
+    assert strict.poses[0, 1, 0] - strict.poses[0, 0, 0] == pytest.approx(0.07)
+    assert lenient.poses[0, 1, 0] - lenient.poses[0, 0, 0] == pytest.approx(0.105)
+
+
+def test_realistic_profile_has_lag_and_acceleration_limits() -> None:
+    rng = np.random.default_rng(0)
+    quiet = Profile("test", lag=0.25, linear_acceleration=1.0, angular_acceleration=4.0)
+    velocity = actuate(quiet, np.zeros((1, 2)), np.array([[1.0, 3.0]]), 0.1, rng)
+    # lag: 1 - exp(-0.1 / 0.25) = 0.33 of the step, then limited to 0.1 m/s and 0.4 rad/s
+    np.testing.assert_allclose(velocity, [[0.1, 0.4]])
+    assert actuate(IDEAL, np.zeros((1, 2)), np.array([[1.0, 3.0]]), 0.1, rng).tolist() == [
+        [1.0, 3.0]]
+
+
+def test_crossing_robots_are_stopped_and_counted() -> None:
+    text = ("robots R1 R2\ngroups\na R1\nb R2\nstart\nrow R1,R2 0 3\nrow R1 0 0\nrow R2 0 0\n"
+            "newVL\nmove 3 -60 a\nmove 3 60 b\n")
+    result = run(text)
+    assert len(result.collisions) >= 1
+    event = result.collisions[0]
+    assert {event.robot, event.other} == {"R1", "R2"}
+    assert event.kind == "robot"
+    assert no_overlaps(result)  # never passed through
+
+
+def test_walls_and_obstacles_are_contacts() -> None:
+    room = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+    pillar = np.array([[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]])
+    boundaries = Boundaries(room, [pillar])
+    poses = np.array([[2.0, 2.0, 0.0], [0.3, 5.0, 0.0], [5.5, 5.5, 0.0], [4.5, 5.5, 0.0],
+                      [20.0, 20.0, 0.0]])
+    corners = _corners(poses, np.full(5, 1.2), np.full(5, 0.6))
+    contacts = boundaries.contacts(corners, np.full(5, 0.67))
+    assert sorted(contacts) == [(1, -1), (2, 0), (3, 0), (4, -1)]
+
+
+def test_world_must_hold_the_scenarios_robots() -> None:
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n")
+    world, _ = parse_world('[[robots]]\nname = "R1"\nx = 5\ny = 5\n[[robots]]\nname = "X"\n'
+                           'x = 3\ny = 3\n', "w.toml")
+    assert world is not None
+    with pytest.raises(SetupError) as caught:
+        prepare_show(plan, world)
+    assert str(caught.value) == ("the scenario's robots R2 are not in the world w.toml (it has "
+                                 "R1 X); add a [[robots]] entry for each")
+
+
+def test_show_must_fit_the_room() -> None:
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 1.2\nmove 30 0\n")
+    world, _ = parse_world("[room]\nsize = 10\n", "small.toml")
+    assert world is not None
+    with pytest.raises(SetupError) as caught:
+        prepare_show(plan, world)
+    assert str(caught.value).startswith("the show does not fit in the room of small.toml: R1 "
+                                        "would leave it at t = ")
+
+
+def test_open_arena_holds_the_show(examples: Path) -> None:
+    plan = plan_of((examples / "thesis_6_3.dance").read_text())
+    arena, placement = prepare_show(plan, None)
+    everything = np.concatenate([plan.desired_poses(r, np.arange(0, plan.duration, 0.5))[:, :2]
+                                 for r in plan.robots])
+    assert np.all(everything.min(axis=0) > arena.room.min(axis=0) + 1.0)
+    assert np.all(everything.max(axis=0) < arena.room.max(axis=0) - 1.0)
+    assert placement.starts.shape == (4, 3)

@@ -1,0 +1,49 @@
+"""RobotBrain: the virtual leader in the robot's own frame, before-start behaviour."""
+
+from __future__ import annotations
+
+import pytest
+
+from dancebots.check import compile_scenario
+from dancebots.control.follower import FollowerParams
+from dancebots.plan import Plan
+from dancebots.robot import Command, RobotBrain
+
+
+def plan_of(text: str) -> Plan:
+    _, plan, diagnostics = compile_scenario(text, "test.dance")
+    assert plan is not None, diagnostics
+    return plan
+
+
+PLAN_TEXT = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 90\n"
+
+
+def test_leader_in_own_frame_from_the_slot() -> None:
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams())
+    # R1's slot is (-0.5, 0.6) in the show frame; the leader starts at the show origin,
+    # so in R1's own frame (origin at its start, x forward) it is at (0.5, -0.6).
+    assert brain.leader_in_own_frame(0.0) == pytest.approx((0.5, -0.6))
+    assert brain.leader_in_own_frame(1.0) == pytest.approx((0.85, -0.6))
+
+
+def test_grid_cache_matches_exact_plan_values() -> None:
+    plan = plan_of(PLAN_TEXT)
+    brain = RobotBrain(plan, "R2", FollowerParams())
+    on_grid = brain.leader_in_own_frame(7.3)
+    off_grid = brain.leader_in_own_frame(7.3 + 1e-6)
+    assert on_grid == pytest.approx(off_grid, abs=1e-5)
+
+
+def test_stands_still_before_the_start_and_moves_after() -> None:
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams())
+    state = brain.initial_state()
+    state, command, events = brain.step(state, -1.0, (0.0, 0.0, 0.0))
+    assert (command, events) == (Command(0.0, 0.0), ())
+    _, command, _ = brain.step(state, 1.0, (0.0, 0.0, 0.0))
+    assert command.linear > 0.3
+
+
+def test_unknown_follower_is_refused() -> None:
+    with pytest.raises(ValueError, match="unknown follower 'magic'"):
+        RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(), follower="magic")

@@ -1,0 +1,103 @@
+"""dancebots run: the outputs of a run, and clear errors that leave nothing half-written."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from dancebots.cli import main
+from dancebots.report.runlog import LOG_COLUMNS
+
+Capture = pytest.CaptureFixture[str]
+
+
+def test_run_writes_every_output(capsys: Capture, examples: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    status = main(["run", str(examples / "thesis_7_3.dance"), "--out", str(out)])
+    stdout = capsys.readouterr().out
+    assert status == 0
+    names = {p.name for p in out.iterdir()}
+    assert {"metrics.json", "speeds_distances.png", "trajectories.png", "log.csv",
+            "animation.gif"} <= names
+    assert (out / "animation.gif").read_bytes()[:6] == b"GIF89a"
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["collisions"] == 0
+    assert metrics["profile"] == "ideal"
+    log = pd.read_csv(out / "log.csv")
+    assert tuple(log.columns) == LOG_COLUMNS
+    assert set(log["robot"]) == {"R1", "R2"}
+    assert log["t"].max() >= metrics["show_duration_s"]
+    assert "collisions: 0" in stdout
+    assert not list(tmp_path.glob(".run.partial-*"))
+
+
+def test_rerun_replaces_an_earlier_run(capsys: Capture, examples: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    for profile in ("ideal", "realistic"):
+        assert main(["run", str(examples / "thesis_7_3.dance"), "--out", str(out),
+                     "--profile", profile, "--no-animation"]) == 0
+    assert json.loads((out / "metrics.json").read_text())["profile"] == "realistic"
+    assert not (out / "animation.gif").exists()
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--world", "missing.toml"], "missing.toml: error: no such file"),
+    (["--world", "bad.toml"], "bad.toml:1:6: error: invalid TOML"),
+    (["--world", "other.toml"], "dancebots run: error: the scenario's robots R2 are not in the "
+     "world other.toml (it has R1); add a [[robots]] entry for each"),
+    (["--world", "tiny.toml"], "dancebots run: error: the show does not fit in the room of "
+     "tiny.toml: R1 would leave it at t = 0.0 s"),
+    (["--out", "not_empty"], "dancebots run: error: not_empty is not empty and holds no "
+     "earlier run (no metrics.json); choose an empty or new --out"),
+    (["--out", "a_file"], "dancebots run: error: a_file exists and is not a directory; choose "
+     "another --out"),
+])
+def test_bad_input_is_one_clear_line(capsys: Capture, examples: Path, tmp_path: Path,
+                                     monkeypatch: pytest.MonkeyPatch, args: list[str],
+                                     message: str) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("bad.toml").write_text("[room\nsize = 3\n")
+    Path("other.toml").write_text('[[robots]]\nname = "R1"\nx = 1\ny = 1\n')
+    Path("tiny.toml").write_text("[room]\nsize = 1.5\n")
+    Path("not_empty").mkdir()
+    Path("not_empty/keep.txt").write_text("mine")
+    Path("a_file").write_text("mine")
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    status = main(["run", str(examples / "thesis_7_3.dance"), *args])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert err.startswith(message)
+    assert "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing written
+    assert Path("not_empty/keep.txt").read_text() == "mine"
+
+
+def test_unwritable_output_directory(capsys: Capture, examples: Path, tmp_path: Path) -> None:
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        import os
+
+        if os.access(locked, os.W_OK):  # root ignores permissions: use a path under a file
+            target = tmp_path / "file" / "run"
+            (tmp_path / "file").write_text("x")
+        else:
+            target = locked / "run"
+        status = main(["run", str(examples / "thesis_7_3.dance"), "--out", str(target)])
+        assert status == 2
+        assert capsys.readouterr().err.startswith("dancebots run: error: ")
+    finally:
+        locked.chmod(0o700)
+
+
+def test_invalid_scenario_exits_2(capsys: Capture, data: Path, tmp_path: Path) -> None:
+    status = main(["run", str(data / "scenarios" / "invalid" / "unknown_robot.dance"),
+                   "--out", str(tmp_path / "x")])
+    assert status == 2
+    assert "error: unknown robot 'R5'" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
