@@ -1,18 +1,26 @@
 #!/usr/bin/env bash
 # Set up dancebots in ./.venv (made from Debian's python3, seeing its system packages) and
-#   run the main job:  bash scripts/dev.sh show
+#   run the main job:  bash scripts/dev.sh show   (simulates the open-day show into out/)
 #   run every test:    bash scripts/dev.sh test
-# Works on a fresh Debian 12 as root; installs python3-venv with apt-get if it is missing.
+# Works on a fresh Debian 12 as root; installs python3-venv and ffmpeg with apt-get if missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=$(command -v python3)
 
-setup() {
-  if ! "$PY" -c 'import ensurepip, venv' 2>/dev/null; then
-    echo "dancebots: installing python3-venv (apt-get)" >&2
-    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3-venv python3-pip >/dev/null
+apt_install() {  # Debian packages the project uses, installed once when missing
+  local missing=()
+  "$PY" -c 'import ensurepip, venv' 2>/dev/null || missing+=(python3-venv python3-pip)
+  command -v ffmpeg >/dev/null || missing+=(ffmpeg)  # MP4 animations of runs
+  if [ ${#missing[@]} -gt 0 ] && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "dancebots: installing ${missing[*]} (apt-get)" >&2
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+      --no-install-recommends "${missing[@]}" >/dev/null
   fi
+}
+
+setup() {
+  apt_install
   if [ ! -x .venv/bin/python ]; then
     "$PY" -m venv --system-site-packages .venv
   fi

@@ -101,3 +101,20 @@ def test_invalid_scenario_exits_2(capsys: Capture, data: Path, tmp_path: Path) -
     assert status == 2
     assert "error: unknown robot 'R5'" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
+
+
+def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) -> None:
+    """scripts/dev.sh installs ffmpeg, so this runs in CI; without ffmpeg the run writes only
+    the GIF, which test_run_writes_every_output covers."""
+    from dancebots.report.animation import animate_run, ffmpeg_available
+    from dancebots.sim import SimConfig, prepare_show, simulate
+    from tests_support import plan_of
+
+    if not ffmpeg_available():
+        pytest.skip("ffmpeg is not installed (scripts/dev.sh installs it)")
+    plan = plan_of((examples / "thesis_7_3.dance").read_text())
+    arena, placement = prepare_show(plan, None)
+    result = simulate(plan, arena, placement, SimConfig())
+    target = tmp_path / "a.mp4"
+    animate_run(result, str(target))
+    assert target.read_bytes()[4:8] == b"ftyp"

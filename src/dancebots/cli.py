@@ -80,7 +80,7 @@ def _parser() -> argparse.ArgumentParser:
                               "animation and a log")
     run.add_argument("scenario", metavar="SCENARIO", nargs="?",
                      help="choreography file (default: the bundled open-day show, thesis "
-                     "listing 6.3)")
+                     "listing 6.3, in its hall with two HUSKY and two TRADR robots)")
     run.add_argument("--world", metavar="W", help="world file (TOML, docs/worlds.md); default: "
                      "an open arena around the show")
     run.add_argument("--out", metavar="DIR", help="output directory (default: out/NAME)")

@@ -84,8 +84,10 @@ def _progress(console: Console, label: str) -> Iterator[Callable[[float, float],
 
 
 def run_show(args: argparse.Namespace) -> int:
-    if args.scenario is None:
+    if args.scenario is None:  # the bundled open-day show in its hall
         args.scenario = bundled("open_day.dance")
+        if args.world is None:
+            args.world = bundled("open_day.toml")
     sources: dict[str, list[str]] = {}
     plan, world, diagnostics = compile_files(args, sources)
     if has_errors(diagnostics) or plan is None:

@@ -3,8 +3,8 @@
 Each step of ``dt`` seconds: the brains tick at the control rate (10 Hz), a robot whose last
 command is older than ``command_timeout`` stops (the robots' 10 Hz rule, thesis ch. 2), the
 actuation profile turns commands into velocities, the robots move along exact unicycle arcs,
-and any robot whose move would touch another robot, a wall or an obstacle stays where it was
-(the contact is counted and reported, never passed through). Noise comes from a
+and any robot whose move would run into another robot, a wall or an obstacle stays where it
+was (the contact is counted and reported, never passed through). Noise comes from a
 ``numpy.random.Generator`` seeded by the configuration.
 """
 
@@ -22,7 +22,7 @@ from dancebots.control.follower import FollowerParams
 from dancebots.geometry import Pose, integrate_unicycle, wrap_angles
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainState, RobotBrain
-from dancebots.sim.collision import Boundaries, overlapping_pairs
+from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
 from dancebots.sim.kinematics import IDEAL, Profile, actuate, fresh_commands
 from dancebots.sim.setup import Arena, Placement
 
@@ -182,9 +182,20 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         corners = _corners(proposed, lengths, widths)
         blocked = np.zeros(count, dtype=bool)
         contacts: list[tuple[int, int | str, str]] = []
-        for i, j in overlapping_pairs(corners, reach):
-            blocked[[i, j]] = True
-            contacts.append((i, placement.robots[j], "robot"))
+        pairs = overlapping_pairs(corners, reach)
+        if pairs:
+            # a robot is stopped when its move runs into where the other one stands now;
+            # one that moves away from a contact goes on (else touching robots lock up)
+            now_corners = _corners(pose, lengths, widths)
+            first, second = np.array(pairs).T
+            first_in = rectangles_overlap(corners[first], now_corners[second])
+            second_in = rectangles_overlap(now_corners[first], corners[second])
+            for (i, j), a, b in zip(pairs, first_in.tolist(), second_in.tolist(), strict=True):
+                if a or not b:
+                    blocked[i] = True
+                if b or not a:
+                    blocked[j] = True
+                contacts.append((i, placement.robots[j], "robot"))
         for i, what in boundaries.contacts(corners, reach):
             blocked[i] = True
             contacts.append((i, names[what], "wall" if what == -1 else "obstacle"))
