@@ -1,0 +1,177 @@
+"""The simulated LIDAR of thesis ch. 7.1: point clouds for every robot in one vectorised pass.
+
+Rays are cast in 2D against the walls, the obstacles, the other robots and the spectators;
+the third dimension is added as the thesis does: each hit is repeated every 10 cm up to the
+height of what was hit (robots and obstacles 1 m, walls their height, spectators theirs).
+For a ray that hits something nearer than the wall, the lower half of the wall is hidden and
+its upper half is still seen. Nothing nearer than ``min_range`` is seen (the ray is then
+blocked), nothing beyond ``max_range``. Clouds are in the sensor's ``base_link`` frame
+(x forward, y left, z up; the sensor sits on the robot's centre) and carry the time of the
+scan; the simulator delivers them ``latency`` seconds later.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from dancebots.sim.raycast import (
+    ray_directions,
+    rays_to_discs,
+    rays_to_segments,
+    rays_to_segments_culled,
+)
+
+__all__ = ["LidarConfig", "PointCloud", "scan_clouds"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class LidarConfig:
+    """rays per scan (256 in the thesis's simulator, 1024 on the real sensor); ranges in m
+    (5 m: the obstacle detection uses 2 m around the robot, the force field 1.5 m);
+    latency and period in s (the real LIDAR lags about 300 ms and scans at 10 Hz);
+    height_step: spacing of the points repeated in height, m; robot_height in m."""
+
+    rays: int = 256
+    min_range: float = 0.3
+    max_range: float = 5.0
+    latency: float = 0.3
+    period: float = 0.1
+    height_step: float = 0.1
+    robot_height: float = 1.0
+
+    def angles(self) -> FloatArray:
+        """Ray angles (N,) in rad relative to the robot's heading, from -pi, evenly spaced."""
+        return -np.pi + np.arange(self.rays) * (2.0 * np.pi / self.rays)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class PointCloud:
+    """A scan taken at ``stamp`` (s of show time), in ``base_link`` (m).
+
+    Stored as ``columns`` (K, 4): x, y, z_low, z_high of each hit, whose points are repeated
+    every ``height_step`` from z_low to z_high; :meth:`points` expands them to the (M, 3)
+    cloud a ROS node publishes. Consumers that only need what stands between two heights read
+    the columns directly (see ``perception.obstacles``), which is what keeps 100 robots fast.
+    """
+
+    stamp: float
+    columns: FloatArray
+    height_step: float = 0.1
+
+    def points(self) -> FloatArray:
+        """The cloud (M, 3): every column's points, z = z_low, z_low + step, ..., <= z_high."""
+        low, high = self.columns[:, 2], self.columns[:, 3]
+        levels = np.floor((high - low) / self.height_step + 1e-9).astype(np.int64) + 1
+        column = np.repeat(np.arange(len(self.columns)), levels)
+        level = np.arange(column.size) - np.repeat(np.cumsum(levels) - levels, levels)
+        z = low[column] + level * self.height_step
+        result: FloatArray = np.stack([self.columns[column, 0], self.columns[column, 1], z],
+                                      axis=1)
+        return result
+
+
+def _segments(polygon: FloatArray) -> FloatArray:
+    return np.stack([polygon, np.roll(polygon, -1, axis=0)], axis=1)
+
+
+def _distance_to_segments(points: FloatArray, segments: FloatArray) -> FloatArray:
+    """(P, S) distance of each point (P, 2) to each segment (S, 2, 2)."""
+    start = segments[:, 0]
+    edge = segments[:, 1] - start
+    length2 = np.maximum((edge**2).sum(axis=1), 1e-12)
+    rel = points[:, None, :] - start[None]
+    u = np.clip((rel * edge).sum(axis=2) / length2, 0.0, 1.0)
+    closest = start[None] + u[..., None] * edge[None]
+    result: FloatArray = np.hypot(*(points[:, None, :] - closest).transpose(2, 0, 1))
+    return result
+
+
+def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: FloatArray,
+                room: FloatArray, wall_height: float, obstacles: list[tuple[FloatArray, float]],
+                discs: FloatArray, disc_heights: FloatArray) -> list[PointCloud]:
+    """One scan of every robot.
+
+    poses (R, 3) world; corners (R, 4, 2) robot footprints; room polygon (W, 2); obstacles:
+    (polygon (K, 2), height) pairs; discs (C, 3) spectators (x, y, radius) with heights (C,).
+    Returns one :class:`PointCloud` per robot.
+    """
+    count = len(poses)
+    angles = config.angles()
+    origins = poses[:, :2]
+    headings = poses[:, 2]
+    # robots' edges and obstacles' edges: culled by angular span and range
+    robot_segments = _segments_of(corners)  # (4R, 2, 2)
+    obstacle_segments = [_segments(_counter_clockwise(polygon)) for polygon, _ in obstacles]
+    segments = np.concatenate([robot_segments, *obstacle_segments]) if obstacle_segments \
+        else robot_segments
+    heights = np.concatenate([np.full(len(robot_segments), config.robot_height),
+                              *[np.full(len(s), h) for s, (_, h) in zip(
+                                  obstacle_segments, obstacles, strict=True)]])
+    owner = np.concatenate([np.repeat(np.arange(count), 4),
+                            np.full(len(segments) - len(robot_segments), -1)])
+    # a ray's first hit on a closed counter-clockwise outline is on an edge facing the sensor:
+    # edges facing away (back faces) are skipped
+    edge = segments[:, 1] - segments[:, 0]
+    to_edge = segments[None, :, 0, :] - origins[:, None, :]  # (R, S, 2)
+    facing = to_edge[..., 0] * edge[:, 1] - to_edge[..., 1] * edge[:, 0] < 0.0
+    visible = facing & (owner[None, :] != np.arange(count)[:, None]) & (
+        _distance_to_segments(origins, segments) <= config.max_range)
+    solid, which = rays_to_segments_culled(origins, headings, angles, segments, visible)
+    solid_height = np.where(which >= 0, heights[np.maximum(which, 0)], 0.0)
+    directions = ray_directions(headings, angles)
+    if len(discs):
+        people, who = rays_to_discs(origins, directions, discs)
+        nearer = people < solid
+        solid = np.where(nearer, people, solid)
+        solid_height = np.where(nearer, disc_heights[np.maximum(who, 0)], solid_height)
+    wall, _ = rays_to_segments(origins, directions, _segments(room))
+
+    # columns of points: (sensor, ray, distance, z from, z to)
+    in_range = (solid >= config.min_range) & (solid <= config.max_range)
+    blocked = solid < wall  # something stands before the wall
+    wall_seen = wall <= config.max_range
+    lower = np.where(blocked, config.max_range + 1.0, wall)  # hidden lower half: no column
+    columns = [
+        (solid, np.zeros_like(solid), solid_height, in_range & blocked),
+        (wall, np.full_like(wall, 0.5 * wall_height), np.full_like(wall, wall_height),
+         wall_seen & blocked),
+        (lower, np.zeros_like(wall), np.full_like(wall, wall_height), wall_seen & ~blocked),
+    ]
+    sensor_parts, ray_parts, distance_parts, low_parts, high_parts = [], [], [], [], []
+    for distance, low, high, mask in columns:
+        r, k = np.nonzero(mask)
+        sensor_parts.append(r)
+        ray_parts.append(k)
+        distance_parts.append(distance[r, k])
+        low_parts.append(low[r, k])
+        high_parts.append(high[r, k])
+    sensor = np.concatenate(sensor_parts)
+    ray = np.concatenate(ray_parts)
+    distance = np.concatenate(distance_parts)
+    low = np.concatenate(low_parts)
+    high = np.concatenate(high_parts)
+    angle = angles[ray]
+    columns = np.stack([distance * np.cos(angle), distance * np.sin(angle), low, high], axis=1)
+    order = np.argsort(sensor, kind="stable")
+    splits = np.cumsum(np.bincount(sensor, minlength=count))[:-1]
+    return [PointCloud(stamp, part, config.height_step)
+            for part in np.split(columns[order], splits)]
+
+
+def _segments_of(corners: FloatArray) -> FloatArray:
+    """The 4 edges (4R, 2, 2) of R footprints (R, 4, 2), robot by robot."""
+    result: FloatArray = np.stack([corners, np.roll(corners, -1, axis=1)], axis=2).reshape(
+        -1, 2, 2)
+    return result
+
+
+def _counter_clockwise(polygon: FloatArray) -> FloatArray:
+    """The polygon (K, 2) with its corners in counter-clockwise order (shoelace sign)."""
+    x, y = polygon[:, 0], polygon[:, 1]
+    area2 = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    return polygon if area2 > 0 else polygon[::-1].copy()
