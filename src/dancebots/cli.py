@@ -92,6 +92,17 @@ def _parser() -> argparse.ArgumentParser:
                      help="max speed of the slowest robot, m/s (default: from the world, else "
                      "0.5)")
     run.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
+    run.add_argument("--no-lidar", action="store_true",
+                     help="robots without LIDAR: no obstacle detection, stops or force field")
+    run.add_argument("--rays", type=int, default=256, choices=(256, 1024),
+                     help="LIDAR rays per scan (default 256 as in the thesis's simulator)")
+    run.add_argument("--latency", type=float, default=0.3, metavar="S",
+                     help="LIDAR latency, s (default 0.3, the thesis's robots)")
+    run.add_argument("--detector", choices=("compensated", "thesis"), default="compensated",
+                     help="thesis: use the latest cloud as if current; compensated (default): "
+                     "move its points by the robot's motion since the scan")
+    run.add_argument("--force-steering", choices=("blend", "thesis"), default="blend",
+                     help="how the virtual force field steers (docs/safety.md)")
     return parser
 
 

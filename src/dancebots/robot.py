@@ -1,7 +1,12 @@
 """RobotBrain: everything one robot decides each control tick, as pure code.
 
-A brain knows the plan, its role and the follower strategy. Each tick it gets the show time
-and its pose in its *own* ``map`` frame and returns a command (v, w) and events. It computes
+A brain knows the plan, its role, its footprint and its strategies. Each tick it gets the show
+time, its pose in its *own* ``map`` frame (None when the pose look-up failed) and the LIDAR
+cloud that arrived (if any), and returns a command (v, w) and events. Per tick: obstacle
+points from the latest cloud (thesis 5.2, moved by the robot's own motion since the cloud's
+stamp with the ``compensated`` detector), stop flags, the virtual force, the follower
+(eq. 4.4), the stop flags applied to its command, then the safety state machine (thesis 5).
+It computes
 its virtual leader in its own frame from the plan, assuming it started on its slot of the
 first formation (thesis ch. 4.2: there is no shared frame between robots): a show-frame pose
 P is ``slot0^-1 ⊕ P`` in the robot's map frame.
@@ -15,18 +20,34 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from dancebots.control.follower import FollowerParams, FollowerState, thesis_follower_step
+from dancebots.control.force_field import repulsive_force
 from dancebots.geometry import Pose
+from dancebots.perception.cloud import PointCloud
+from dancebots.perception.obstacles import (
+    DetectorParams,
+    compensate_motion,
+    obstacle_points_from_columns,
+    stop_flags,
+)
 from dancebots.plan.planner import Plan, RobotTrack
+from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 
 __all__ = [
+    "DETECTORS",
     "FOLLOWERS",
     "BrainState",
     "Command",
     "RobotBrain",
+    "SensingConfig",
 ]
 
 FOLLOWERS = ("thesis",)
 """Follower strategies by name; ``thesis`` is eq. 4.4 as written."""
+DETECTORS = ("thesis", "compensated")
+"""Obstacle detectors: ``thesis`` uses the latest cloud as if it were current (ch. 5.2);
+``compensated`` moves its points by the robot's own motion since the cloud's stamp."""
+HISTORY = 1.5
+"""Seconds of own poses kept for the lag compensation."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,10 +62,39 @@ STOP = Command(0.0, 0.0)
 
 
 @dataclass(frozen=True, slots=True)
+class SensingConfig:
+    """The robot's footprint (m), whether it has a LIDAR (without one: no obstacle detection,
+    no sensor-age check), its detector, the force field's reach (m, 0: off) and the
+    detection and safety parameters."""
+
+    length: float = 1.2
+    width: float = 0.6
+    lidar: bool = True
+    detector: str = "compensated"
+    force_radius: float = 1.0
+    detection: DetectorParams = field(default_factory=DetectorParams)
+    safety: SafetyParams = field(default_factory=SafetyParams)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
 class BrainState:
-    """What a brain carries from one tick to the next."""
+    """What a brain carries from one tick to the next: the follower's queue, the safety
+    state, the latest obstacle points (M, 2) in ``base_link`` at the pose ``seen_from`` (own
+    map frame), and the recent own poses (t, x, y, theta)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
+    safety: SafetyState = field(default_factory=SafetyState)
+    obstacles: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    seen_from: tuple[float, float, float] | None = None
+    history: tuple[tuple[float, float, float, float], ...] = ()
+    held: bool = False
+
+    @property
+    def status(self) -> str:
+        """"error", "stopped" (held by a stop flag) or "ok"."""
+        if self.safety.error is not None:
+            return "error"
+        return "stopped" if self.safety.stopped_since is not None else "ok"
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,9 +114,14 @@ class RobotBrain:
     """
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
-                 follower: str = "thesis", grid_period: float = 0.1) -> None:
+                 follower: str = "thesis", grid_period: float = 0.1,
+                 sensing: SensingConfig | None = None) -> None:
         if follower not in FOLLOWERS:
             raise ValueError(f"unknown follower {follower!r}; choose from {', '.join(FOLLOWERS)}")
+        self.sensing = sensing or SensingConfig(lidar=False)
+        if self.sensing.detector not in DETECTORS:
+            raise ValueError(f"unknown detector {self.sensing.detector!r}; choose from "
+                             f"{', '.join(DETECTORS)}")
         self.plan = plan
         self.robot = robot
         self.params = params
@@ -105,16 +160,62 @@ class RobotBrain:
         return BrainState()
 
     def step(self, state: BrainState, show_time: float,
-             pose: tuple[float, float, float]) -> tuple[BrainState, Command, tuple[str, ...]]:
+             pose: tuple[float, float, float] | None, cloud: PointCloud | None = None,
+             ) -> tuple[BrainState, Command, tuple[Event, ...]]:
         """One control tick: show time in s (negative before the start), pose (x, y, theta)
-        in the robot's own map frame. Returns the new state, the command and events."""
-        if show_time < 0.0:
-            return state, STOP, ()
-        sample = self._sample(show_time)
-        follower, (linear, angular) = thesis_follower_step(
-            self.params, state.follower, show_time, pose, sample.leader, sample.path_point,
-            sample.desired, sample.required, sample.moving)
-        return replace(state, follower=follower), Command(linear, angular), ()
+        in the robot's own map frame or None (a failed look-up), the cloud that arrived.
+        Returns the new state, the command and the events of this tick."""
+        sensing = self.sensing
+        history = state.history
+        obstacles, seen_from = state.obstacles, state.seen_from
+        if pose is not None:
+            history = (*(h for h in history if show_time - h[0] <= HISTORY),
+                       (show_time, *pose))
+        if cloud is not None and sensing.lidar:
+            obstacles = obstacle_points_from_columns(cloud.columns, cloud.height_step,
+                                                     sensing.detection)
+            seen_from = self._pose_at(history, cloud.stamp) if (
+                sensing.detector == "compensated") else None
+        command = STOP
+        held = False
+        if pose is not None and show_time >= 0.0:
+            current = obstacles
+            if seen_from is not None and len(obstacles):
+                current = compensate_motion(obstacles, seen_from, pose)
+            force = (0.0, 0.0)
+            flags = None
+            if sensing.lidar and len(current):
+                flags = stop_flags(current, sensing.length, sensing.width, sensing.detection)
+                if sensing.force_radius > 0:
+                    force = repulsive_force(current, sensing.length, sensing.width,
+                                            sensing.force_radius)
+            sample = self._sample(show_time)
+            follower, (linear, angular) = thesis_follower_step(
+                self.params, state.follower, show_time, pose, sample.leader,
+                sample.path_point, sample.desired, sample.required, sample.moving, force)
+            if flags is not None and ((flags.front and linear > 0) or
+                                      (flags.rear and linear < 0)):
+                held = True  # thesis 5.2: the flags prevent moving that way
+                linear = 0.0
+            state = replace(state, follower=follower)
+            command = Command(linear, angular)
+        safety, events, may_move = safety_step(
+            sensing.safety, state.safety, show_time, pose is not None,
+            cloud is not None or not sensing.lidar, held)
+        if not may_move:
+            command = STOP
+        new_state = replace(state, safety=safety, obstacles=obstacles, seen_from=seen_from,
+                            history=history, held=held)
+        return new_state, command, events
+
+    @staticmethod
+    def _pose_at(history: tuple[tuple[float, float, float, float], ...],
+                 stamp: float) -> tuple[float, float, float] | None:
+        """The own pose recorded nearest to ``stamp`` (None without history)."""
+        if not history:
+            return None
+        best = min(history, key=lambda h: abs(h[0] - stamp))
+        return best[1], best[2], best[3]
 
     def leader_in_own_frame(self, show_time: float) -> tuple[float, float]:
         """The virtual leader's position in this robot's map frame at ``show_time``."""

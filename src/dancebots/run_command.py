@@ -27,6 +27,7 @@ from dancebots.cli import EXIT_INVALID, EXIT_OK, bundled, compile_files, print_d
 from dancebots.diagnostics import has_errors
 from dancebots.report.metrics import RunMetrics, run_metrics
 from dancebots.sim.kinematics import PROFILES
+from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.setup import SetupError, prepare_show
 from dancebots.sim.simulator import RunResult, SimConfig, simulate
 
@@ -105,7 +106,11 @@ def run_show(args: argparse.Namespace) -> int:
     if diagnostics:
         console.print(f"{args.scenario}: {len(diagnostics)} check warnings (see `dancebots "
                       f"check {args.scenario}`)", style="yellow", highlight=False)
-    config = SimConfig(profile=PROFILES[args.profile], seed=args.seed)
+    if not 0.0 <= args.latency <= 2.0:
+        return _fail(f"--latency {args.latency} is outside 0 to 2 s")
+    lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
+    config = SimConfig(profile=PROFILES[args.profile], seed=args.seed, lidar=lidar,
+                       detector=args.detector, force_steering=args.force_steering)
     started = time.perf_counter()
     with _progress(console, "simulating  (show s)") as update:
         result = simulate(plan, arena, placement, config, update)

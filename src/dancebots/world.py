@@ -28,6 +28,7 @@ __all__ = [
     "THESIS_ROOM_SIZE",
     "Obstacle",
     "RobotType",
+    "Spectator",
     "World",
     "WorldRobot",
     "load_world",
@@ -81,14 +82,33 @@ class WorldRobot:
 
 
 @dataclass(frozen=True, slots=True, eq=False)
+class Spectator:
+    """A visitor: a disc of ``radius`` m and ``height`` m walking ``waypoints`` (K, 2) (world
+    frame, m) at ``speed`` m/s, standing ``pauses`` (K,) s at each waypoint, starting after
+    ``start`` s; with ``loop`` it walks back to the first waypoint and around again."""
+
+    name: str
+    radius: float
+    height: float
+    speed: float
+    waypoints: NDArray[np.float64]
+    pauses: NDArray[np.float64]
+    loop: bool
+    start: float
+    line: int
+
+
+@dataclass(frozen=True, slots=True, eq=False)
 class World:
-    """The room (polygon (N, 2), world frame), its wall height, obstacles and robots."""
+    """The room (polygon (N, 2), world frame), its wall height, obstacles, robots and
+    spectators."""
 
     path: str
     room: NDArray[np.float64]
     wall_height: float
     obstacles: tuple[Obstacle, ...]
     robots: tuple[WorldRobot, ...]
+    spectators: tuple[Spectator, ...] = ()
 
     def robot(self, name: str) -> WorldRobot | None:
         return next((r for r in self.robots if r.name == name), None)
@@ -214,20 +234,22 @@ class _World:
         return points
 
     def build(self) -> tuple[World | None, list[Diagnostic]]:
-        known = {"room", "obstacles", "robots", "robot_types"}
+        known = {"room", "obstacles", "robots", "robot_types", "spectators"}
         for key in self.data:
             if key not in known:
                 self.error(self.where.key(None, key) if not isinstance(self.data[key], dict)
                            else (self.where.table(key), 1),
-                           f"unknown key '{key}'", "the top-level tables are "
-                           "[room], [[obstacles]], [[robots]] and [robot_types.NAME]")
+                           f"unknown key '{key}'", "the top-level tables are [room], "
+                           "[[obstacles]], [[robots]], [[spectators]] and [robot_types.NAME]")
         room, wall_height = self.room()
         types = self.robot_types()
         obstacles = self.obstacles()
         robots = self.robots(types)
+        spectators = self.spectators()
         if self.diagnostics or room is None:
             return None, sorted(self.diagnostics, key=lambda d: (d.line, d.col))
-        return World(self.path, room, wall_height, tuple(obstacles), tuple(robots)), []
+        return World(self.path, room, wall_height, tuple(obstacles), tuple(robots),
+                     tuple(spectators)), []
 
     def room(self) -> tuple[NDArray[np.float64] | None, float]:
         table = self.data.get("room", {})
@@ -359,6 +381,64 @@ class _World:
             if x is None or y is None or yaw is None:
                 continue
             result.append(WorldRobot(name, types[type_name], Pose(x, y, yaw), line))
+        return result
+
+
+    def spectators(self) -> list[Spectator]:
+        entries = self.data.get("spectators", [])
+        if not isinstance(entries, list):
+            self.error(self.where.key(None, "spectators"), "'spectators' must be an array of "
+                       "tables: [[spectators]]")
+            return []
+        result = []
+        allowed = ("name", "radius", "height", "speed", "path", "loop", "start")
+        for index, entry in enumerate(entries):
+            line = self.where.table("spectators", index)
+            if not isinstance(entry, dict):
+                self.error((line, 1), "each spectator must be a table: [[spectators]]")
+                continue
+            for key in entry:
+                if key not in allowed:
+                    self.error(self.where.key("spectators", key, index),
+                               f"unknown key '{key}' in a spectator",
+                               "a spectator has " + ", ".join(allowed))
+            name = entry.get("name", f"spectator {index + 1}")
+            if not isinstance(name, str):
+                self.error(self.where.key("spectators", "name", index),
+                           "a spectator's 'name' must be a string")
+                continue
+            where = ("spectators", index)
+            radius = self.number(entry, "radius", where, default=0.3, positive=True, high=5.0)
+            height = self.number(entry, "height", where, default=1.7, positive=True, high=5.0)
+            speed = self.number(entry, "speed", where, default=1.0, positive=True, high=10.0)
+            start = self.number(entry, "start", where, default=0.0, low=0.0, high=1e6)
+            loop = entry.get("loop", False)
+            if not isinstance(loop, bool):
+                self.error(self.where.key("spectators", "loop", index),
+                           "'loop' must be true or false")
+                continue
+            path = entry.get("path")
+            position = self.where.key("spectators", "path", index) if "path" in entry else (
+                line, 1)
+            points = path if isinstance(path, list) else None
+            ok = points is not None and len(points) >= 1 and all(
+                isinstance(p, list) and len(p) in (2, 3) and all(
+                    isinstance(c, int | float) and not isinstance(c, bool) for c in p)
+                for p in points)
+            if not ok or points is None:
+                self.error(position, f"spectator '{name}' needs a 'path': a list of [x, y] or "
+                           "[x, y, pause_s] waypoints", 'e.g. path = [[1, 1], [5, 1, 3.0]]')
+                continue
+            table = np.array([[*p, 0.0] if len(p) == 2 else p for p in points], dtype=float)
+            if not np.all(np.isfinite(table)) or np.any(np.abs(table[:, :2]) > MAX_COORDINATE) \
+                    or np.any(table[:, 2] < 0):
+                self.error(position, f"the path of spectator '{name}' must hold finite "
+                           "coordinates and pauses >= 0")
+                continue
+            if radius is None or height is None or speed is None or start is None:
+                continue
+            result.append(Spectator(name, radius, height, speed, table[:, :2].copy(),
+                                    table[:, 2].copy(), loop, start, line))
         return result
 
 

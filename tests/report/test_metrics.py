@@ -17,7 +17,7 @@ def result_for(text: str) -> RunResult:
     _, plan, diagnostics = compile_scenario(text, "t.dance")
     assert plan is not None, diagnostics
     arena, placement = prepare_show(plan, None)
-    return simulate(plan, arena, placement, SimConfig())
+    return simulate(plan, arena, placement, SimConfig(lidar=None))
 
 
 def test_metrics_of_a_perfect_run_are_zero() -> None:

@@ -33,9 +33,10 @@ def plan_of(text: str) -> Plan:
 
 
 def run(text: str, config: SimConfig | None = None) -> RunResult:
+    """Simulate without LIDAR unless the config says otherwise (the follower's own tests)."""
     plan = plan_of(text)
     arena, placement = prepare_show(plan, None)
-    return simulate(plan, arena, placement, config or SimConfig())
+    return simulate(plan, arena, placement, config or SimConfig(lidar=None))
 
 
 def no_overlaps(result: RunResult) -> bool:
@@ -51,9 +52,11 @@ def no_overlaps(result: RunResult) -> bool:
 
 @pytest.mark.parametrize("name", ["thesis_7_1.dance", "thesis_7_2.dance"])
 @pytest.mark.parametrize("profile", [IDEAL, REALISTIC], ids=lambda p: p.name)
+@pytest.mark.parametrize("lidar", [True, False], ids=["lidar", "no-lidar"])
 def test_thesis_scenarios_run_without_collision(examples: Path, name: str,
-                                                profile: Profile) -> None:
-    result = run((examples / name).read_text(), SimConfig(profile=profile))
+                                                profile: Profile, lidar: bool) -> None:
+    config = SimConfig(profile=profile) if lidar else SimConfig(profile=profile, lidar=None)
+    result = run((examples / name).read_text(), config)
     assert result.collisions == ()
     assert result.times[-1] >= result.plan.duration
     assert no_overlaps(result)
@@ -64,7 +67,7 @@ def test_thesis_scenarios_run_without_collision(examples: Path, name: str,
 
 def test_scenario_7_1_keeps_the_row_like_the_thesis(examples: Path) -> None:
     """Thesis 7.2.1: the distance between the two robots changes by about 16 cm (2D)."""
-    result = run((examples / "thesis_7_1.dance").read_text())
+    result = run((examples / "thesis_7_1.dance").read_text(), SimConfig(lidar=None))
     distance = np.hypot(*(result.poses[0, :, :2] - result.poses[1, :, :2]).T)
     assert 0.05 < np.abs(distance - 1.2).max() < 0.25
 
@@ -74,6 +77,7 @@ def test_same_seed_same_run_other_seed_other_run(examples: Path) -> None:
     first = run(text, SimConfig(profile=REALISTIC, seed=3))
     second = run(text, SimConfig(profile=REALISTIC, seed=3))
     other = run(text, SimConfig(profile=REALISTIC, seed=4))
+    assert first.events == second.events
     assert np.array_equal(first.poses, second.poses)
     assert not np.array_equal(first.poses, other.poses)
 
@@ -99,8 +103,8 @@ def test_robot_stops_when_commands_come_too_rarely() -> None:
     is stale (older than 0.1 s) for the third, so by t = 0.3 s the robot has driven 0.2 s at
     0.35 m/s = 0.07 m, against 0.105 m when stale commands were still obeyed."""
     text = "robots R1\nrow R1 0 0\nmove 3 0\n"
-    strict = run(text, SimConfig(control_period=0.3))
-    lenient = run(text, SimConfig(control_period=0.3, command_timeout=1.0))
+    strict = run(text, SimConfig(control_period=0.3, lidar=None))
+    lenient = run(text, SimConfig(control_period=0.3, command_timeout=1.0, lidar=None))
     assert strict.times[1] == pytest.approx(0.3)
     assert strict.poses[0, 1, 0] - strict.poses[0, 0, 0] == pytest.approx(0.07)
     assert lenient.poses[0, 1, 0] - lenient.poses[0, 0, 0] == pytest.approx(0.105)

@@ -36,6 +36,12 @@ class FollowerParams:
         0.7 vmax |1 + 3 (d_act - d_req)| and overshoot; instead the robot then aims at its
         desired position, at most ARRIVAL_GAIN * distance fast (the form of eq. 4.1a), and
         stops within this distance, m.
+    force_steering: "thesis": eq. 4.4b's second term as written, with alpha2 = atan2(Fy, Fx);
+        its sgn(Fx) flips for a force from beside the robot (a neighbour in a row), so it
+        steers a robot into its neighbour half of the time (scenario 7.1: 2-4 collisions).
+        "blend" (default, an addition): the force is added to the unit direction to the
+        target and eq. 4.4b's first term steers along the sum, as a force field does
+        (thesis ch. 1: "their sum then determines the desired heading").
     """
 
     vmax: float = 0.5
@@ -45,6 +51,7 @@ class FollowerParams:
     pop_distance: float = 0.30
     far_factor: float = 2.0
     arrival_distance: float = 0.10
+    force_steering: str = "blend"
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,7 +102,9 @@ def thesis_follower_step(
     leader position ("following the virtual leader directly") when the queue is empty or the
     leader is further than twice d_req (the queue is then cleared). alpha is the smallest
     angle between the x axis and the line to G (alpha or pi - alpha, so a target behind is
-    reached by reversing); alpha2 is the direction of F.
+    reached by reversing); alpha2 is the direction of F, atan2(Fy, Fx): a point ahead on the
+    left pushes back and to the right (alpha2 near -pi, Fx < 0), and the term turns the robot
+    right.
     """
     x, y, theta = pose
     queue = state.queue
@@ -125,12 +134,20 @@ def thesis_follower_step(
     c, s = math.cos(theta), math.sin(theta)
     dx, dy = target[0] - x, target[1] - y
     gx, gy = c * dx + s * dy, -s * dx + c * dy
-    alpha = math.atan2(abs(gy), abs(gx))  # smallest angle to the line through G
     linear = _sign(gx) * min(0.7 * params.vmax * abs(1.0 + 3.0 * (d_act - required_distance)),
                              speed_limit)
     fx, fy = force
     magnitude = math.hypot(fx, fy)
-    alpha2 = math.atan2(abs(fy), abs(fx)) if magnitude > 0 else 0.0
+    if params.force_steering == "blend" and magnitude > 0:
+        # an addition: the force bends the direction to the target, G/|G| + F, and eq. 4.4b's
+        # first term steers along the result
+        norm = math.hypot(gx, gy) or 1.0
+        gx, gy = gx / norm + fx, gy / norm + fy
+        if _sign(gx) != _sign(linear) and linear != 0.0:  # never turn a push into a reversal
+            gx = math.copysign(1e-6, linear)
+        magnitude = 0.0
+    alpha = math.atan2(abs(gy), abs(gx))  # smallest angle to the line through G
+    alpha2 = math.atan2(fy, fx) if magnitude > 0 else 0.0  # the force's direction
     angular = 3.0 * _sign(gx * gy) * alpha - 2.0 * _sign(fx) * alpha2 * magnitude
     command = (_clip_keep_sign(linear, params.max_linear),
                _clip_keep_sign(angular, params.max_angular))

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.perception.cloud import PointCloud
 from dancebots.sim.raycast import (
     ray_directions,
     rays_to_discs,
@@ -46,32 +47,8 @@ class LidarConfig:
 
     def angles(self) -> FloatArray:
         """Ray angles (N,) in rad relative to the robot's heading, from -pi, evenly spaced."""
-        return -np.pi + np.arange(self.rays) * (2.0 * np.pi / self.rays)
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class PointCloud:
-    """A scan taken at ``stamp`` (s of show time), in ``base_link`` (m).
-
-    Stored as ``columns`` (K, 4): x, y, z_low, z_high of each hit, whose points are repeated
-    every ``height_step`` from z_low to z_high; :meth:`points` expands them to the (M, 3)
-    cloud a ROS node publishes. Consumers that only need what stands between two heights read
-    the columns directly (see ``perception.obstacles``), which is what keeps 100 robots fast.
-    """
-
-    stamp: float
-    columns: FloatArray
-    height_step: float = 0.1
-
-    def points(self) -> FloatArray:
-        """The cloud (M, 3): every column's points, z = z_low, z_low + step, ..., <= z_high."""
-        low, high = self.columns[:, 2], self.columns[:, 3]
-        levels = np.floor((high - low) / self.height_step + 1e-9).astype(np.int64) + 1
-        column = np.repeat(np.arange(len(self.columns)), levels)
-        level = np.arange(column.size) - np.repeat(np.cumsum(levels) - levels, levels)
-        z = low[column] + level * self.height_step
-        result: FloatArray = np.stack([self.columns[column, 0], self.columns[column, 1], z],
-                                      axis=1)
+        result: FloatArray = -np.pi + np.arange(self.rays, dtype=np.float64) * (
+            2.0 * np.pi / self.rays)
         return result
 
 
@@ -136,14 +113,14 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
     blocked = solid < wall  # something stands before the wall
     wall_seen = wall <= config.max_range
     lower = np.where(blocked, config.max_range + 1.0, wall)  # hidden lower half: no column
-    columns = [
+    kinds = [
         (solid, np.zeros_like(solid), solid_height, in_range & blocked),
         (wall, np.full_like(wall, 0.5 * wall_height), np.full_like(wall, wall_height),
          wall_seen & blocked),
         (lower, np.zeros_like(wall), np.full_like(wall, wall_height), wall_seen & ~blocked),
     ]
     sensor_parts, ray_parts, distance_parts, low_parts, high_parts = [], [], [], [], []
-    for distance, low, high, mask in columns:
+    for distance, low, high, mask in kinds:
         r, k = np.nonzero(mask)
         sensor_parts.append(r)
         ray_parts.append(k)

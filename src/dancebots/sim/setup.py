@@ -16,7 +16,7 @@ from dancebots.check import place_plan_in_world, robot_types, world_violations
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import Pose, footprint_corners
 from dancebots.plan.planner import Plan
-from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, World
+from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, Spectator, World
 
 __all__ = ["Arena", "Placement", "SetupError", "prepare_show"]
 
@@ -29,13 +29,15 @@ class SetupError(Exception):
 
 @dataclass(frozen=True, slots=True, eq=False)
 class Arena:
-    """The room polygon (N, 2) in the world frame, its wall height (m), the obstacles, and
-    ``source``: the world file, or None for an open arena sized to the show."""
+    """The room polygon (N, 2) in the world frame, its wall height (m), the obstacles,
+    ``source``: the world file, or None for an open arena sized to the show, and the
+    spectators."""
 
     room: FloatArray
     wall_height: float
     obstacles: tuple[Obstacle, ...]
     source: str | None
+    spectators: tuple[Spectator, ...] = ()
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -105,5 +107,5 @@ def prepare_show(plan: Plan, world: World | None,
             world.robot(r) for r in plan.robots) if p is not None])
     else:
         starts = _slots(plan, transform)
-    arena = Arena(world.room, world.wall_height, world.obstacles, world.path)
+    arena = Arena(world.room, world.wall_height, world.obstacles, world.path, world.spectators)
     return arena, Placement(plan.robots, tuple(types), starts, transform)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -20,13 +20,30 @@ from numpy.typing import NDArray
 
 from dancebots.control.follower import FollowerParams
 from dancebots.geometry import Pose, integrate_unicycle, wrap_angles
+from dancebots.perception.cloud import PointCloud
 from dancebots.plan.planner import Plan
-from dancebots.robot import BrainState, RobotBrain
+from dancebots.robot import BrainState, RobotBrain, SensingConfig
 from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
 from dancebots.sim.kinematics import IDEAL, Profile, actuate, fresh_commands
+from dancebots.sim.lidar import LidarConfig, scan_clouds
 from dancebots.sim.setup import Arena, Placement
+from dancebots.sim.spectators import spectator_discs
 
-__all__ = ["CollisionEvent", "RunResult", "SimConfig", "simulate"]
+__all__ = ["STATUS", "CollisionEvent", "Fault", "RobotEvent", "RunResult", "SimConfig",
+           "simulate"]
+
+STATUS = ("ok", "stopped", "error")
+"""Codes of ``RunResult.status``: 0 moving freely, 1 held by a stop flag, 2 error state."""
+
+
+@dataclass(frozen=True, slots=True)
+class Fault:
+    """An injected failure: from show time ``start`` s, ``robot``'s LIDAR delivers nothing
+    (kind "lidar") or its pose look-ups fail (kind "pose")."""
+
+    robot: str
+    kind: str
+    start: float
 
 FloatArray = NDArray[np.float64]
 Progress = Callable[[float, float], None]
@@ -44,6 +61,11 @@ class SimConfig:
     seed: seed of the noise generator. settle: extra time after the planned show, s; the run
         ends earlier once every robot has stood still for a second after the show.
     follower: the follower strategy of the robots' brains.
+    lidar: the simulated LIDAR (None: robots without LIDAR, no obstacle detection).
+    detector: "thesis" or "compensated" (see ``robot.DETECTORS``).
+    force_radius: reach of the virtual force field, m (0: off).
+    force_steering: how the force steers ("thesis" or "blend", see ``FollowerParams``).
+    faults: injected sensor failures.
     """
 
     profile: Profile = IDEAL
@@ -53,6 +75,11 @@ class SimConfig:
     seed: int = 0
     settle: float = 20.0
     follower: str = "thesis"
+    lidar: LidarConfig | None = field(default_factory=LidarConfig)
+    detector: str = "compensated"
+    force_radius: float = 1.0
+    force_steering: str = "blend"
+    faults: tuple[Fault, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -68,6 +95,16 @@ class CollisionEvent:
     y: float
 
 
+@dataclass(frozen=True, slots=True)
+class RobotEvent:
+    """What a robot voiced or reported at ``time``: kind "speech", "beep", "resume", "error"."""
+
+    time: float
+    robot: str
+    kind: str
+    text: str
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class RunResult:
     """A simulated show, sampled at every control tick.
@@ -78,7 +115,8 @@ class RunResult:
     (computed in its own frame from its start pose); required_distance (R, T) its desired
     distance to the leader, m; formation (R, T) the index of the plan formation it follows.
     min_clearance: the smallest gap between two robots' footprints at any tick, m (None for
-    one robot).
+    one robot). status (R, T): codes of ``STATUS``. events: the robots' events in time order.
+    spectators (C, T, 2): the spectators' positions, spectator_radii (C,).
     """
 
     plan: Plan
@@ -95,6 +133,10 @@ class RunResult:
     formation: NDArray[np.int64]
     collisions: tuple[CollisionEvent, ...]
     min_clearance: float | None
+    status: NDArray[np.int8]
+    events: tuple[RobotEvent, ...]
+    spectators: FloatArray
+    spectator_radii: FloatArray
 
     @property
     def robots(self) -> tuple[str, ...]:
@@ -128,7 +170,10 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     count = len(placement.robots)
     brains = [RobotBrain(plan, robot, FollowerParams(
         vmax=plan.parameters.vmax, max_linear=kind.max_speed,
-        max_angular=kind.max_angular_speed), config.follower)
+        max_angular=kind.max_angular_speed, force_steering=config.force_steering),
+        config.follower, sensing=SensingConfig(
+            kind.length, kind.width, lidar=config.lidar is not None, detector=config.detector,
+            force_radius=config.force_radius))
         for robot, kind in zip(placement.robots, placement.types, strict=True)]
     states: list[BrainState] = [brain.initial_state() for brain in brains]
     starts = placement.starts
@@ -139,6 +184,18 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     limits = np.array([[t.max_speed, t.max_angular_speed] for t in placement.types])
     boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles])
     names = {-1: "wall", **{k: o.name for k, o in enumerate(arena.obstacles)}}
+    obstacles = [(o.polygon, o.height) for o in arena.obstacles]
+    spectators = arena.spectators
+    walked = np.zeros(len(spectators))
+    disc_heights = np.array([p.height for p in spectators])
+    discs = spectator_discs(spectators, walked)
+    pending: list[tuple[float, list[PointCloud]]] = []
+    lidar_faults = {placement.robots.index(f.robot): f.start for f in config.faults
+                    if f.kind == "lidar"}
+    pose_faults = {placement.robots.index(f.robot): f.start for f in config.faults
+                   if f.kind == "pose"}
+    events: list[RobotEvent] = []
+    status = np.zeros(count, dtype=np.int8)
 
     pose = starts.astype(float).copy()
     velocity = np.zeros((count, 2))
@@ -149,18 +206,36 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     total_steps = math.ceil(end / config.dt)
     active: dict[tuple[int, int | str], float] = {}
     collisions: list[CollisionEvent] = []
-    records: list[tuple[float, FloatArray, FloatArray, FloatArray]] = []
+    records: list[tuple[float, FloatArray, FloatArray, FloatArray, NDArray[np.int8],
+                        FloatArray]] = []
     still_since: float | None = None
     last_report = -math.inf
     for step in range(total_steps + 1):
         now = step * config.dt
         if step % steps_per_tick == 0:
+            corners_now = _corners(pose, lengths, widths)
+            lidar = config.lidar
+            if lidar is not None and _due(now, lidar.period):
+                pending.append((now + lidar.latency, scan_clouds(
+                    lidar, now, pose, corners_now, arena.room, arena.wall_height, obstacles,
+                    discs, disc_heights)))
+            arrived: list[PointCloud | None] = [None] * count
+            while pending and pending[0][0] <= now + 1e-9:
+                arrived = list(pending.pop(0)[1])
             for i, brain in enumerate(brains):
+                if now >= lidar_faults.get(i, math.inf):
+                    arrived[i] = None
                 own = start_poses[i].inverse().compose(Pose(*pose[i].tolist()))
-                states[i], cmd, _events = brain.step(states[i], now, (own.x, own.y, own.theta))
+                seen = None if now >= pose_faults.get(i, math.inf) else (own.x, own.y,
+                                                                         own.theta)
+                states[i], cmd, happened = brain.step(states[i], now, seen, arrived[i])
                 command[i] = (cmd.linear, cmd.angular)
                 issued[i] = now
-            records.append((now, pose.copy(), velocity.copy(), command.copy()))
+                status[i] = STATUS.index(states[i].status)
+                events.extend(RobotEvent(round(now, 6), placement.robots[i], e.kind, e.text)
+                              for e in happened)
+            records.append((now, pose.copy(), velocity.copy(), command.copy(), status.copy(),
+                            discs[:, :2].copy()))
             if progress is not None and now - last_report >= 1.0:
                 progress(now, end)
                 last_report = now
@@ -199,6 +274,10 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         for i, what in boundaries.contacts(corners, reach):
             blocked[i] = True
             contacts.append((i, names[what], "wall" if what == -1 else "obstacle"))
+        if len(spectators):
+            for i, k in _disc_contacts(proposed, lengths, widths, discs):
+                blocked[i] = True
+                contacts.append((i, spectators[k].name, "spectator"))
         for i, other, kind in contacts:
             key = (i, other)
             if now + config.dt - active.get(key, -math.inf) > 1.0:  # a new contact
@@ -209,9 +288,38 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         proposed[blocked] = pose[blocked]
         velocity[blocked] = 0.0
         pose = proposed
+        if len(spectators):  # visitors walk on unless a robot stands where they would step
+            ahead = spectator_discs(spectators, walked + config.dt)
+            free = np.ones(len(spectators), dtype=bool)
+            for _, k in _disc_contacts(pose, lengths, widths, ahead):
+                free[k] = False
+            walked = walked + np.where(free, config.dt, 0.0)
+            discs = spectator_discs(spectators, walked)
     if progress is not None:
         progress(end, end)
-    return _result(plan, arena, placement, config, records, brains, tuple(collisions))
+    return _result(plan, arena, placement, config, records, brains, tuple(collisions),
+                   tuple(events))
+
+
+def _due(now: float, period: float) -> bool:
+    """Is ``now`` a multiple of ``period`` (within rounding)?"""
+    k = round(now / period)
+    return abs(k * period - now) < 1e-6
+
+
+def _disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
+                   discs: FloatArray) -> list[tuple[int, int]]:
+    """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
+    if len(discs) == 0:
+        return []
+    dx = discs[None, :, 0] - poses[:, None, 0]
+    dy = discs[None, :, 1] - poses[:, None, 1]
+    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
+    lx, ly = c * dx + s * dy, -s * dx + c * dy
+    ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
+    ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
+    r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
+    return list(zip(r.tolist(), k.tolist(), strict=True))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> FloatArray:
@@ -249,12 +357,16 @@ def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> 
 
 
 def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
-            records: list[tuple[float, FloatArray, FloatArray, FloatArray]],
-            brains: list[RobotBrain], collisions: tuple[CollisionEvent, ...]) -> RunResult:
+            records: list[tuple[float, FloatArray, FloatArray, FloatArray, NDArray[np.int8],
+                                FloatArray]],
+            brains: list[RobotBrain], collisions: tuple[CollisionEvent, ...],
+            events: tuple[RobotEvent, ...]) -> RunResult:
     times = np.array([r[0] for r in records])
     poses = np.stack([r[1] for r in records], axis=1)
     velocities = np.stack([r[2] for r in records], axis=1)
     commands = np.stack([r[3] for r in records], axis=1)
+    status = np.stack([r[4] for r in records], axis=1)
+    spectators = np.stack([r[5] for r in records], axis=1)
     slots = [brain.slot0 for brain in brains]
     desired, leader, required, formation = [], [], [], []
     for i, robot in enumerate(placement.robots):
@@ -267,4 +379,6 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                      np.stack(desired), np.stack(leader), np.stack(required),
                      np.stack(formation), collisions,
                      smallest_gap(poses, np.array([t.length for t in placement.types]),
-                                  np.array([t.width for t in placement.types])))
+                                  np.array([t.width for t in placement.types])),
+                     status, events, spectators,
+                     np.array([p.radius for p in arena.spectators]))

@@ -1,0 +1,104 @@
+"""Obstacle detection of thesis ch. 5.2 as pure functions.
+
+A LIDAR cloud in ``base_link`` (x forward, y left, z up, m) becomes the 2D obstacle points
+around the robot: everything in the 4 m x 4 m square around it (2 m to each side of the
+``base_link`` origin) between 0.10 m and 1.5 m high, flattened to z = 0. ``stop_front`` /
+``stop_rear`` are set when an obstacle point is nearer than 0.55 m to the robot's front /
+rear. Because the cloud lags (about 300 ms), :func:`compensate_motion` moves the points by
+the robot's own motion since the cloud's stamp (an addition: thesis 7.2.2 saw a collision
+caused by that lag).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "DetectorParams",
+    "StopFlags",
+    "compensate_motion",
+    "obstacle_points",
+    "obstacle_points_from_columns",
+    "stop_flags",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class DetectorParams:
+    """crop_half: half side of the square kept around ``base_link``, m (thesis: 4 x 4 m);
+    z_min, z_max: kept heights, m (thesis: above 10 cm, below 1.5 m); stop_distance: m
+    (thesis: 55 cm); corridor_margin: the stop zones are as wide as the robot plus this on
+    each side, m, so that neighbours beside the robot do not stop it."""
+
+    crop_half: float = 2.0
+    z_min: float = 0.10
+    z_max: float = 1.5
+    stop_distance: float = 0.55
+    corridor_margin: float = 0.10
+
+
+@dataclass(frozen=True, slots=True)
+class StopFlags:
+    front: bool
+    rear: bool
+
+
+def obstacle_points(points: FloatArray, params: DetectorParams = DetectorParams()) -> FloatArray:
+    """Cloud (N, 3) -> obstacle points (M, 2): cropped, height-filtered, flattened, unique."""
+    keep = ((np.abs(points[:, 0]) <= params.crop_half) & (np.abs(points[:, 1]) <= params.crop_half)
+            & (points[:, 2] > params.z_min) & (points[:, 2] < params.z_max))
+    flat: FloatArray = np.unique(np.round(points[keep, :2], 9), axis=0)
+    return flat
+
+
+def obstacle_points_from_columns(columns: FloatArray, height_step: float,
+                                 params: DetectorParams = DetectorParams()) -> FloatArray:
+    """The same points as :func:`obstacle_points` (as a set) on a cloud stored as columns
+    (K, 4) = x, y, z_low, z_high of points repeated every ``height_step`` (see
+    ``perception.cloud.PointCloud``)."""
+    low, high = columns[:, 2], columns[:, 3]
+    first = np.where(low > params.z_min, 0.0,
+                     np.floor((params.z_min - low) / height_step + 1e-9) + 1.0)
+    z = low + first * height_step  # the lowest level above z_min
+    keep = ((z < params.z_max) & (z <= high + 1e-9)
+            & (np.abs(columns[:, 0]) <= params.crop_half)
+            & (np.abs(columns[:, 1]) <= params.crop_half))
+    flat: FloatArray = columns[keep, :2]  # one column per ray and object: no duplicates
+    return flat
+
+
+def stop_flags(points: FloatArray, length: float, width: float,
+               params: DetectorParams = DetectorParams()) -> StopFlags:
+    """Obstacle points (M, 2) in ``base_link`` -> (stop_front, stop_rear): is a point within
+    ``stop_distance`` ahead of the front edge / behind the rear edge, inside the corridor the
+    robot sweeps (its width plus the margin on each side)."""
+    if len(points) == 0:
+        return StopFlags(False, False)
+    half_l = 0.5 * length
+    corridor = np.abs(points[:, 1]) <= 0.5 * width + params.corridor_margin
+    front = corridor & (points[:, 0] >= half_l - 1e-9) & (
+        points[:, 0] < half_l + params.stop_distance)
+    rear = corridor & (points[:, 0] <= -half_l + 1e-9) & (
+        points[:, 0] > -half_l - params.stop_distance)
+    return StopFlags(bool(front.any()), bool(rear.any()))
+
+
+def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, float],
+                      pose_now: tuple[float, float, float]) -> FloatArray:
+    """Points (M, 2) seen in ``base_link`` at the cloud's stamp, expressed in ``base_link``
+    now, from the robot's own poses (odometry, any fixed frame) then and now."""
+    x0, y0, t0 = pose_at_stamp
+    x1, y1, t1 = pose_now
+    c0, s0 = math.cos(t0), math.sin(t0)
+    wx = x0 + c0 * points[:, 0] - s0 * points[:, 1]
+    wy = y0 + s0 * points[:, 0] + c0 * points[:, 1]
+    c1, s1 = math.cos(t1), math.sin(t1)
+    dx, dy = wx - x1, wy - y1
+    result: FloatArray = np.stack([c1 * dx + s1 * dy, -s1 * dx + c1 * dy], axis=1)
+    return result
