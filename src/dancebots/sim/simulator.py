@@ -196,6 +196,15 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                    if f.kind == "pose"}
     events: list[RobotEvent] = []
     status = np.zeros(count, dtype=np.int8)
+    if config.lidar is not None:  # the LIDARs run before the start: clouds arrive from t = 0
+        lidar0 = config.lidar
+        start = starts.astype(float)
+        corners0 = _corners(start, lengths, widths)
+        for k in range(-math.ceil(lidar0.latency / lidar0.period - 1e-9), 0):
+            stamp = k * lidar0.period
+            pending.append((stamp + lidar0.latency, scan_clouds(
+                lidar0, stamp, start, corners0, arena.room, arena.wall_height, obstacles, discs,
+                disc_heights)))
 
     pose = starts.astype(float).copy()
     velocity = np.zeros((count, 2))
