@@ -1,0 +1,90 @@
+"""Obstacle detection (thesis 5.2): crop, height filter, stop zones, lag compensation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from dancebots.perception.cloud import PointCloud
+from dancebots.perception.obstacles import (
+    DetectorParams,
+    compensate_motion,
+    obstacle_points,
+    obstacle_points_from_columns,
+    stop_flags,
+)
+
+LENGTH, WIDTH = 1.2, 0.6
+
+
+def test_crop_and_height_filter() -> None:
+    points = np.array([
+        [1.0, 0.0, 0.5],    # kept
+        [2.5, 0.0, 0.5],    # outside the 4 x 4 m square
+        [1.0, -1.9, 1.4],   # kept
+        [1.0, 0.0, 0.1],    # the floor band: z must be above 0.10
+        [1.0, 0.0, 1.5],    # z must be below 1.5
+        [1.0, 0.0, 0.9],    # same x, y as the first: flattened into one point
+    ])
+    assert obstacle_points(points).tolist() == [[1.0, -1.9], [1.0, 0.0]]
+
+
+@given(st.floats(0.6, 1.149), st.floats(-0.4, 0.4), st.floats(0.11, 1.49))
+def test_any_point_in_the_front_zone_stops_forward(x: float, y: float, z: float) -> None:
+    flat = obstacle_points(np.array([[x, y, z]]))
+    flags = stop_flags(flat, LENGTH, WIDTH)
+    assert flags.front and not flags.rear
+
+
+@given(st.floats(-1.149, -0.6), st.floats(-0.4, 0.4), st.floats(0.11, 1.49))
+def test_any_point_in_the_rear_zone_stops_backward(x: float, y: float, z: float) -> None:
+    flags = stop_flags(obstacle_points(np.array([[x, y, z]])), LENGTH, WIDTH)
+    assert flags.rear and not flags.front
+
+
+@given(st.floats(-2, 2), st.floats(-2, 2),
+       st.one_of(st.floats(1.5, 10), st.floats(-1, 0.1)))
+def test_points_too_high_or_too_low_never_stop(x: float, y: float, z: float) -> None:
+    flags = stop_flags(obstacle_points(np.array([[x, y, z]])), LENGTH, WIDTH)
+    assert not flags.front and not flags.rear
+
+
+@given(st.floats(-0.55, 0.55), st.sampled_from([-1, 1]), st.floats(0.45, 2.0))
+def test_neighbours_beside_the_robot_do_not_stop_it(x: float, side: int, gap: float) -> None:
+    flags = stop_flags(np.array([[x, side * gap]]), LENGTH, WIDTH)
+    assert not flags.front and not flags.rear
+
+
+columns = arrays(np.float64, st.tuples(st.integers(0, 30), st.just(4)),
+                 elements=st.floats(-3, 3, allow_nan=False))
+
+
+@given(columns)
+def test_columns_give_the_same_points_as_the_expanded_cloud(data: np.ndarray) -> None:
+    data = data.copy()
+    data[:, 2] = np.abs(data[:, 2]) * 0.5  # z_low >= 0
+    data[:, 3] = data[:, 2] + np.abs(data[:, 3])  # z_high >= z_low
+    cloud = PointCloud(0.0, data, 0.1)
+    from_points = {tuple(p) for p in np.round(obstacle_points(cloud.points()), 6)}
+    from_columns = {tuple(p) for p in np.round(obstacle_points_from_columns(data, 0.1), 6)}
+    assert from_points == from_columns
+
+
+def test_compensation_moves_points_by_own_motion() -> None:
+    # an obstacle 2 m ahead seen at the stamp; the robot has since driven 0.3 m forward
+    seen = np.array([[2.0, 0.0]])
+    now = compensate_motion(seen, (0.0, 0.0, 0.0), (0.3, 0.0, 0.0))
+    np.testing.assert_allclose(now, [[1.7, 0.0]])
+    # ... and turned 90 degrees left on the spot: the obstacle is now on its right
+    now = compensate_motion(seen, (0.0, 0.0, 0.0), (0.0, 0.0, math.pi / 2))
+    np.testing.assert_allclose(now, [[0.0, -2.0]], atol=1e-12)
+
+
+def test_parameters_move_the_zones() -> None:
+    point = np.array([[1.0, 0.0]])  # 0.4 m ahead of the front edge
+    assert stop_flags(point, LENGTH, WIDTH).front
+    assert not stop_flags(point, LENGTH, WIDTH, DetectorParams(stop_distance=0.3)).front

@@ -1,0 +1,93 @@
+"""The simulated LIDAR: ray casting kernels and the thesis's height columns."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dancebots.sim.lidar import LidarConfig, scan_clouds
+from dancebots.sim.raycast import (
+    ray_directions,
+    rays_to_discs,
+    rays_to_segments,
+    rays_to_segments_culled,
+)
+from dancebots.sim.simulator import _corners
+
+ROOM = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+
+
+def test_ray_hits_segment_and_disc_at_known_distances() -> None:
+    origins = np.array([[0.0, 0.0]])
+    directions = ray_directions(np.zeros(1), np.array([0.0, np.pi / 2, np.pi]))
+    segment = np.array([[[2.0, -1.0], [2.0, 1.0]]])
+    distance, which = rays_to_segments(origins, directions, segment)
+    assert distance[0, 0] == 2.0
+    assert np.isinf(distance[0, 1:]).all()
+    assert which.tolist() == [[0, -1, -1]]
+    disc = np.array([[0.0, 3.0, 0.5]])
+    distance, which = rays_to_discs(origins, directions, disc)
+    assert distance[0, 1] == 2.5
+    assert which.tolist() == [[-1, 0, -1]]
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(0, 10_000))
+def test_culled_casting_equals_brute_force(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    origins = rng.uniform(0, 10, (6, 2))
+    headings = rng.uniform(-3, 3, 6)
+    angles = -np.pi + np.arange(64) * (2 * np.pi / 64)
+    start = rng.uniform(0, 10, (25, 2))
+    segments = np.stack([start, start + rng.uniform(-2, 2, (25, 2))], axis=1)
+    visible = rng.uniform(size=(6, 25)) > 0.3
+    dense, _ = rays_to_segments(origins, ray_directions(headings, angles), segments, ~visible)
+    culled, _ = rays_to_segments_culled(origins, headings, angles, segments, visible)
+    np.testing.assert_allclose(culled, dense)
+
+
+def cloud_of_first_robot(poses: np.ndarray, discs: np.ndarray | None = None,
+                         config: LidarConfig | None = None) -> np.ndarray:
+    corners = _corners(poses, np.full(len(poses), 1.2), np.full(len(poses), 0.6))
+    discs = np.zeros((0, 3)) if discs is None else discs
+    clouds = scan_clouds(config or LidarConfig(), 1.5, poses, corners, ROOM, 2.0, [], discs,
+                         np.full(len(discs), 1.7))
+    assert clouds[0].stamp == 1.5
+    return clouds[0].points()
+
+
+def test_robot_ahead_hides_the_lower_wall() -> None:
+    points = cloud_of_first_robot(np.array([[5.0, 5.0, 0.0], [7.0, 5.0, 0.0]]))
+    ahead = points[(np.abs(points[:, 1]) < 1e-9) & (points[:, 0] > 0)]
+    robot = ahead[np.isclose(ahead[:, 0], 1.4)]  # the other robot's rear edge: 7 - 0.6 - 5
+    wall = ahead[np.isclose(ahead[:, 0], 5.0)]
+    np.testing.assert_allclose(robot[:, 2], np.arange(11) * 0.1)  # 0 to 1 m every 10 cm
+    np.testing.assert_allclose(wall[:, 2], 1.0 + np.arange(11) * 0.1)  # upper half only
+    behind = points[(np.abs(points[:, 1]) < 1e-9) & (points[:, 0] < 0)]
+    np.testing.assert_allclose(np.sort(behind[:, 2]), np.arange(21) * 0.1)  # the whole wall
+
+
+def test_spectator_seen_to_its_height_and_own_body_never() -> None:
+    points = cloud_of_first_robot(np.array([[5.0, 5.0, 0.0]]), np.array([[5.0, 7.0, 0.3]]))
+    left = points[(np.abs(points[:, 0]) < 1e-9) & (points[:, 1] > 0)]
+    person = left[np.isclose(left[:, 1], 1.7)]
+    assert person[:, 2].max() == pytest.approx(1.7)
+    assert np.hypot(points[:, 0], points[:, 1]).min() >= 0.3
+
+
+def test_nothing_nearer_than_min_range_or_beyond_max_range() -> None:
+    points = cloud_of_first_robot(np.array([[5.0, 5.0, 0.0], [5.9, 5.0, np.pi / 2]]),
+                                  config=LidarConfig(max_range=4.0))
+    distance = np.hypot(points[:, 0], points[:, 1])
+    assert distance.min() >= 0.3
+    assert distance.max() <= 4.0 + 1e-9
+
+
+def test_ray_count_and_1024_rays() -> None:
+    assert len(LidarConfig().angles()) == 256
+    poses = np.array([[5.0, 5.0, 0.3]])
+    dense = cloud_of_first_robot(poses, config=LidarConfig(rays=1024))
+    sparse = cloud_of_first_robot(poses)
+    assert len(dense) == 4 * len(sparse)

@@ -1,0 +1,84 @@
+"""Safety in the simulator: failures, the crash of thesis 7.2.2, spectators."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dancebots.check import compile_scenario
+from dancebots.plan import Plan
+from dancebots.safety import STOP_SENTENCE
+from dancebots.sim import REALISTIC, SimConfig, prepare_show, simulate
+from dancebots.sim.lidar import LidarConfig
+from dancebots.sim.simulator import STATUS, Fault, RunResult
+from dancebots.world import parse_world
+
+STRAIGHT = "robots R1 R2\nrow R1,R2 0 1.2\nmove 6 0\n"
+
+
+def plan_of(text: str) -> Plan:
+    _, plan, diagnostics = compile_scenario(text, "test.dance")
+    assert plan is not None, diagnostics
+    return plan
+
+
+def run(text: str, config: SimConfig, world_text: str | None = None) -> RunResult:
+    plan = plan_of(text)
+    world = None
+    if world_text is not None:
+        world, problems = parse_world(world_text, "w.toml")
+        assert world is not None, problems
+    arena, placement = prepare_show(plan, world)
+    return simulate(plan, arena, placement, config)
+
+
+def test_silent_lidar_stops_the_robot_within_0_3_s_for_good() -> None:
+    result = run(STRAIGHT, SimConfig(faults=(Fault("R1", "lidar", 5.0),)))
+    errors = [e for e in result.events if e.kind == "error"]
+    # the last cloud arrived at 4.9 s; at 5.3 s it is more than 0.3 s old: within 0.3 s of
+    # the silence (from 5.0 s) the robot is in the error state with a zero command
+    assert [(e.robot, e.time) for e in errors] == [("R1", 5.3)]
+    after = result.times >= 5.3
+    assert np.all(result.commands[0, after] == 0.0)
+    assert np.all(result.status[0, after] == STATUS.index("error"))
+    assert result.commands[1, after][:, 0].max() > 0.3  # the other robot goes on
+
+
+def test_lost_pose_lookups_stop_the_robot() -> None:
+    result = run(STRAIGHT, SimConfig(faults=(Fault("R2", "pose", 3.0),)))
+    errors = [(e.robot, e.time, e.text) for e in result.events if e.kind == "error"]
+    assert errors == [("R2", 3.2, "3 consecutive failed pose look-ups")]
+    assert np.all(result.commands[1, result.times >= 3.0] == 0.0)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_crash_of_thesis_7_2_2_is_avoided(examples: Path, seed: int) -> None:
+    """The left robot turns into its neighbour's way with the thesis's 300 ms lag: the
+    compensated detector stops it in time (the uncompensated one collides here, see
+    benchmarks/bench_lag_compensation.py)."""
+    text = (examples / "crash_7_2_2.dance").read_text()
+    result = run(text, SimConfig(profile=REALISTIC, seed=seed, lidar=LidarConfig(latency=0.3)))
+    assert result.collisions == ()
+    assert [e.text for e in result.events if e.robot == "R1"][0] == STOP_SENTENCE
+
+
+def test_uncompensated_detector_collides_in_the_crash(examples: Path) -> None:
+    text = (examples / "crash_7_2_2.dance").read_text()
+    result = run(text, SimConfig(profile=REALISTIC, seed=0, detector="thesis"))
+    assert len(result.collisions) >= 1
+
+
+def test_spectator_crossing_stops_robots_without_collision() -> None:
+    # the visitor walks across the robots' way and stands 4 s in front of R1
+    world = ('[room]\nsize = 20\n[[robots]]\nname = "R1"\nx = 2\ny = 10.6\n[[robots]]\n'
+             'name = "R2"\nx = 2\ny = 9.4\n[[spectators]]\nname = "visitor"\nspeed = 0.8\n'
+             'start = 3\npath = [[7, 4], [7, 10.6, 4.0], [7, 16]]\n')
+    text = "robots R1 R2\nrow R1,R2 0 1.2\nmove 9 0\n"
+    result = run(text, SimConfig(), world)
+    assert result.collisions == ()
+    speech = [e for e in result.events if e.kind == "speech"]
+    assert speech and all(e.text == STOP_SENTENCE for e in speech)
+    assert (result.status == STATUS.index("stopped")).any()
+    assert result.spectators.shape == (1, len(result.times), 2)
