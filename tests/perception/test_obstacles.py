@@ -37,26 +37,30 @@ def test_crop_and_height_filter() -> None:
 def test_any_point_in_the_front_zone_stops_forward(x: float, y: float, z: float) -> None:
     flat = obstacle_points(np.array([[x, y, z]]))
     flags = stop_flags(flat, LENGTH, WIDTH)
-    assert flags.front and not flags.rear
+    assert flags.front
+    assert not flags.rear
 
 
 @given(st.floats(-1.149, -0.6), st.floats(-0.4, 0.4), st.floats(0.11, 1.49))
 def test_any_point_in_the_rear_zone_stops_backward(x: float, y: float, z: float) -> None:
     flags = stop_flags(obstacle_points(np.array([[x, y, z]])), LENGTH, WIDTH)
-    assert flags.rear and not flags.front
+    assert flags.rear
+    assert not flags.front
 
 
 @given(st.floats(-2, 2), st.floats(-2, 2),
        st.one_of(st.floats(1.5, 10), st.floats(-1, 0.1)))
 def test_points_too_high_or_too_low_never_stop(x: float, y: float, z: float) -> None:
     flags = stop_flags(obstacle_points(np.array([[x, y, z]])), LENGTH, WIDTH)
-    assert not flags.front and not flags.rear
+    assert not flags.front
+    assert not flags.rear
 
 
 @given(st.floats(-0.55, 0.55), st.sampled_from([-1, 1]), st.floats(0.45, 2.0))
 def test_neighbours_beside_the_robot_do_not_stop_it(x: float, side: int, gap: float) -> None:
     flags = stop_flags(np.array([[x, side * gap]]), LENGTH, WIDTH)
-    assert not flags.front and not flags.rear
+    assert not flags.front
+    assert not flags.rear
 
 
 columns = arrays(np.float64, st.tuples(st.integers(0, 30), st.just(4)),

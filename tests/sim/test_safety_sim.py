@@ -61,7 +61,7 @@ def test_crash_of_thesis_7_2_2_is_avoided(examples: Path, seed: int) -> None:
     text = (examples / "crash_7_2_2.dance").read_text()
     result = run(text, SimConfig(profile=REALISTIC, seed=seed, lidar=LidarConfig(latency=0.3)))
     assert result.collisions == ()
-    assert [e.text for e in result.events if e.robot == "R1"][0] == STOP_SENTENCE
+    assert next(e.text for e in result.events if e.robot == "R1") == STOP_SENTENCE
 
 
 def test_uncompensated_detector_collides_in_the_crash(examples: Path) -> None:
@@ -79,6 +79,7 @@ def test_spectator_crossing_stops_robots_without_collision() -> None:
     result = run(text, SimConfig(), world)
     assert result.collisions == ()
     speech = [e for e in result.events if e.kind == "speech"]
-    assert speech and all(e.text == STOP_SENTENCE for e in speech)
+    assert speech
+    assert all(e.text == STOP_SENTENCE for e in speech)
     assert (result.status == STATUS.index("stopped")).any()
     assert result.spectators.shape == (1, len(result.times), 2)
