@@ -170,11 +170,14 @@ def _summary(console: Console, result: RunResult, metrics: RunMetrics, wall: flo
     out = Console()
     table = Table(title=f"{result.plan.scenario.path} ({metrics.profile} profile, seed "
                   f"{metrics.seed})", title_justify="left")
-    for column in ("robot", "RMS error m", "max error m", "max |d_vl - d_req| m"):
+    for column in ("robot", "RMS error m", "max error m", "max |d_vl - d_req| m", "stops",
+                   "stopped s", "state"):
         table.add_column(column, justify="right" if column != "robot" else "left")
     for robot in metrics.robots:
         table.add_row(robot.robot, f"{robot.rms_error:.3f}", f"{robot.max_error:.3f}",
-                      f"{robot.max_leader_distance_deviation:.3f}")
+                      f"{robot.max_leader_distance_deviation:.3f}", str(robot.stops),
+                      f"{robot.stopped_time:.1f}", "ok" if robot.error is None else
+                      f"error: {robot.error}")
     out.print(table)
     change = metrics.max_spacing_change
     clearance = metrics.min_clearance

@@ -35,10 +35,12 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Circle
     from matplotlib.patches import Polygon as PolygonPatch
 
     from dancebots.geometry import footprint_corners
     from dancebots.report.run_plots import robot_colours
+    from dancebots.sim.simulator import STATUS
 
     times = result.times
     frame_times = np.arange(times[0], times[-1] + 1e-9, speedup / fps)
@@ -69,8 +71,12 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
                                                 animated=True)))
         trails.append(ax.plot([], [], color=colours[i], linewidth=1.2, animated=True)[0])
     leader_dots = ax.plot([], [], "k+", markersize=8, label="virtual leader", animated=True)[0]
+    people: list[Any] = [ax.add_patch(Circle((0.0, 0.0), radius, facecolor="purple", alpha=0.6,
+                                  animated=True, label="spectator" if k == 0 else None))
+              for k, radius in enumerate(result.spectator_radii.tolist())]
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", animated=True)
-    ax.legend(handles=[*bodies, leader_dots], loc="upper right", fontsize="x-small")
+    ax.legend(handles=[*bodies, leader_dots, *people[:1]], loc="upper right",
+              fontsize="x-small")
     canvas: Any = fig.canvas  # Agg: blitting and the RGBA buffer
     canvas.draw()
     background = canvas.copy_from_bbox(fig.bbox)
@@ -85,12 +91,20 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
                     bodies[i].set_xy(footprint_corners(np.array(x), np.array(y),
                                                        np.array(theta), types[i].length,
                                                        types[i].width))
+                    code = int(result.status[i, k])  # stopped: red outline; error: black
+                    bodies[i].set_edgecolor(("black", "red", "black")[code])
+                    bodies[i].set_linewidth((0.8, 2.5, 2.5)[code])
+                    bodies[i].set_hatch("" if code == STATUS.index("ok") else "xx")
                     start = max(0, k - trail_ticks)
                     trails[i].set_data(result.poses[i, start:k + 1, 0],
                                        result.poses[i, start:k + 1, 1])
                     ax.draw_artist(trails[i])
                     ax.draw_artist(bodies[i])
                 leader_dots.set_data(result.leader[:, k, 0], result.leader[:, k, 1])
+                for person, (px, py) in zip(people, result.spectators[:, k].tolist(),
+                                            strict=True):
+                    person.set_center((px, py))
+                    ax.draw_artist(person)
                 clock.set_text(f"t = {times[k]:5.1f} s")
                 ax.draw_artist(leader_dots)
                 ax.draw_artist(clock)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dancebots.sim.simulator import RunResult
+from dancebots.sim.simulator import STATUS, RunResult
 
 __all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics"]
 
@@ -23,13 +23,18 @@ __all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics"]
 @dataclass(frozen=True, slots=True)
 class RobotMetrics:
     """One robot: RMS and max position error to its desired pose, m; RMS and max of
-    |d_act - d_req|, m; while the show runs (0 <= t <= show duration)."""
+    |d_act - d_req|, m; while the show runs (0 <= t <= show duration). stops: how often a stop
+    flag held it (thesis 5.2, each spoken once); stopped_time: s held; error: why it went
+    into the error state, if it did."""
 
     robot: str
     rms_error: float
     max_error: float
     rms_leader_distance_deviation: float
     max_leader_distance_deviation: float
+    stops: int = 0
+    stopped_time: float = 0.0
+    error: str | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,6 +62,7 @@ class RunMetrics:
     collisions: int
     collision_events: tuple[dict[str, object], ...]
     min_clearance: float | None
+    events: tuple[dict[str, object], ...] = ()
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -82,8 +88,13 @@ class RunMetrics:
                     "max_error_m": r3(m.max_error),
                     "rms_leader_distance_deviation_m": r3(m.rms_leader_distance_deviation),
                     "max_leader_distance_deviation_m": r3(m.max_leader_distance_deviation),
+                    "stops": m.stops,
+                    "stopped_s": r3(m.stopped_time),
+                    "error": m.error,
                 } for m in self.robots
             },
+            "stops": sum(m.stops for m in self.robots),
+            "events": list(self.events),
             "rows": [
                 {"line": row.line, "robots": list(row.robots),
                  "desired_spacings_m": [r3(s) for s in row.desired_spacings],
@@ -100,16 +111,24 @@ def run_metrics(result: RunResult) -> RunMetrics:
     error = np.hypot(result.poses[..., 0] - result.desired[..., 0],
                      result.poses[..., 1] - result.desired[..., 1])[:, during]
     deviation = np.abs(result.leader_distance - result.required_distance)[:, during]
+    period = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
+    stopped = result.status == STATUS.index("stopped")
     robots = tuple(
         RobotMetrics(name, float(np.sqrt(np.mean(error[i] ** 2))), float(error[i].max()),
-                     float(np.sqrt(np.mean(deviation[i] ** 2))), float(deviation[i].max()))
+                     float(np.sqrt(np.mean(deviation[i] ** 2))), float(deviation[i].max()),
+                     sum(1 for e in result.events if e.robot == name and e.kind == "speech"),
+                     float(stopped[i].sum() * period),
+                     next((e.text for e in result.events
+                           if e.robot == name and e.kind == "error"), None))
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
         float(result.times[-1]), robots, tuple(_rows(result)), len(result.collisions),
         tuple({"t_s": c.time, "robot": c.robot, "with": c.other, "kind": c.kind,
                "x_m": round(c.x, 3), "y_m": round(c.y, 3)} for c in result.collisions),
-        result.min_clearance)
+        result.min_clearance,
+        tuple({"t_s": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
+              for e in result.events))
 
 
 def _rows(result: RunResult) -> list[RowMetrics]:

@@ -25,7 +25,8 @@ def robot_colours(count: int) -> list[Any]:
 
 def plot_speeds_and_distances(result: RunResult) -> Any:
     """Commanded linear and angular speeds and the distance to the leader (solid) against
-    the desired one (dashed) over show time, one colour per robot (thesis fig. 7.5)."""
+    the desired one (dashed) over show time, one colour per robot (thesis fig. 7.5). Shaded:
+    a robot held by a stop flag (light) or in the error state (dark)."""
     import matplotlib.pyplot as plt
 
     fig, (linear, angular, distance) = plt.subplots(3, 1, figsize=(10, 9), sharex=True,
@@ -40,6 +41,15 @@ def plot_speeds_and_distances(result: RunResult) -> Any:
     for event in result.collisions:
         for axis in (linear, angular, distance):
             axis.axvline(event.time, color="red", linewidth=0.8, alpha=0.6)
+    from dancebots.sim.simulator import STATUS
+
+    for i in range(len(result.robots)):  # shade the times a robot is held or in error
+        for code, shade in ((STATUS.index("stopped"), 0.12), (STATUS.index("error"), 0.3)):
+            held = np.concatenate([[False], result.status[i] == code, [False]])
+            edges = np.flatnonzero(np.diff(held.astype(np.int8)))
+            for a, b in zip(edges[::2], edges[1::2], strict=True):
+                linear.axvspan(result.times[a], result.times[b - 1], color=colours[i],
+                               alpha=shade, linewidth=0)
     linear.set_ylabel("linear [m/s]")
     angular.set_ylabel("angular [rad/s]")
     distance.set_ylabel("distance to leader [m]\n(dashed: desired)")
@@ -55,7 +65,8 @@ def plot_speeds_and_distances(result: RunResult) -> Any:
 
 def plot_trajectories(result: RunResult) -> Any:
     """Robot paths (solid), their desired paths (dashed), the virtual leaders (black), the
-    room and obstacles, footprints at start and end, collisions as red crosses (fig. 7.6)."""
+    room and obstacles, footprints at start and end, spectators' walks (dotted), stops
+    (orange rings) and collisions (red crosses) (fig. 7.6)."""
     import matplotlib.pyplot as plt
     from matplotlib.patches import Polygon as PolygonPatch
 
@@ -83,6 +94,16 @@ def plot_trajectories(result: RunResult) -> Any:
                                         kind.length, kind.width)
             ax.add_patch(PolygonPatch(corners, closed=True, fill=False, edgecolor=colours[i],
                                       linestyle=style))
+    for k in range(len(result.spectators)):
+        ax.plot(result.spectators[k, :, 0], result.spectators[k, :, 1], ":", color="purple",
+                linewidth=1.0, label="spectators" if k == 0 else None)
+    stops = [(e.robot, e.time) for e in result.events if e.kind == "speech"]
+    if stops:
+        index = {name: i for i, name in enumerate(result.robots)}
+        at = np.array([result.poses[index[r], int(np.searchsorted(result.times, t)), :2]
+                       for r, t in stops])
+        ax.plot(at[:, 0], at[:, 1], "o", markerfacecolor="none", markeredgecolor="orange",
+                markersize=9, label="stop")
     if result.collisions:
         ax.plot([c.x for c in result.collisions], [c.y for c in result.collisions], "x",
                 color="red", markersize=10, markeredgewidth=2, label="collision")
