@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from dancebots.check import compile_scenario
@@ -47,3 +48,36 @@ def test_stands_still_before_the_start_and_moves_after() -> None:
 def test_unknown_follower_is_refused() -> None:
     with pytest.raises(ValueError, match="unknown follower 'magic'"):
         RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(), follower="magic")
+
+
+def test_brain_holds_for_an_obstacle_ahead_and_speaks_once() -> None:
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import SensingConfig
+    from dancebots.safety import STOP_SENTENCE
+
+    brain = RobotBrain(plan_of("robots R1\nrow R1 0 0\nmove 5 0\n"), "R1", FollowerParams(),
+                       sensing=SensingConfig(force_radius=0.0))
+    wall_ahead = PointCloud(0.9, np.array([[0.9, 0.0, 0.0, 1.0]]))  # 0.3 m before the front
+    state = brain.initial_state()
+    spoken = []
+    for k in range(10, 50):
+        t = k * 0.1
+        state, command, events = brain.step(state, t, (0.0, 0.0, 0.0), wall_ahead)
+        assert command.linear <= 0.0
+        spoken.extend(events)
+    assert spoken[0].text == STOP_SENTENCE
+    assert [e.kind for e in spoken] == ["speech", "beep"]  # at 1.0 s, beep at 4.0 s
+    assert state.status == "stopped"
+
+
+def test_brain_slows_down_before_the_stop_distance() -> None:
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import SensingConfig
+
+    brain = RobotBrain(plan_of("robots R1\nrow R1 0 0\nmove 5 0\n"), "R1", FollowerParams(),
+                       sensing=SensingConfig(force_radius=0.0))
+    # an obstacle 0.8 m ahead of the front edge: at most 1.0 * (0.8 - 0.55) = 0.25 m/s
+    obstacle = PointCloud(0.9, np.array([[1.4, 0.0, 0.0, 1.0]]))
+    _, command, events = brain.step(brain.initial_state(), 1.0, (0.0, 0.0, 0.0), obstacle)
+    assert command.linear == pytest.approx(0.25)
+    assert events == ()

@@ -25,6 +25,7 @@ from dancebots.geometry import Pose
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.obstacles import (
     DetectorParams,
+    clear_distances,
     compensate_motion,
     obstacle_points_from_columns,
     stop_flags,
@@ -64,14 +65,22 @@ STOP = Command(0.0, 0.0)
 @dataclass(frozen=True, slots=True)
 class SensingConfig:
     """The robot's footprint (m), whether it has a LIDAR (without one: no obstacle detection,
-    no sensor-age check), its detector, the force field's reach (m, 0: off) and the
-    detection and safety parameters."""
+    no sensor-age check), its detector, the force field's reach (m, 0: off), the approach
+    gain (1/s, 0: off) and the detection and safety parameters.
+
+    Approach limit (an addition): the speed towards an obstacle in the robot's corridor is at
+    most approach_gain * (free distance - stop distance), so a robot closes up to the stop
+    distance smoothly instead of driving into the stop zone and being held there again and
+    again (a robot behind another in a formation that shrinks in a turn); the stop flags
+    remain for what appears suddenly (a spectator stepping in).
+    """
 
     length: float = 1.2
     width: float = 0.6
     lidar: bool = True
     detector: str = "compensated"
     force_radius: float = 1.0
+    approach_gain: float = 1.0
     detection: DetectorParams = field(default_factory=DetectorParams)
     safety: SafetyParams = field(default_factory=SafetyParams)
 
@@ -184,8 +193,11 @@ class RobotBrain:
                 current = compensate_motion(obstacles, seen_from, pose)
             force = (0.0, 0.0)
             flags = None
+            front_free = rear_free = math.inf
             if sensing.lidar and len(current):
                 flags = stop_flags(current, sensing.length, sensing.width, sensing.detection)
+                front_free, rear_free = clear_distances(current, sensing.length, sensing.width,
+                                                        sensing.detection)
                 if sensing.force_radius > 0:
                     force = repulsive_force(current, sensing.length, sensing.width,
                                             sensing.force_radius)
@@ -197,6 +209,12 @@ class RobotBrain:
                                       (flags.rear and linear < 0)):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 linear = 0.0
+            elif sensing.approach_gain > 0:
+                stop = sensing.detection.stop_distance
+                if linear > 0:
+                    linear = min(linear, sensing.approach_gain * max(front_free - stop, 0.0))
+                elif linear < 0:
+                    linear = max(linear, -sensing.approach_gain * max(rear_free - stop, 0.0))
             state = replace(state, follower=follower)
             command = Command(linear, angular)
         safety, events, may_move = safety_step(

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -12,6 +13,7 @@ from hypothesis.extra.numpy import arrays
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.obstacles import (
     DetectorParams,
+    clear_distances,
     compensate_motion,
     obstacle_points,
     obstacle_points_from_columns,
@@ -92,3 +94,11 @@ def test_parameters_move_the_zones() -> None:
     point = np.array([[1.0, 0.0]])  # 0.4 m ahead of the front edge
     assert stop_flags(point, LENGTH, WIDTH).front
     assert not stop_flags(point, LENGTH, WIDTH, DetectorParams(stop_distance=0.3)).front
+
+
+def test_clear_distances_in_the_corridor() -> None:
+    points = np.array([[1.5, 0.1], [-2.0, -0.2], [0.9, 1.5], [-0.7, 0.35]])
+    front, rear = clear_distances(points, LENGTH, WIDTH)
+    assert front == pytest.approx(0.9)  # 1.5 - 0.6; the point at y = 1.5 is beside
+    assert rear == pytest.approx(0.1)  # -0.7 is 0.1 behind the rear edge, y 0.35 < 0.4
+    assert clear_distances(np.zeros((0, 2)), LENGTH, WIDTH) == (math.inf, math.inf)

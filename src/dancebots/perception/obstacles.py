@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 __all__ = [
     "DetectorParams",
     "StopFlags",
+    "clear_distances",
     "compensate_motion",
     "obstacle_points",
     "obstacle_points_from_columns",
@@ -87,6 +88,21 @@ def stop_flags(points: FloatArray, length: float, width: float,
     rear = corridor & (points[:, 0] <= -half_l + 1e-9) & (
         points[:, 0] > -half_l - params.stop_distance)
     return StopFlags(bool(front.any()), bool(rear.any()))
+
+
+def clear_distances(points: FloatArray, length: float, width: float,
+                    params: DetectorParams = DetectorParams()) -> tuple[float, float]:
+    """How far the robot can drive forward and backward before its front / rear edge meets
+    an obstacle point (M, 2) in the corridor it sweeps, m (inf when the corridor is clear)."""
+    if len(points) == 0:
+        return math.inf, math.inf
+    half_l = 0.5 * length
+    corridor = np.abs(points[:, 1]) <= 0.5 * width + params.corridor_margin
+    ahead = points[corridor & (points[:, 0] >= half_l - 1e-9), 0]
+    behind = points[corridor & (points[:, 0] <= -half_l + 1e-9), 0]
+    front = float(ahead.min() - half_l) if ahead.size else math.inf
+    rear = float(-behind.max() - half_l) if behind.size else math.inf
+    return front, rear
 
 
 def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, float],
