@@ -27,6 +27,7 @@ from dancebots.perception.obstacles import (
     DetectorParams,
     clear_distances,
     compensate_motion,
+    rotation_allowed,
     obstacle_points_from_columns,
     stop_flags,
 )
@@ -72,7 +73,8 @@ class SensingConfig:
     most approach_gain * (free distance - stop distance), so a robot closes up to the stop
     distance smoothly instead of driving into the stop zone and being held there again and
     again (a robot behind another in a formation that shrinks in a turn); the stop flags
-    remain for what appears suddenly (a spectator stepping in).
+    remain for what appears suddenly (a spectator stepping in). Turn guard (an addition): a
+    robot does not turn a corner towards an obstacle within ``detection.turn_guard`` of it.
     """
 
     length: float = 1.2
@@ -194,7 +196,10 @@ class RobotBrain:
             force = (0.0, 0.0)
             flags = None
             front_free = rear_free = math.inf
+            turn_left = turn_right = True
             if sensing.lidar and len(current):
+                turn_left, turn_right = rotation_allowed(current, sensing.length,
+                                                         sensing.width, sensing.detection)
                 flags = stop_flags(current, sensing.length, sensing.width, sensing.detection)
                 front_free, rear_free = clear_distances(current, sensing.length, sensing.width,
                                                         sensing.detection)
@@ -215,6 +220,8 @@ class RobotBrain:
                     linear = min(linear, sensing.approach_gain * max(front_free - stop, 0.0))
                 elif linear < 0:
                     linear = max(linear, -sensing.approach_gain * max(rear_free - stop, 0.0))
+            if (angular > 0 and not turn_left) or (angular < 0 and not turn_right):
+                angular = 0.0  # never swing a corner into something beside the robot
             state = replace(state, follower=follower)
             command = Command(linear, angular)
         safety, events, may_move = safety_step(

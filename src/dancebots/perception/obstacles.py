@@ -21,6 +21,7 @@ __all__ = [
     "DetectorParams",
     "StopFlags",
     "clear_distances",
+    "rotation_allowed",
     "compensate_motion",
     "obstacle_points",
     "obstacle_points_from_columns",
@@ -35,13 +36,15 @@ class DetectorParams:
     """crop_half: half side of the square kept around ``base_link``, m (thesis: 4 x 4 m);
     z_min, z_max: kept heights, m (thesis: above 10 cm, below 1.5 m); stop_distance: m
     (thesis: 55 cm); corridor_margin: the stop zones are as wide as the robot plus this on
-    each side, m, so that neighbours beside the robot do not stop it."""
+    each side, m, so that neighbours beside the robot do not stop it; turn_guard: points this
+    near the footprint forbid turning the corner nearest to them towards them, m."""
 
     crop_half: float = 2.0
     z_min: float = 0.10
     z_max: float = 1.5
     stop_distance: float = 0.55
     corridor_margin: float = 0.10
+    turn_guard: float = 0.30
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,6 +106,20 @@ def clear_distances(points: FloatArray, length: float, width: float,
     front = float(ahead.min() - half_l) if ahead.size else math.inf
     rear = float(-behind.max() - half_l) if behind.size else math.inf
     return front, rear
+
+
+def rotation_allowed(points: FloatArray, length: float, width: float,
+                     params: DetectorParams = DetectorParams()) -> tuple[bool, bool]:
+    """(may turn left, may turn right): turning left swings the front half of the robot to
+    the left and the rear half to the right, so a point within ``turn_guard`` of the
+    footprint ahead-left or behind-right forbids turning left (and mirrored for right)."""
+    if len(points) == 0:
+        return True, True
+    half = np.array([0.5 * length, 0.5 * width])
+    outside = np.maximum(np.abs(points) - half, 0.0)
+    near = np.hypot(outside[:, 0], outside[:, 1]) < params.turn_guard
+    quadrant = points[near, 0] * points[near, 1]
+    return not bool((quadrant > 0).any()), not bool((quadrant < 0).any())
 
 
 def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, float],

@@ -32,6 +32,11 @@ from dancebots.sim.spectators import spectator_discs
 __all__ = ["STATUS", "CollisionEvent", "Fault", "RobotEvent", "RunResult", "SimConfig",
            "simulate"]
 
+STEP_BACK_AFTER = 2.0
+"""A visitor blocked by a robot this long (s) steps back ..."""
+STEP_BACK = 1.5
+"""... by this much of its walking time (s), to let the robot pass."""
+
 STATUS = ("ok", "stopped", "error")
 """Codes of ``RunResult.status``: 0 moving freely, 1 held by a stop flag, 2 error state."""
 
@@ -187,6 +192,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     obstacles = [(o.polygon, o.height) for o in arena.obstacles]
     spectators = arena.spectators
     walked = np.zeros(len(spectators))
+    waiting = np.zeros(len(spectators))
     disc_heights = np.array([p.height for p in spectators])
     discs = spectator_discs(spectators, walked)
     pending: list[tuple[float, list[PointCloud]]] = []
@@ -297,12 +303,22 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         proposed[blocked] = pose[blocked]
         velocity[blocked] = 0.0
         pose = proposed
-        if len(spectators):  # visitors walk on unless a robot stands where they would step
+        if len(spectators):
+            # visitors walk on unless a robot stands where they would step; one kept waiting
+            # for STEP_BACK_AFTER s steps back along its way to let the robot pass
             ahead = spectator_discs(spectators, walked + config.dt)
             free = np.ones(len(spectators), dtype=bool)
             for _, k in _disc_contacts(pose, lengths, widths, ahead):
                 free[k] = False
+            waiting = np.where(free, 0.0, waiting + config.dt)
             walked = walked + np.where(free, config.dt, 0.0)
+            for k in np.flatnonzero(waiting >= STEP_BACK_AFTER).tolist():
+                back = walked.copy()
+                back[k] = max(spectators[k].start, walked[k] - STEP_BACK)
+                if not any(j == k for _, j in _disc_contacts(
+                        pose, lengths, widths, spectator_discs(spectators, back))):
+                    walked = back
+                waiting[k] = 0.0
             discs = spectator_discs(spectators, walked)
     if progress is not None:
         progress(end, end)
