@@ -27,8 +27,8 @@ from dancebots.perception.obstacles import (
     DetectorParams,
     clear_distances,
     compensate_motion,
-    rotation_allowed,
     obstacle_points_from_columns,
+    rotation_allowed,
     stop_flags,
 )
 from dancebots.plan.planner import Plan, RobotTrack

@@ -21,10 +21,10 @@ __all__ = [
     "DetectorParams",
     "StopFlags",
     "clear_distances",
-    "rotation_allowed",
     "compensate_motion",
     "obstacle_points",
     "obstacle_points_from_columns",
+    "rotation_allowed",
     "stop_flags",
 ]
 
