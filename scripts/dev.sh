@@ -2,7 +2,8 @@
 # Set up dancebots in ./.venv (made from Debian's python3, seeing its system packages) and
 #   run the main job:  bash scripts/dev.sh show   (simulates the open-day show into out/)
 #   run every test:    bash scripts/dev.sh test
-# Works on a fresh Debian 12 as root; installs python3-venv and ffmpeg with apt-get if missing.
+# Works on a fresh Debian 12 as root; installs python3-venv, ffmpeg and espeak-ng with apt-get
+# if they are missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
@@ -12,6 +13,7 @@ apt_install() {  # Debian packages the project uses, installed once when missing
   local missing=()
   "$PY" -c 'import ensurepip, venv' 2>/dev/null || missing+=(python3-venv python3-pip)
   command -v ffmpeg >/dev/null || missing+=(ffmpeg)  # MP4 animations of runs
+  command -v espeak-ng >/dev/null || missing+=(espeak-ng)  # robots' speech, run --sound
   if [ ${#missing[@]} -gt 0 ] && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     echo "dancebots: installing ${missing[*]} (apt-get)" >&2
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \

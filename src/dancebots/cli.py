@@ -92,6 +92,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="max speed of the slowest robot, m/s (default: from the world, else "
                      "0.5)")
     run.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
+    run.add_argument("--sound", action="store_true",
+                     help="also write sound.wav: the robots' speech and beeps on the show's "
+                     "time line (needs espeak-ng)")
     run.add_argument("--no-lidar", action="store_true",
                      help="robots without LIDAR: no obstacle detection, stops or force field")
     run.add_argument("--rays", type=int, default=256, choices=(256, 1024),

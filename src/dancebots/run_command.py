@@ -102,6 +102,12 @@ def run_show(args: argparse.Namespace) -> int:
         arena, placement = prepare_show(plan, world)
     except SetupError as exc:
         return _fail(str(exc))
+    if args.sound:
+        from dancebots.report.sound import espeak_available
+
+        if not espeak_available():
+            return _fail("--sound needs espeak-ng (Debian package espeak-ng; scripts/dev.sh "
+                         "installs it)")
     console = Console(stderr=True)
     if diagnostics:
         console.print(f"{args.scenario}: {len(diagnostics)} check warnings (see `dancebots "
@@ -122,7 +128,8 @@ def run_show(args: argparse.Namespace) -> int:
     os.umask(umask)
     staging.chmod(0o777 & ~umask)  # mkdtemp makes it private; a run's outputs are not
     try:
-        written = _write_outputs(result, metrics, staging, console, not args.no_animation)
+        written = _write_outputs(result, metrics, staging, console, not args.no_animation,
+                                 args.sound)
         if target.exists():
             shutil.rmtree(target)
         staging.rename(target)
@@ -134,7 +141,7 @@ def run_show(args: argparse.Namespace) -> int:
 
 
 def _write_outputs(result: RunResult, metrics: RunMetrics, directory: Path, console: Console,
-                   animation: bool) -> list[str]:
+                   animation: bool, sound: bool = False) -> list[str]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -159,6 +166,11 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, directory: Path, cons
                 animate_run(result, str(directory / f"animation.{kind}"),
                             progress=lambda done, total: update(done, total))
             written.append(f"animation.{kind}")
+    if sound:
+        from dancebots.report.sound import render_events_wav
+
+        render_events_wav(result.events, float(result.times[-1]), str(directory / "sound.wav"))
+        written.append("sound.wav")
     # metrics.json last: its presence marks a complete output directory
     (directory / MARKER).write_text(json.dumps(metrics.to_json(), indent=2) + "\n",
                                     encoding="utf-8")
