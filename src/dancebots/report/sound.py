@@ -106,7 +106,7 @@ def render_events_wav(events: Iterable[RobotEvent], duration: float, path: str) 
             clip = clips.setdefault("\0beep", _beep())
         else:
             continue
-        placed.append((int(round(max(event.time, 0.0) * SAMPLE_RATE)), clip))
+        placed.append((round(max(event.time, 0.0) * SAMPLE_RATE), clip))
     length = max([int(duration * SAMPLE_RATE)] + [start + len(c) for start, c in placed])
     track = np.zeros(length)
     for start, clip in placed:
