@@ -1,9 +1,9 @@
 """Simulation speed: simulated seconds per wall second for 4, 20 and 100 robots.
 
 Run: ``.venv/bin/python benchmarks/bench_sim.py [--repeat N]``. Ideal profile, one core,
-wall clock of ``simulate`` (brains, kinematics, collisions) and, separately, of building the
-brains' plan caches. Targets (issue 3): >= 300x real time for four robots, >= 10x for 100.
-Machines are shared: compare medians.
+wall clock of ``simulate`` (brains, kinematics, collisions, and with LIDAR on: 10 Hz scans,
+obstacle detection, force field, safety). Targets (issues 3 and 4): >= 300x real time for
+four robots, >= 10x for 100, with LIDAR off and on. Machines are shared: compare medians.
 """
 
 from __future__ import annotations
@@ -37,24 +37,26 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
-    for count in (4, 20, 100):
-        _, plan, diagnostics = compile_scenario(grid_show(count), f"grid{count}.dance")
-        assert plan is not None, diagnostics
-        arena, placement = prepare_show(plan, None)
-        walls, sims = [], []
-        for _ in range(args.repeat):
-            started = time.perf_counter()
-            result = simulate(plan, arena, placement, SimConfig())
-            walls.append(time.perf_counter() - started)
-            sims.append(float(result.times[-1]))
-        wall = statistics.median(walls)
-        speed = sims[0] / wall
-        target = TARGETS.get(count)
-        verdict = "" if target is None else (
-            f"  target >= {target:g}x: {'meets' if speed >= target else 'MISSES'} it")
-        print(f"{count:>4} robots: {sims[0]:6.1f} simulated s in {wall:6.3f} s wall (median of "
-              f"{args.repeat}) = {speed:7.1f}x real time, {len(result.collisions)} "
-              f"collisions{verdict}")
+    for lidar in (False, True):
+        for count in (4, 20, 100):
+            _, plan, diagnostics = compile_scenario(grid_show(count), f"grid{count}.dance")
+            assert plan is not None, diagnostics
+            arena, placement = prepare_show(plan, None)
+            config = SimConfig() if lidar else SimConfig(lidar=None)
+            walls, sims = [], []
+            for _ in range(args.repeat):
+                started = time.perf_counter()
+                result = simulate(plan, arena, placement, config)
+                walls.append(time.perf_counter() - started)
+                sims.append(float(result.times[-1]))
+            wall = statistics.median(walls)
+            speed = sims[0] / wall
+            target = TARGETS.get(count)
+            verdict = "" if target is None else (
+                f"  target >= {target:g}x: {'meets' if speed >= target else 'MISSES'} it")
+            print(f"LIDAR {'on ' if lidar else 'off'} {count:>4} robots: {sims[0]:6.1f} simulated "
+                  f"s in {wall:6.3f} s wall (median of {args.repeat}) = {speed:7.1f}x real "
+                  f"time, {len(result.collisions)} collisions{verdict}")
 
 
 if __name__ == "__main__":

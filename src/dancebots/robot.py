@@ -20,16 +20,14 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from dancebots.control.follower import FollowerParams, FollowerState, thesis_follower_step
-from dancebots.control.force_field import repulsive_force
 from dancebots.geometry import Pose
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.obstacles import (
+    CLEAR,
     DetectorParams,
-    clear_distances,
     compensate_motion,
     obstacle_points_from_columns,
-    rotation_allowed,
-    stop_flags,
+    perceive,
 )
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
@@ -48,8 +46,8 @@ FOLLOWERS = ("thesis",)
 DETECTORS = ("thesis", "compensated")
 """Obstacle detectors: ``thesis`` uses the latest cloud as if it were current (ch. 5.2);
 ``compensated`` moves its points by the robot's own motion since the cloud's stamp."""
-HISTORY = 1.5
-"""Seconds of own poses kept for the lag compensation."""
+HISTORY_LENGTH = 15
+"""Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -179,9 +177,8 @@ class RobotBrain:
         sensing = self.sensing
         history = state.history
         obstacles, seen_from = state.obstacles, state.seen_from
-        if pose is not None:
-            history = (*(h for h in history if show_time - h[0] <= HISTORY),
-                       (show_time, *pose))
+        if pose is not None and sensing.lidar and sensing.detector == "compensated":
+            history = (*history[-HISTORY_LENGTH:], (show_time, *pose))
         if cloud is not None and sensing.lidar:
             obstacles = obstacle_points_from_columns(cloud.columns, cloud.height_step,
                                                      sensing.detection)
@@ -193,34 +190,24 @@ class RobotBrain:
             current = obstacles
             if seen_from is not None and len(obstacles):
                 current = compensate_motion(obstacles, seen_from, pose)
-            force = (0.0, 0.0)
-            flags = None
-            front_free = rear_free = math.inf
-            turn_left = turn_right = True
+            seen = CLEAR
             if sensing.lidar and len(current):
-                turn_left, turn_right = rotation_allowed(current, sensing.length,
-                                                         sensing.width, sensing.detection)
-                flags = stop_flags(current, sensing.length, sensing.width, sensing.detection)
-                front_free, rear_free = clear_distances(current, sensing.length, sensing.width,
-                                                        sensing.detection)
-                if sensing.force_radius > 0:
-                    force = repulsive_force(current, sensing.length, sensing.width,
-                                            sensing.force_radius)
+                seen = perceive(current, sensing.length, sensing.width, sensing.detection,
+                                sensing.force_radius)
             sample = self._sample(show_time)
             follower, (linear, angular) = thesis_follower_step(
                 self.params, state.follower, show_time, pose, sample.leader,
-                sample.path_point, sample.desired, sample.required, sample.moving, force)
-            if flags is not None and ((flags.front and linear > 0) or
-                                      (flags.rear and linear < 0)):
+                sample.path_point, sample.desired, sample.required, sample.moving, seen.force)
+            if (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 linear = 0.0
             elif sensing.approach_gain > 0:
                 stop = sensing.detection.stop_distance
                 if linear > 0:
-                    linear = min(linear, sensing.approach_gain * max(front_free - stop, 0.0))
+                    linear = min(linear, sensing.approach_gain * max(seen.front_free - stop, 0.0))
                 elif linear < 0:
-                    linear = max(linear, -sensing.approach_gain * max(rear_free - stop, 0.0))
-            if (angular > 0 and not turn_left) or (angular < 0 and not turn_right):
+                    linear = max(linear, -sensing.approach_gain * max(seen.rear_free - stop, 0.0))
+            if (angular > 0 and not seen.turn_left) or (angular < 0 and not seen.turn_right):
                 angular = 0.0  # never swing a corner into something beside the robot
             state = replace(state, follower=follower)
             command = Command(linear, angular)

@@ -19,6 +19,8 @@ from numpy.typing import NDArray
 
 __all__ = [
     "DetectorParams",
+    "Perception",
+    "perceive",
     "StopFlags",
     "clear_distances",
     "compensate_motion",
@@ -135,3 +137,54 @@ def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, flo
     dx, dy = wx - x1, wy - y1
     result: FloatArray = np.stack([c1 * dx + s1 * dy, -s1 * dx + c1 * dy], axis=1)
     return result
+
+
+@dataclass(frozen=True, slots=True)
+class Perception:
+    """Everything a control tick needs from the obstacle points, computed in one pass:
+    the stop flags, the free distances ahead and behind (m), whether turning left / right is
+    allowed, and the virtual force (Fx, Fy) in ``base_link``."""
+
+    flags: StopFlags
+    front_free: float
+    rear_free: float
+    turn_left: bool
+    turn_right: bool
+    force: tuple[float, float]
+
+
+CLEAR = Perception(StopFlags(False, False), math.inf, math.inf, True, True, (0.0, 0.0))
+
+
+def perceive(points: FloatArray, length: float, width: float,
+             params: DetectorParams = DetectorParams(), force_radius: float = 1.0,
+             force_gain: float = 0.02) -> Perception:
+    """:func:`stop_flags`, :func:`clear_distances`, :func:`rotation_allowed` and
+    ``control.force_field.repulsive_force`` of the same points (M, 2) at once (the tests
+    hold it equal to them); the simulator calls it for every robot ten times a second."""
+    if len(points) == 0:
+        return CLEAR
+    x, y = points[:, 0], points[:, 1]
+    half_l, half_w = 0.5 * length, 0.5 * width
+    corridor = np.abs(y) <= half_w + params.corridor_margin
+    ahead = corridor & (x >= half_l - 1e-9)
+    behind = corridor & (x <= -half_l + 1e-9)
+    front_x, rear_x = x[ahead], x[behind]
+    front_free = float(front_x.min() - half_l) if front_x.size else math.inf
+    rear_free = float(-rear_x.max() - half_l) if rear_x.size else math.inf
+    flags = StopFlags(front_free < params.stop_distance, rear_free < params.stop_distance)
+    nearest_x = np.clip(x, -half_l, half_l)
+    nearest_y = np.clip(y, -half_w, half_w)
+    away_x, away_y = nearest_x - x, nearest_y - y
+    distance = np.hypot(away_x, away_y)
+    guard = distance < params.turn_guard
+    quadrant = x[guard] * y[guard]
+    force = (0.0, 0.0)
+    if force_radius > 0:
+        near = (distance < force_radius) & (distance > 1e-9)
+        if near.any():
+            d = distance[near]
+            weight = force_gain * (1.0 - d / force_radius) ** 2 / d
+            force = (float((away_x[near] * weight).sum()), float((away_y[near] * weight).sum()))
+    return Perception(flags, front_free, rear_free, not bool((quadrant > 0).any()),
+                      not bool((quadrant < 0).any()), force)
