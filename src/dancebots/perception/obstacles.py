@@ -20,12 +20,12 @@ from numpy.typing import NDArray
 __all__ = [
     "DetectorParams",
     "Perception",
-    "perceive",
     "StopFlags",
     "clear_distances",
     "compensate_motion",
     "obstacle_points",
     "obstacle_points_from_columns",
+    "perceive",
     "rotation_allowed",
     "stop_flags",
 ]
