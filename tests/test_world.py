@@ -85,3 +85,32 @@ def test_load_world_raises_with_diagnostics(tmp_path: Path) -> None:
     with pytest.raises(DiagnosticError) as caught:
         load_world(str(tmp_path / "missing.toml"))
     assert caught.value.diagnostics[0].message == "no such file"
+
+
+def test_spectators() -> None:
+    text = ('[[spectators]]\nname = "child"\nspeed = 0.9\nstart = 2\nloop = true\n'
+            'path = [[0, 0], [4, 0, 2.5]]\n[[spectators]]\npath = [[1, 1]]\n')
+    world, diagnostics = parse_world(text, "w.toml")
+    assert world is not None, diagnostics
+    child, other = world.spectators
+    assert (child.name, child.radius, child.height, child.speed, child.loop, child.start) == (
+        "child", 0.3, 1.7, 0.9, True, 2.0)
+    assert child.waypoints.tolist() == [[0.0, 0.0], [4.0, 0.0]]
+    assert child.pauses.tolist() == [0.0, 2.5]
+    assert other.name == "spectator 2"
+
+
+@pytest.mark.parametrize(("text", "headline"), [
+    ("[[spectators]]\nname = \"a\"\n", "w.toml:1:1: error: spectator 'a' needs a 'path': a "
+     "list of [x, y] or [x, y, pause_s] waypoints"),
+    ("[[spectators]]\npath = [[0, 0, -1]]\n", "w.toml:2:1: error: the path of spectator "
+     "'spectator 1' must hold finite coordinates and pauses >= 0"),
+    ("[[spectators]]\npath = [[0, 0]]\nspeed = 0\n", "w.toml:3:1: error: 'speed' must be "
+     "greater than 0"),
+    ("[[spectators]]\npath = [[0, 0]]\nloop = 1\n", "w.toml:3:1: error: 'loop' must be true "
+     "or false"),
+])
+def test_spectator_errors(text: str, headline: str) -> None:
+    world, diagnostics = parse_world(text, "w.toml")
+    assert world is None
+    assert diagnostics[0].headline() == headline

@@ -8,12 +8,15 @@ from hypothesis import strategies as st
 from dancebots.world import parse_world
 
 HEADERS = ["[room]", "[[obstacles]]", "[[robots]]", "[robot_types.HUSKY]", "[robot_types.X]",
+           "[[spectators]]",
            "[room.inner]", "[[room]]", "[walls]"]
 KEYS = ["size", "polygon", "wall_height", "name", "type", "x", "y", "yaw", "yaw_deg", "height",
-        "length", "width", "max_speed", "max_angular_speed", "colour"]
+        "length", "width", "max_speed", "max_angular_speed", "colour", "path", "loop", "start",
+        "radius"]
 VALUES = ["1", "-1", "0", "1e400", "nan", "inf", "-inf", '"R1"', '"HUSKY"', '"ROOMBA"', "true",
           "[[0, 0], [1, 0], [1, 1]]", "[[0, 0], [1, 1], [1, 0], [0, 1]]", "[[0, 0]]", "[]",
-          "[1, 2]", "{a = 1}", '"', "[[0, 0], [1e9, 0], [0, 1]]", "10.673", "3.5"]
+          "[1, 2]", "{a = 1}", '"', "[[0, 0], [1e9, 0], [0, 1]]", "10.673", "3.5",
+          "[[1, 1], [2, 2, 3.0]]", "[[1, 1, -1]]", "false"]
 
 line = st.one_of(
     st.sampled_from(HEADERS),

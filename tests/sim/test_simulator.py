@@ -171,3 +171,18 @@ def test_open_arena_holds_the_show(examples: Path) -> None:
     assert np.all(everything.min(axis=0) > arena.room.min(axis=0) + 1.0)
     assert np.all(everything.max(axis=0) < arena.room.max(axis=0) - 1.0)
     assert placement.starts.shape == (4, 3)
+
+
+def test_spectator_walks_its_path_with_pauses_and_loops() -> None:
+    from dancebots.sim.spectators import spectator_position
+
+    world, _ = parse_world("[[spectators]]\nspeed = 1\nstart = 1\nloop = true\n"
+                           "path = [[0, 0], [4, 0, 2], [4, 3]]\n", "w.toml")
+    assert world is not None
+    visitor = world.spectators[0]
+    # stands until 1 s; then 4 m east (4 s), a 2 s pause, 3 m north (3 s) and 5 m back to the
+    # start (5 s): a 14 s loop
+    expected = {0.0: (0, 0), 1.0: (0, 0), 3.0: (2, 0), 6.0: (4, 0), 7.5: (4, 0.5),
+                9.0: (4, 2), 11.0: (3.2, 2.4), 13.5: (1.2, 0.9), 15.0: (0, 0), 17.0: (2, 0)}
+    for walked, position in expected.items():
+        assert spectator_position(visitor, walked) == pytest.approx(position), walked
