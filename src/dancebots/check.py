@@ -239,13 +239,6 @@ def _footprints(corners: FloatArray) -> NDArray[np.object_]:
     return polygons
 
 
-def _rectangles(centres: FloatArray, sizes: FloatArray) -> FloatArray:
-    """Corners (M, 4, 2) of axis-aligned rectangles: centres (M, 2), sizes (M, 2) (l, w)."""
-    signs = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]], dtype=float)
-    result: FloatArray = centres[:, None, :] + 0.5 * signs[None, :, :] * sizes[:, None, :]
-    return result
-
-
 def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                      poses: FloatArray, which: NDArray[np.int64], options: CheckOptions,
                      diagnostics: list[Diagnostic]) -> float | None:
@@ -266,7 +259,9 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         checked.update((formation.span.line, members[a], members[b]) for a, b in pairs)
         offsets = np.array([formation.offsets[r] for r in members])
         sizes = np.array([(types[index[r]].length, types[index[r]].width) for r in members])
-        shapes = _footprints(_rectangles(offsets, sizes))
+        shapes = _footprints(footprint_corners(offsets[:, 0], offsets[:, 1],
+                                               np.zeros(len(offsets)), sizes[:, 0],
+                                               sizes[:, 1]))
         first, second = np.array(pairs).T
         pair_gaps = shapely.distance(shapes[first], shapes[second])
         gaps.append(float(pair_gaps.min()))

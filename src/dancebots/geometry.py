@@ -86,16 +86,21 @@ def integrate_unicycle(
 
 
 def footprint_corners(
-    x: FloatArray, y: FloatArray, theta: FloatArray, length: float, width: float
+    x: FloatArray, y: FloatArray, theta: FloatArray, length: float | FloatArray,
+    width: float | FloatArray,
 ) -> FloatArray:
     """Corners of rectangular footprints centred on (x, y) with heading theta.
 
-    Inputs have one shape S; returns shape S + (4, 2), corners counter-clockwise starting at
-    the front left. length along the heading, width across it, both in m.
+    x, y, theta have one shape S; length (along the heading) and width (across it), in m, are
+    scalars or arrays of shape S. Returns shape S + (4, 2), corners counter-clockwise starting
+    at the front left.
     """
-    half_l, half_w = 0.5 * length, 0.5 * width
-    local = np.array([[half_l, half_w], [-half_l, half_w], [-half_l, -half_w], [half_l, -half_w]])
+    shape = np.shape(x)
+    half_l = 0.5 * np.broadcast_to(np.asarray(length, dtype=float), shape)[..., None]
+    half_w = 0.5 * np.broadcast_to(np.asarray(width, dtype=float), shape)[..., None]
+    local_x = np.array([1.0, -1.0, -1.0, 1.0]) * half_l
+    local_y = np.array([1.0, 1.0, -1.0, -1.0]) * half_w
     c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
-    cx = x[..., None] + c * local[:, 0] - s * local[:, 1]
-    cy = y[..., None] + s * local[:, 0] + c * local[:, 1]
+    cx = x[..., None] + c * local_x - s * local_y
+    cy = y[..., None] + s * local_x + c * local_y
     return np.stack([cx, cy], axis=-1)

@@ -19,7 +19,7 @@ import shapely
 from numpy.typing import NDArray
 
 from dancebots.control.follower import FollowerParams
-from dancebots.geometry import Pose, integrate_unicycle, wrap_angles
+from dancebots.geometry import Pose, footprint_corners, integrate_unicycle, wrap_angles
 from dancebots.perception.cloud import PointCloud
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainState, RobotBrain, SensingConfig
@@ -347,14 +347,10 @@ def _disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
     return list(zip(r.tolist(), k.tolist(), strict=True))
 
 
-def _corners(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> FloatArray:
-    """Footprint corners (R, 4, 2) of robots of different sizes."""
-    half = np.stack([0.5 * lengths, 0.5 * widths], axis=1)  # (R, 2)
-    signs = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]], dtype=float)
-    local = signs[None, :, :] * half[:, None, :]  # (R, 4, 2)
-    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
-    return np.stack([poses[:, 0:1] + c * local[..., 0] - s * local[..., 1],
-                     poses[:, 1:2] + s * local[..., 0] + c * local[..., 1]], axis=-1)
+def _corners(poses: FloatArray, lengths: FloatArray | float,
+             widths: FloatArray | float) -> FloatArray:
+    """Footprint corners (R, 4, 2) of robots at poses (R, 3) with sizes (R,) or scalars."""
+    return footprint_corners(poses[..., 0], poses[..., 1], poses[..., 2], lengths, widths)
 
 
 def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> float | None:
@@ -373,10 +369,8 @@ def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> 
         near = np.flatnonzero(centre < reach[i] + reach[j] + 1.0)
         if near.size == 0:
             continue
-        first = shapely.polygons(_corners(poses[i, near], np.full(near.size, lengths[i]),
-                                          np.full(near.size, widths[i])))
-        second = shapely.polygons(_corners(poses[j, near], np.full(near.size, lengths[j]),
-                                           np.full(near.size, widths[j])))
+        first = shapely.polygons(_corners(poses[i, near], lengths[i], widths[i]))
+        second = shapely.polygons(_corners(poses[j, near], lengths[j], widths[j]))
         best = min(best, float(shapely.distance(first, second).min()))
     return best
 
