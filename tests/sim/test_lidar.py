@@ -91,3 +91,19 @@ def test_ray_count_and_1024_rays() -> None:
     dense = cloud_of_first_robot(poses, config=LidarConfig(rays=1024))
     sparse = cloud_of_first_robot(poses)
     assert len(dense) == 4 * len(sparse)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(0, 10_000))
+def test_convex_room_walls_equal_brute_force(seed: int) -> None:
+    from dancebots.sim.raycast import rays_to_convex_walls
+
+    rng = np.random.default_rng(seed)
+    corners = np.linspace(0, 2 * np.pi, 7)[:-1] + rng.uniform(-0.3, 0.3, 6)
+    room = np.stack([5 + 4 * np.cos(corners), 5 + 3 * np.sin(corners)], axis=1)  # convex,
+    # holding the square 4..6 x 4..6 where the sensors are
+    origins = 5 + rng.uniform(-1, 1, (5, 2))
+    directions = ray_directions(rng.uniform(-3, 3, 5), -np.pi + np.arange(64) * np.pi / 32)
+    segments = np.stack([room, np.roll(room, -1, axis=0)], axis=1)
+    expected, _ = rays_to_segments(origins, directions, segments)
+    np.testing.assert_allclose(rays_to_convex_walls(origins, directions, room), expected)

@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 from dancebots.perception.cloud import PointCloud
 from dancebots.sim.raycast import (
     ray_directions,
+    rays_to_convex_walls,
     rays_to_discs,
     rays_to_segments,
     rays_to_segments_culled,
@@ -106,38 +107,27 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
         nearer = people < solid
         solid = np.where(nearer, people, solid)
         solid_height = np.where(nearer, disc_heights[np.maximum(who, 0)], solid_height)
-    wall, _ = rays_to_segments(origins, directions, _segments(room))
+    if _is_convex(room):
+        wall = rays_to_convex_walls(origins, directions, _counter_clockwise(room))
+    else:
+        wall, _ = rays_to_segments(origins, directions, _segments(room))
 
-    # columns of points: (sensor, ray, distance, z from, z to)
+    # columns of points, robot by robot: the hit itself (below the wall), the wall's upper
+    # half behind it, or the whole wall when nothing stands before it
     in_range = (solid >= config.min_range) & (solid <= config.max_range)
-    blocked = solid < wall  # something stands before the wall
+    blocked = solid < wall
     wall_seen = wall <= config.max_range
-    lower = np.where(blocked, config.max_range + 1.0, wall)  # hidden lower half: no column
-    kinds = [
-        (solid, np.zeros_like(solid), solid_height, in_range & blocked),
-        (wall, np.full_like(wall, 0.5 * wall_height), np.full_like(wall, wall_height),
-         wall_seen & blocked),
-        (lower, np.zeros_like(wall), np.full_like(wall, wall_height), wall_seen & ~blocked),
-    ]
-    sensor_parts, ray_parts, distance_parts, low_parts, high_parts = [], [], [], [], []
-    for distance, low, high, mask in kinds:
-        r, k = np.nonzero(mask)
-        sensor_parts.append(r)
-        ray_parts.append(k)
-        distance_parts.append(distance[r, k])
-        low_parts.append(low[r, k])
-        high_parts.append(high[r, k])
-    sensor = np.concatenate(sensor_parts)
-    ray = np.concatenate(ray_parts)
-    distance = np.concatenate(distance_parts)
-    low = np.concatenate(low_parts)
-    high = np.concatenate(high_parts)
-    angle = angles[ray]
-    columns = np.stack([distance * np.cos(angle), distance * np.sin(angle), low, high], axis=1)
-    order = np.argsort(sensor, kind="stable")
+    distances = np.stack([solid, wall, wall], axis=1)  # (R, 3, N)
+    tops = np.stack([solid_height, np.full_like(wall, wall_height),
+                     np.full_like(wall, wall_height)], axis=1)
+    kept = np.stack([in_range & blocked, wall_seen & blocked, wall_seen & ~blocked], axis=1)
+    sensor, kind, ray = np.nonzero(kept)  # sorted by sensor
+    distance = distances[sensor, kind, ray]
+    bottoms = np.array([0.0, 0.5 * wall_height, 0.0])
+    columns = np.stack([distance * np.cos(angles[ray]), distance * np.sin(angles[ray]),
+                        bottoms[kind], tops[sensor, kind, ray]], axis=1)
     splits = np.cumsum(np.bincount(sensor, minlength=count))[:-1]
-    return [PointCloud(stamp, part, config.height_step)
-            for part in np.split(columns[order], splits)]
+    return [PointCloud(stamp, part, config.height_step) for part in np.split(columns, splits)]
 
 
 def _segments_of(corners: FloatArray) -> FloatArray:
@@ -152,3 +142,11 @@ def _counter_clockwise(polygon: FloatArray) -> FloatArray:
     x, y = polygon[:, 0], polygon[:, 1]
     area2 = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
     return polygon if area2 > 0 else polygon[::-1].copy()
+
+
+def _is_convex(polygon: FloatArray) -> bool:
+    """Do all the polygon's turns (K, 2) go the same way?"""
+    edge = np.roll(polygon, -1, axis=0) - polygon
+    following = np.roll(edge, -1, axis=0)
+    turn = edge[:, 0] * following[:, 1] - edge[:, 1] * following[:, 0]
+    return bool(np.all(turn >= 0) or np.all(turn <= 0))

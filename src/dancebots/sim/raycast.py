@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["ray_directions", "rays_to_discs", "rays_to_segments", "rays_to_segments_culled"]
+__all__ = ["ray_directions", "rays_to_convex_walls", "rays_to_discs", "rays_to_segments",
+           "rays_to_segments_culled"]
 
 FloatArray = NDArray[np.float64]
 
@@ -125,3 +126,19 @@ def rays_to_segments_culled(origins: FloatArray, headings: FloatArray, angles: F
     nearest = t == distance[owner, ray]
     which[owner[nearest], ray[nearest]] = seg[nearest]
     return distance, which
+
+
+def rays_to_convex_walls(origins: FloatArray, directions: FloatArray,
+                         polygon: FloatArray) -> FloatArray:
+    """Distance (R, N) at which rays from inside a convex counter-clockwise polygon (W, 2)
+    leave it: for each edge with outward normal n, t = n.(p - o) / n.d over the edges the ray
+    moves towards (n.d > 0), and the smallest such t. The same as :func:`rays_to_segments`
+    against the polygon's edges for sensors inside it, with a fraction of the operations."""
+    edge = np.roll(polygon, -1, axis=0) - polygon  # (W, 2)
+    normal = np.stack([edge[:, 1], -edge[:, 0]], axis=1)  # outward for counter-clockwise
+    reach = ((polygon[None, :, :] - origins[:, None, :]) * normal[None]).sum(axis=2)  # (R, W)
+    towards = directions @ normal.T  # (R, N, W)
+    t = np.divide(reach[:, None, :], towards, out=np.full_like(towards, np.inf),
+                  where=towards > 1e-12)
+    result: FloatArray = t.min(axis=2)
+    return result
