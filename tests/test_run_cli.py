@@ -34,6 +34,24 @@ def test_run_writes_every_output(capsys: Capture, examples: Path, tmp_path: Path
     assert not list(tmp_path.glob(".run.partial-*"))
 
 
+def test_run_with_lidar_points_and_sound(capsys: Capture, examples: Path,
+                                         tmp_path: Path) -> None:
+    from dancebots.report.sound import espeak_available
+
+    out = tmp_path / "crash"
+    args = ["run", str(examples / "crash_7_2_2.dance"), "--out", str(out), "--show-lidar"]
+    if espeak_available():  # scripts/dev.sh installs espeak-ng, so CI writes the WAV too
+        args.append("--sound")
+    assert main(args) == 0
+    assert (out / "animation.gif").stat().st_size > 10_000
+    if espeak_available():
+        assert (out / "sound.wav").read_bytes()[:4] == b"RIFF"
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["stops"] >= 1
+    assert metrics["per_robot"]["R1"]["stops"] >= 1
+    assert "stops" in capsys.readouterr().out
+
+
 def test_rerun_replaces_an_earlier_run(capsys: Capture, examples: Path, tmp_path: Path) -> None:
     out = tmp_path / "run"
     for profile in ("ideal", "realistic"):

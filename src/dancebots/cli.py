@@ -95,6 +95,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--sound", action="store_true",
                      help="also write sound.wav: the robots' speech and beeps on the show's "
                      "time line (needs espeak-ng)")
+    run.add_argument("--show-lidar", action="store_true",
+                     help="draw each robot's latest LIDAR scan in the animation")
     run.add_argument("--no-lidar", action="store_true",
                      help="robots without LIDAR: no obstacle detection, stops or force field")
     run.add_argument("--rays", type=int, default=256, choices=(256, 1024),

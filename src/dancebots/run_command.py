@@ -116,7 +116,9 @@ def run_show(args: argparse.Namespace) -> int:
         return _fail(f"--latency {args.latency} is outside 0 to 2 s")
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
     config = SimConfig(profile=PROFILES[args.profile], seed=args.seed, lidar=lidar,
-                       detector=args.detector, force_steering=args.force_steering)
+                       detector=args.detector, force_steering=args.force_steering,
+                       record_lidar=args.show_lidar and lidar is not None
+                       and not args.no_animation)
     started = time.perf_counter()
     with _progress(console, "simulating  (show s)") as update:
         result = simulate(plan, arena, placement, config, update)

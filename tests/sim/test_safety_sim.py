@@ -89,3 +89,16 @@ def test_spectator_crossing_stops_robots_without_collision() -> None:
     assert all(e.text == STOP_SENTENCE for e in speech)
     assert (result.status == STATUS.index("stopped")).any()
     assert result.spectators.shape == (1, len(result.times), 2)
+
+
+def test_recorded_scans_show_what_the_robots_saw() -> None:
+    result = run(STRAIGHT, SimConfig(record_lidar=True))
+    delivered = [t for t, _ in result.lidar]
+    assert delivered[0] == pytest.approx(0.3)  # scanned at 0.0, 0.3 s latency
+    assert np.allclose(np.diff(delivered), 0.1)
+    _, first = result.lidar[0]
+    assert len(first) == 2
+    # R1 (left) sees R2's left side 0.6 m to its right, where R2 stood when scanned
+    r2_left_edge = result.poses[1, 0, 1] + 0.3
+    assert np.isclose(first[0][:, 1], r2_left_edge).any()
+    assert run(STRAIGHT, SimConfig()).lidar == ()

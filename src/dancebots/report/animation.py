@@ -29,7 +29,9 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
                   ) -> tuple[int, Iterator[NDArray[np.uint8]]]:
     """(frame count, iterator of RGB frames (H, W, 3)).
 
-    speedup: show seconds per video second; trail: seconds of path behind each robot.
+    speedup: show seconds per video second; trail: seconds of path behind each robot. When
+    the result holds LIDAR scans, each robot's latest delivered scan is drawn as dots in its
+    colour, where the things were when scanned (so the lag shows).
     """
     import matplotlib
 
@@ -75,6 +77,10 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
                                   animated=True, label="spectator" if k == 0 else None))
               for k, radius in enumerate(result.spectator_radii.tolist())]
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", animated=True)
+    scan_times = np.array([t for t, _ in result.lidar])
+    hits: list[Any] = [ax.plot([], [], ".", color=colours[i], markersize=3.0, alpha=0.7,
+                               animated=True)[0] for i in range(len(result.robots))] \
+        if result.lidar else []
     ax.legend(handles=[*bodies, leader_dots, *people[:1]], loc="upper right",
               fontsize="x-small")
     canvas: Any = fig.canvas  # Agg: blitting and the RGBA buffer
@@ -106,6 +112,13 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
                     person.set_center((px, py))
                     ax.draw_artist(person)
                 clock.set_text(f"t = {times[k]:5.1f} s")
+                if hits:  # the latest scan that has reached the robots: it lags
+                    latest = int(np.searchsorted(scan_times, times[k] + 1e-9)) - 1
+                    for i, dots in enumerate(hits):
+                        if latest >= 0:
+                            points = result.lidar[latest][1][i]
+                            dots.set_data(points[:, 0], points[:, 1])
+                        ax.draw_artist(dots)
                 ax.draw_artist(leader_dots)
                 ax.draw_artist(clock)
                 canvas.blit(fig.bbox)

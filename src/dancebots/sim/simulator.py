@@ -71,6 +71,8 @@ class SimConfig:
     force_radius: reach of the virtual force field, m (0: off).
     force_steering: how the force steers ("thesis" or "blend", see ``FollowerParams``).
     faults: injected sensor failures.
+    record_lidar: keep every scan's hits in the result (for drawing; memory grows with
+        robots x rays x time).
     """
 
     profile: Profile = IDEAL
@@ -85,6 +87,7 @@ class SimConfig:
     force_radius: float = 1.0
     force_steering: str = "blend"
     faults: tuple[Fault, ...] = ()
+    record_lidar: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,7 +124,9 @@ class RunResult:
     distance to the leader, m; formation (R, T) the index of the plan formation it follows.
     min_clearance: the smallest gap between two robots' footprints at any tick, m (None for
     one robot). status (R, T): codes of ``STATUS``. events: the robots' events in time order.
-    spectators (C, T, 2): the spectators' positions, spectator_radii (C,).
+    spectators (C, T, 2): the spectators' positions, spectator_radii (C,). lidar (with
+    ``SimConfig.record_lidar``): every scan as (time it reached the robots, per robot the
+    (M, 2) world positions of its hits as they were when scanned): what the robots "see".
     """
 
     plan: Plan
@@ -142,6 +147,7 @@ class RunResult:
     events: tuple[RobotEvent, ...]
     spectators: FloatArray
     spectator_radii: FloatArray
+    lidar: tuple[tuple[float, tuple[FloatArray, ...]], ...] = ()
 
     @property
     def robots(self) -> tuple[str, ...]:
@@ -202,6 +208,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                    if f.kind == "pose"}
     events: list[RobotEvent] = []
     status = np.zeros(count, dtype=np.int8)
+    scans: list[tuple[float, tuple[FloatArray, ...]]] = []
     if config.lidar is not None:  # the LIDARs run before the start: clouds arrive from t = 0
         lidar0 = config.lidar
         start = starts.astype(float)
@@ -231,9 +238,11 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
             corners_now = _corners(pose, lengths, widths)
             lidar = config.lidar
             if lidar is not None and _due(now, lidar.period):
-                pending.append((now + lidar.latency, scan_clouds(
-                    lidar, now, pose, corners_now, arena.room, arena.wall_height, obstacles,
-                    discs, disc_heights)))
+                clouds = scan_clouds(lidar, now, pose, corners_now, arena.room,
+                                     arena.wall_height, obstacles, discs, disc_heights)
+                pending.append((now + lidar.latency, clouds))
+                if config.record_lidar:
+                    scans.append((now + lidar.latency, _world_points(clouds, pose)))
             arrived: list[PointCloud | None] = [None] * count
             while pending and pending[0][0] <= now + 1e-9:
                 arrived = list(pending.pop(0)[1])
@@ -323,7 +332,18 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     if progress is not None:
         progress(end, end)
     return _result(plan, arena, placement, config, records, brains, tuple(collisions),
-                   tuple(events))
+                   tuple(events), tuple(scans))
+
+
+def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArray, ...]:
+    """Each robot's hits (M, 2) in the world frame, from its cloud and its pose (R, 3)."""
+    result = []
+    for cloud, (x, y, theta) in zip(clouds, poses.tolist(), strict=True):
+        c, s = math.cos(theta), math.sin(theta)
+        local = cloud.columns[:, :2]
+        result.append(np.stack([x + c * local[:, 0] - s * local[:, 1],
+                                y + s * local[:, 0] + c * local[:, 1]], axis=1))
+    return tuple(result)
 
 
 def _due(now: float, period: float) -> bool:
@@ -379,7 +399,8 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
             records: list[tuple[float, FloatArray, FloatArray, FloatArray, NDArray[np.int8],
                                 FloatArray]],
             brains: list[RobotBrain], collisions: tuple[CollisionEvent, ...],
-            events: tuple[RobotEvent, ...]) -> RunResult:
+            events: tuple[RobotEvent, ...],
+            scans: tuple[tuple[float, tuple[FloatArray, ...]], ...]) -> RunResult:
     times = np.array([r[0] for r in records])
     poses = np.stack([r[1] for r in records], axis=1)
     velocities = np.stack([r[2] for r in records], axis=1)
@@ -400,4 +421,4 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                      smallest_gap(poses, np.array([t.length for t in placement.types]),
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
-                     np.array([p.radius for p in arena.spectators]))
+                     np.array([p.radius for p in arena.spectators]), scans)
