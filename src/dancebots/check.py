@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.geometry import Pose, footprint_corners, wrap_angle
+from dancebots.perception.obstacles import DetectorParams
 from dancebots.plan.planner import Plan, PlannedFormation, PlanParameters, build_plan
 from dancebots.scenario.model import Circle, Scenario
 from dancebots.scenario.parser import parse_scenario
@@ -49,12 +50,15 @@ class CheckOptions:
     robot_type: footprint and limits of robots that the world does not define (or all robots
         without a world); its max_speed is replaced by vmax when there is no world.
     start_tolerance: a robot starting further than this from its first slot is reported, m.
+    detection: the robots' obstacle detection: rows nearer than its stop distance behind each
+        other are reported (their LIDAR would hold the rear robots).
     """
 
     clearance: float = 0.2
     sample_period: float = 0.1
     robot_type: RobotType = DEFAULT_ROBOT_TYPE
     start_tolerance: float = 0.25
+    detection: DetectorParams = field(default_factory=DetectorParams)
 
 
 @dataclass(frozen=True, slots=True)
@@ -239,6 +243,21 @@ def _footprints(corners: FloatArray) -> NDArray[np.object_]:
     return polygons
 
 
+def _gap_in_corridor(first: FloatArray, second: FloatArray, first_size: FloatArray,
+                     second_size: FloatArray, detection: DetectorParams) -> float | None:
+    """The gap (m) between two robots one behind the other in a formation, when the rear one's
+    stop corridor (its width plus the margin on each side) reaches the front one; offsets
+    (2,) in the leader's frame, sizes (2,) length and width. None when they are side by side."""
+    back, front = (first, second) if first[0] < second[0] else (second, first)
+    back_size, front_size = (first_size, second_size) if first[0] < second[0] else (
+        second_size, first_size)
+    lateral = abs(front[1] - back[1]) - 0.5 * front_size[1]
+    if lateral > 0.5 * back_size[1] + detection.corridor_margin:
+        return None
+    gap = (front[0] - back[0]) - 0.5 * (front_size[0] + back_size[0])
+    return float(gap) if gap >= 0 else None
+
+
 def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                      poses: FloatArray, which: NDArray[np.int64], options: CheckOptions,
                      diagnostics: list[Diagnostic]) -> float | None:
@@ -271,6 +290,16 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                       f"{members[a]} and {members[b]} are {gap:.2f} m apart in this formation "
                       f"(clearance {options.clearance:g} m)",
                       "increase the spacing or the row distance", diagnostics)
+                continue
+            behind = _gap_in_corridor(offsets[a], offsets[b], sizes[a], sizes[b],
+                                      options.detection)
+            if behind is not None and behind < options.detection.stop_distance:
+                front, back = (a, b) if offsets[a][0] > offsets[b][0] else (b, a)
+                _warn(plan, (formation.span.line, formation.span.col),
+                      f"{members[back]} follows {members[front]} at {behind:.2f} m, nearer "
+                      f"than the {options.detection.stop_distance:g} m stop distance: its "
+                      "LIDAR will hold it whenever the formation closes up",
+                      "increase the row distance", diagnostics)
     radius = np.array([math.hypot(t.length, t.width) / 2 for t in types])
     margin = max(options.clearance, 1.0)
     for i, j in itertools.combinations(range(len(robots)), 2):
