@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -446,14 +446,3 @@ def _describe(value: object) -> str:
     if isinstance(value, str):
         return f"the string {value[:20]!r}"
     return {list: "a list", dict: "a table", bool: "true/false"}.get(type(value), "that value")
-
-
-def robot_type_for(world: World | None, robot: str) -> RobotType:
-    """The type of ``robot`` in the world, or the simulator's default robot."""
-    found = world.robot(robot) if world else None
-    return found.type if found else DEFAULT_ROBOT_TYPE
-
-
-def start_poses(world: World, robots: Sequence[str]) -> dict[str, Pose]:
-    """Start poses (world frame) of the given robots that the world defines."""
-    return {r.name: r.start for r in world.robots if r.name in robots}
