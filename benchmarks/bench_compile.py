@@ -23,7 +23,7 @@ def big_scenario(instructions: int = 1000, robots: int = 20) -> str:
     left = [n for i, n in enumerate(names) if i % 5 < 2]
     right = [n for n in names if n not in left]
     rows = [names[r * 5:(r + 1) * 5] for r in range(4)]
-    grid = "square " + ";".join(",".join(row) for row in rows) + " 1.6 1.5"
+    grid = "square " + ";".join(",".join(row) for row in rows) + " 2 1.5"
     half_l = "square " + ";".join(",".join(n for n in row if n in left) for row in rows)
     half_r = "square " + ";".join(",".join(n for n in row if n in right) for row in rows)
     lines = ["robots " + " ".join(names), "groups", "left " + " ".join(left),
@@ -32,7 +32,7 @@ def big_scenario(instructions: int = 1000, robots: int = 20) -> str:
     cycle = 0
     while body < instructions:
         block = [f"move {2 + cycle % 3} {(-1) ** cycle}", "circle 15 10 0.02",
-                 half_l + " 1.6 1.5", half_r + " 1.6 1.5", "newVL",
+                 half_l + " 2 1.5", half_r + " 2 1.5", "newVL",
                  "move 1 2 left", "move 1 -2 right", "move 1 -2 left", "move 1 2 right",
                  grid, "newVL"]
         lines.extend(block)
