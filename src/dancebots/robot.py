@@ -22,9 +22,12 @@ import numpy as np
 from dancebots.control.follower import FollowerParams, FollowerState, thesis_follower_step
 from dancebots.geometry import Pose
 from dancebots.perception.cloud import PointCloud
+from dancebots.perception.fast import perceive_moved
 from dancebots.perception.obstacles import (
     CLEAR,
     DetectorParams,
+    Perception,
+    StopFlags,
     compensate_motion,
     obstacle_points_from_columns,
     perceive,
@@ -46,6 +49,8 @@ FOLLOWERS = ("thesis",)
 DETECTORS = ("thesis", "compensated")
 """Obstacle detectors: ``thesis`` uses the latest cloud as if it were current (ch. 5.2);
 ``compensated`` moves its points by the robot's own motion since the cloud's stamp."""
+FORCE_GAIN = 0.02
+"""Gain of each obstacle point's push (see ``control.force_field.repulsive_force``)."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -65,7 +70,8 @@ STOP = Command(0.0, 0.0)
 class SensingConfig:
     """The robot's footprint (m), whether it has a LIDAR (without one: no obstacle detection,
     no sensor-age check), its detector, the force field's reach (m, 0: off), the approach
-    gain (1/s, 0: off) and the detection and safety parameters.
+    gain (1/s, 0: off), whether to use the compiled perception (else the NumPy reference;
+    same results) and the detection and safety parameters.
 
     Approach limit (an addition): the speed towards an obstacle in the robot's corridor is at
     most approach_gain * (free distance - stop distance), so a robot closes up to the stop
@@ -81,6 +87,7 @@ class SensingConfig:
     detector: str = "compensated"
     force_radius: float = 1.0
     approach_gain: float = 1.0
+    compiled: bool = True
     detection: DetectorParams = field(default_factory=DetectorParams)
     safety: SafetyParams = field(default_factory=SafetyParams)
 
@@ -187,13 +194,9 @@ class RobotBrain:
         command = STOP
         held = False
         if pose is not None and show_time >= 0.0:
-            current = obstacles
-            if seen_from is not None and len(obstacles):
-                current = compensate_motion(obstacles, seen_from, pose)
             seen = CLEAR
-            if sensing.lidar and len(current):
-                seen = perceive(current, sensing.length, sensing.width, sensing.detection,
-                                sensing.force_radius)
+            if sensing.lidar and len(obstacles):
+                seen = self._perceive(obstacles, seen_from or pose, pose)
             sample = self._sample(show_time)
             follower, (linear, angular) = thesis_follower_step(
                 self.params, state.follower, show_time, pose, sample.leader,
@@ -219,6 +222,23 @@ class RobotBrain:
         new_state = replace(state, safety=safety, obstacles=obstacles, seen_from=seen_from,
                             history=history, held=held)
         return new_state, command, events
+
+    def _perceive(self, points: np.ndarray, seen_from: tuple[float, float, float],
+                  pose: tuple[float, float, float]) -> Perception:
+        """Obstacle points seen at ``seen_from`` moved to ``pose``, then ``perceive`` (in one
+        compiled pass unless ``SensingConfig.compiled`` is off)."""
+        sensing, detection = self.sensing, self.sensing.detection
+        if sensing.compiled:
+            front, rear, left, right, fx, fy = perceive_moved(
+                points, np.array(seen_from), np.array(pose), sensing.length, sensing.width,
+                detection.stop_distance, detection.corridor_margin, detection.turn_guard,
+                sensing.force_radius, FORCE_GAIN)
+            return Perception(StopFlags(front < detection.stop_distance,
+                                        rear < detection.stop_distance),
+                              front, rear, left, right, (fx, fy))
+        current = points if seen_from == pose else compensate_motion(points, seen_from, pose)
+        return perceive(current, sensing.length, sensing.width, detection,
+                        sensing.force_radius, FORCE_GAIN)
 
     @staticmethod
     def _pose_at(history: tuple[tuple[float, float, float, float], ...],

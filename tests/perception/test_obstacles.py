@@ -120,3 +120,27 @@ def test_perceive_agrees_with_the_separate_functions(points: np.ndarray) -> None
     assert (seen.front_free, seen.rear_free) == clear_distances(points, LENGTH, WIDTH)
     assert (seen.turn_left, seen.turn_right) == rotation_allowed(points, LENGTH, WIDTH)
     assert seen.force == pytest.approx(repulsive_force(points, LENGTH, WIDTH), abs=1e-12)
+
+
+@given(arrays(np.float64, st.tuples(st.integers(1, 40), st.just(2)),
+              elements=st.floats(-2, 2, allow_nan=False)),
+       st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-3, 3)),
+       st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-3, 3)))
+def test_compiled_perception_agrees_with_the_reference(
+        points: np.ndarray, seen_from: tuple[float, float, float],
+        pose: tuple[float, float, float]) -> None:
+    from dancebots.perception.fast import perceive_moved
+    from dancebots.perception.obstacles import perceive
+
+    params = DetectorParams()
+    reference = perceive(compensate_motion(points, seen_from, pose), LENGTH, WIDTH, params,
+                         1.0, 0.02)
+    front, rear, left, right, fx, fy = perceive_moved(
+        points, np.array(seen_from), np.array(pose), LENGTH, WIDTH, params.stop_distance,
+        params.corridor_margin, params.turn_guard, 1.0, 0.02)
+    assert front == pytest.approx(reference.front_free, abs=1e-9)
+    assert rear == pytest.approx(reference.rear_free, abs=1e-9)
+    assert (fx, fy) == pytest.approx(reference.force, abs=1e-9)
+    # the turn guard compares x * y with 0 and distances with 0.3 m: equal away from the edges
+    assert (left, right) == (reference.turn_left, reference.turn_right) or min(
+        abs(np.prod(compensate_motion(points, seen_from, pose), axis=1)).min(), 1.0) < 1e-9

@@ -107,3 +107,20 @@ def test_convex_room_walls_equal_brute_force(seed: int) -> None:
     segments = np.stack([room, np.roll(room, -1, axis=0)], axis=1)
     expected, _ = rays_to_segments(origins, directions, segments)
     np.testing.assert_allclose(rays_to_convex_walls(origins, directions, room), expected)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000))
+def test_compiled_and_numpy_scans_agree(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    count = int(rng.integers(1, 6))
+    poses = np.column_stack([rng.uniform(1, 9, (count, 2)), rng.uniform(-3, 3, count)])
+    corners = _corners(poses, np.full(count, 1.2), np.full(count, 0.6))
+    obstacles = [(np.array([[6.0, 6.0], [7.0, 6.5], [6.5, 7.5]]), 1.0)]
+    discs = np.array([[3.0, 7.0, 0.3], [8.0, 2.0, 0.25]])
+    heights = np.array([1.7, 1.2])
+    args = (1.0, poses, corners, ROOM, 2.0, obstacles, discs, heights)
+    compiled = scan_clouds(LidarConfig(rays=64), *args)
+    reference = scan_clouds(LidarConfig(rays=64, compiled=False), *args)
+    for a, b in zip(compiled, reference, strict=True):
+        np.testing.assert_allclose(a.columns, b.columns, atol=1e-9)

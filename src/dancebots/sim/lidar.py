@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.perception.cloud import PointCloud
+from dancebots.sim.raycast_jit import cast_scene
 from dancebots.sim.raycast import (
     ray_directions,
     rays_to_convex_walls,
@@ -36,7 +37,8 @@ class LidarConfig:
     """rays per scan (256 in the thesis's simulator, 1024 on the real sensor); ranges in m
     (5 m: the obstacle detection uses 2 m around the robot, the force field 1.5 m);
     latency and period in s (the real LIDAR lags about 300 ms and scans at 10 Hz);
-    height_step: spacing of the points repeated in height, m; robot_height in m."""
+    height_step: spacing of the points repeated in height, m; robot_height in m; compiled:
+    cast with the numba-compiled loops (else the vectorised NumPy kernels; same results)."""
 
     rays: int = 256
     min_range: float = 0.3
@@ -45,6 +47,7 @@ class LidarConfig:
     period: float = 0.1
     height_step: float = 0.1
     robot_height: float = 1.0
+    compiled: bool = True
 
     def angles(self) -> FloatArray:
         """Ray angles (N,) in rad relative to the robot's heading, from -pi, evenly spaced."""
@@ -92,25 +95,15 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
                                   obstacle_segments, obstacles, strict=True)]])
     owner = np.concatenate([np.repeat(np.arange(count), 4),
                             np.full(len(segments) - len(robot_segments), -1)])
-    # a ray's first hit on a closed counter-clockwise outline is on an edge facing the sensor:
-    # edges facing away (back faces) are skipped
-    edge = segments[:, 1] - segments[:, 0]
-    to_edge = segments[None, :, 0, :] - origins[:, None, :]  # (R, S, 2)
-    facing = to_edge[..., 0] * edge[:, 1] - to_edge[..., 1] * edge[:, 0] < 0.0
-    visible = facing & (owner[None, :] != np.arange(count)[:, None]) & (
-        _distance_to_segments(origins, segments) <= config.max_range)
-    solid, which = rays_to_segments_culled(origins, headings, angles, segments, visible)
-    solid_height = np.where(which >= 0, heights[np.maximum(which, 0)], 0.0)
-    directions = ray_directions(headings, angles)
-    if len(discs):
-        people, who = rays_to_discs(origins, directions, discs)
-        nearer = people < solid
-        solid = np.where(nearer, people, solid)
-        solid_height = np.where(nearer, disc_heights[np.maximum(who, 0)], solid_height)
-    if _is_convex(room):
-        wall = rays_to_convex_walls(origins, directions, _counter_clockwise(room))
+    if config.compiled:
+        discs_ = discs if len(discs) else np.zeros((0, 3))
+        solid, solid_height, wall = cast_scene(
+            origins, headings, angles, segments, owner, heights, discs_,
+            disc_heights.astype(float) if len(discs) else np.zeros(0), _segments(room),
+            config.max_range)
     else:
-        wall, _ = rays_to_segments(origins, directions, _segments(room))
+        solid, solid_height, wall = _cast_numpy(config, origins, headings, angles, segments,
+                                                owner, heights, room, discs, disc_heights)
 
     # columns of points, robot by robot: the hit itself (below the wall), the wall's upper
     # half behind it, or the whole wall when nothing stands before it
@@ -150,3 +143,32 @@ def _is_convex(polygon: FloatArray) -> bool:
     following = np.roll(edge, -1, axis=0)
     turn = edge[:, 0] * following[:, 1] - edge[:, 1] * following[:, 0]
     return bool(np.all(turn >= 0) or np.all(turn <= 0))
+
+
+def _cast_numpy(config: LidarConfig, origins: FloatArray, headings: FloatArray,
+                angles: FloatArray, segments: FloatArray, owner: NDArray[np.int64],
+                heights: FloatArray, room: FloatArray, discs: FloatArray,
+                disc_heights: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The vectorised NumPy caster (the reference the compiled one is tested against)."""
+    count = len(origins)
+    # a ray's first hit on a closed counter-clockwise outline is on an edge facing the sensor:
+    # edges facing away (back faces) are skipped
+    edge = segments[:, 1] - segments[:, 0]
+    to_edge = segments[None, :, 0, :] - origins[:, None, :]  # (R, S, 2)
+    facing = to_edge[..., 0] * edge[:, 1] - to_edge[..., 1] * edge[:, 0] < 0.0
+    visible = facing & (owner[None, :] != np.arange(count)[:, None]) & (
+        _distance_to_segments(origins, segments) <= config.max_range)
+    solid, which = rays_to_segments_culled(origins, headings, angles, segments, visible)
+    solid_height = np.where(which >= 0, heights[np.maximum(which, 0)], 0.0)
+    directions = ray_directions(headings, angles)
+    if len(discs):
+        people, who = rays_to_discs(origins, directions, discs)
+        nearer = people < solid
+        solid = np.where(nearer, people, solid)
+        solid_height = np.where(nearer, disc_heights[np.maximum(who, 0)], solid_height)
+    if _is_convex(room):
+        wall = rays_to_convex_walls(origins, directions, _counter_clockwise(room))
+    else:
+        wall, _ = rays_to_segments(origins, directions, _segments(room))
+
+    return solid, solid_height, wall

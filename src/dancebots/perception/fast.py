@@ -1,0 +1,57 @@
+"""The per-tick perception of ``perception.obstacles`` compiled with numba, in one loop.
+
+Same results as ``compensate_motion`` followed by ``perceive`` (the tests hold them equal);
+the NumPy functions remain the readable reference. Called for every robot ten times a second,
+where NumPy's per-call overhead on a few hundred points would dominate.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+__all__ = ["perceive_moved"]
+
+
+@njit(cache=True)
+def perceive_moved(points: NDArray[np.float64], seen_from: NDArray[np.float64],
+                   pose: NDArray[np.float64], length: float, width: float,
+                   stop_distance: float, corridor_margin: float, turn_guard: float,
+                   force_radius: float, force_gain: float,
+                   ) -> tuple[float, float, bool, bool, float, float]:
+    """Obstacle points (M, 2) in ``base_link`` at ``seen_from`` (x, y, theta), moved to the
+    robot's ``pose`` (same frame), then: free distance ahead and behind (m), may turn left,
+    may turn right, force (Fx, Fy). See ``perception.obstacles.perceive``."""
+    c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
+    c1, s1 = math.cos(pose[2]), math.sin(pose[2])
+    half_l, half_w = 0.5 * length, 0.5 * width
+    front, rear = math.inf, math.inf
+    left_ok, right_ok = True, True
+    fx, fy = 0.0, 0.0
+    for i in range(points.shape[0]):
+        wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
+        wy = seen_from[1] + s0 * points[i, 0] + c0 * points[i, 1] - pose[1]
+        x = c1 * wx + s1 * wy
+        y = -s1 * wx + c1 * wy
+        if abs(y) <= half_w + corridor_margin:
+            if x >= half_l - 1e-9:
+                front = min(front, x - half_l)
+            if x <= -half_l + 1e-9:
+                rear = min(rear, -x - half_l)
+        nx = min(max(x, -half_l), half_l)
+        ny = min(max(y, -half_w), half_w)
+        ax, ay = nx - x, ny - y
+        d = math.hypot(ax, ay)
+        if d < turn_guard:
+            if x * y > 0:
+                left_ok = False
+            elif x * y < 0:
+                right_ok = False
+        if force_radius > 0 and 1e-9 < d < force_radius:
+            weight = force_gain * (1.0 - d / force_radius) ** 2 / d
+            fx += ax * weight
+            fy += ay * weight
+    return front, rear, left_ok, right_ok, fx, fy
