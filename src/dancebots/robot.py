@@ -22,7 +22,7 @@ import numpy as np
 from dancebots.control.follower import FollowerParams, FollowerState, thesis_follower_step
 from dancebots.geometry import Pose
 from dancebots.perception.cloud import PointCloud
-from dancebots.perception.fast import perceive_moved
+from dancebots.perception.fast import perceive_columns
 from dancebots.perception.obstacles import (
     CLEAR,
     DetectorParams,
@@ -95,12 +95,13 @@ class SensingConfig:
 @dataclass(frozen=True, slots=True, eq=False)
 class BrainState:
     """What a brain carries from one tick to the next: the follower's queue, the safety
-    state, the latest obstacle points (M, 2) in ``base_link`` at the pose ``seen_from`` (own
-    map frame), and the recent own poses (t, x, y, theta)."""
+    state, the latest cloud's columns (K, 4) in ``base_link`` at the pose ``seen_from`` (own
+    map frame) with their height step, and the recent own poses (t, x, y, theta)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
-    obstacles: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    obstacles: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    height_step: float = 0.1
     seen_from: tuple[float, float, float] | None = None
     history: tuple[tuple[float, float, float, float], ...] = ()
     held: bool = False
@@ -184,11 +185,12 @@ class RobotBrain:
         sensing = self.sensing
         history = state.history
         obstacles, seen_from = state.obstacles, state.seen_from
+        height_step = state.height_step
         if pose is not None and sensing.lidar and sensing.detector == "compensated":
             history = (*history[-HISTORY_LENGTH:], (show_time, *pose))
         if cloud is not None and sensing.lidar:
-            obstacles = obstacle_points_from_columns(cloud.columns, cloud.height_step,
-                                                     sensing.detection)
+            obstacles = cloud.columns  # filtered at every tick, with the pose of that tick
+            height_step = cloud.height_step
             seen_from = self._pose_at(history, cloud.stamp) if (
                 sensing.detector == "compensated") else None
         command = STOP
@@ -196,7 +198,7 @@ class RobotBrain:
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
             if sensing.lidar and len(obstacles):
-                seen = self._perceive(obstacles, seen_from or pose, pose)
+                seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
             sample = self._sample(show_time)
             follower, (linear, angular) = thesis_follower_step(
                 self.params, state.follower, show_time, pose, sample.leader,
@@ -220,22 +222,26 @@ class RobotBrain:
         if not may_move:
             command = STOP
         new_state = replace(state, safety=safety, obstacles=obstacles, seen_from=seen_from,
-                            history=history, held=held)
+                            history=history, held=held, height_step=height_step)
         return new_state, command, events
 
-    def _perceive(self, points: np.ndarray, seen_from: tuple[float, float, float],
+    def _perceive(self, columns: np.ndarray, height_step: float,
+                  seen_from: tuple[float, float, float],
                   pose: tuple[float, float, float]) -> Perception:
-        """Obstacle points seen at ``seen_from`` moved to ``pose``, then ``perceive`` (in one
-        compiled pass unless ``SensingConfig.compiled`` is off)."""
+        """The latest cloud's columns seen at ``seen_from``: obstacle points (thesis 5.2),
+        moved to ``pose``, then ``perceive`` (in one compiled pass unless
+        ``SensingConfig.compiled`` is off; the NumPy functions are the tested reference)."""
         sensing, detection = self.sensing, self.sensing.detection
         if sensing.compiled:
-            front, rear, left, right, fx, fy = perceive_moved(
-                points, np.array(seen_from), np.array(pose), sensing.length, sensing.width,
+            front, rear, left, right, fx, fy = perceive_columns(
+                columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
+                np.array(seen_from), np.array(pose), sensing.length, sensing.width,
                 detection.stop_distance, detection.corridor_margin, detection.turn_guard,
                 sensing.force_radius, FORCE_GAIN)
             return Perception(StopFlags(front < detection.stop_distance,
                                         rear < detection.stop_distance),
                               front, rear, left, right, (fx, fy))
+        points = obstacle_points_from_columns(columns, height_step, detection)
         current = points if seen_from == pose else compensate_motion(points, seen_from, pose)
         return perceive(current, sensing.length, sensing.width, detection,
                         sensing.force_radius, FORCE_GAIN)

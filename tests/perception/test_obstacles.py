@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
@@ -122,6 +122,7 @@ def test_perceive_agrees_with_the_separate_functions(points: np.ndarray) -> None
     assert seen.force == pytest.approx(repulsive_force(points, LENGTH, WIDTH), abs=1e-12)
 
 
+@settings(deadline=None)  # the first call compiles the numba function
 @given(arrays(np.float64, st.tuples(st.integers(1, 40), st.just(2)),
               elements=st.floats(-2, 2, allow_nan=False)),
        st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-3, 3)),
@@ -144,3 +145,21 @@ def test_compiled_perception_agrees_with_the_reference(
     # the turn guard compares x * y with 0 and distances with 0.3 m: equal away from the edges
     assert (left, right) == (reference.turn_left, reference.turn_right) or min(
         abs(np.prod(compensate_motion(points, seen_from, pose), axis=1)).min(), 1.0) < 1e-9
+
+
+@settings(deadline=None)
+@given(columns, st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-3, 3)))
+def test_compiled_column_filter_agrees_with_the_reference(
+        data: np.ndarray, pose: tuple[float, float, float]) -> None:
+    from dancebots.perception.fast import perceive_columns, perceive_moved
+
+    data = data.copy()
+    data[:, 2] = np.abs(data[:, 2]) * 0.5
+    data[:, 3] = data[:, 2] + np.abs(data[:, 3])
+    params = DetectorParams()
+    where = np.array([0.0, 0.0, 0.0])
+    rest = (np.array(pose), LENGTH, WIDTH, params.stop_distance, params.corridor_margin,
+            params.turn_guard, 1.0, 0.02)
+    assert perceive_columns(data, 0.1, params.crop_half, params.z_min, params.z_max, where,
+                            *rest) == perceive_moved(
+        obstacle_points_from_columns(data, 0.1), where, *rest)

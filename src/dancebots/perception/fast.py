@@ -13,7 +13,27 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["perceive_moved"]
+__all__ = ["perceive_columns", "perceive_moved"]
+
+
+@njit(cache=True)
+def perceive_columns(columns: NDArray[np.float64], height_step: float, crop_half: float,
+                     z_min: float, z_max: float, seen_from: NDArray[np.float64],
+                     pose: NDArray[np.float64], length: float, width: float,
+                     stop_distance: float, corridor_margin: float, turn_guard: float,
+                     force_radius: float, force_gain: float,
+                     ) -> tuple[float, float, bool, bool, float, float]:
+    """A cloud stored as columns (K, 4) (see ``PointCloud``): its obstacle points (crop and
+    height filter of ``obstacle_points_from_columns``), then :func:`perceive_moved`."""
+    keep = np.zeros(columns.shape[0], dtype=np.bool_)
+    for i in range(columns.shape[0]):
+        low, high = columns[i, 2], columns[i, 3]
+        first = 0.0 if low > z_min else math.floor((z_min - low) / height_step + 1e-9) + 1.0
+        z = low + first * height_step
+        keep[i] = (z < z_max and z <= high + 1e-9 and abs(columns[i, 0]) <= crop_half
+                   and abs(columns[i, 1]) <= crop_half)
+    return perceive_moved(columns[keep, :2], seen_from, pose, length, width, stop_distance,
+                          corridor_margin, turn_guard, force_radius, force_gain)
 
 
 @njit(cache=True)

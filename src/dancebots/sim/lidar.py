@@ -18,7 +18,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.perception.cloud import PointCloud
-from dancebots.sim.raycast_jit import cast_scene
 from dancebots.sim.raycast import (
     ray_directions,
     rays_to_convex_walls,
@@ -26,6 +25,7 @@ from dancebots.sim.raycast import (
     rays_to_segments,
     rays_to_segments_culled,
 )
+from dancebots.sim.raycast_jit import cast_scene
 
 __all__ = ["LidarConfig", "PointCloud", "scan_clouds"]
 
