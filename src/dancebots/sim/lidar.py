@@ -25,7 +25,7 @@ from dancebots.sim.raycast import (
     rays_to_segments,
     rays_to_segments_culled,
 )
-from dancebots.sim.raycast_jit import cast_scene
+from dancebots.sim.raycast_jit import build_columns, cast_scene
 
 __all__ = ["LidarConfig", "PointCloud", "scan_clouds"]
 
@@ -107,18 +107,23 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
 
     # columns of points, robot by robot: the hit itself (below the wall), the wall's upper
     # half behind it, or the whole wall when nothing stands before it
+    if config.compiled:
+        columns, counts = build_columns(solid, solid_height, wall, angles, config.min_range,
+                                        config.max_range, wall_height)
+        splits = np.cumsum(counts)[:-1]
+        return [PointCloud(stamp, part, config.height_step)
+                for part in np.split(columns, splits)]
     in_range = (solid >= config.min_range) & (solid <= config.max_range)
     blocked = solid < wall
     wall_seen = wall <= config.max_range
-    distances = np.stack([solid, wall, wall], axis=1)  # (R, 3, N)
-    tops = np.stack([solid_height, np.full_like(wall, wall_height),
-                     np.full_like(wall, wall_height)], axis=1)
-    kept = np.stack([in_range & blocked, wall_seen & blocked, wall_seen & ~blocked], axis=1)
-    sensor, kind, ray = np.nonzero(kept)  # sorted by sensor
+    distances = np.stack([solid, wall], axis=1)  # (R, 2, N)
+    tops = np.stack([solid_height, np.full_like(wall, wall_height)], axis=1)
+    bottoms = np.stack([np.zeros_like(wall), np.where(blocked, 0.5 * wall_height, 0.0)], axis=1)
+    kept = np.stack([in_range & blocked, wall_seen], axis=1)
+    sensor, ray, kind = np.nonzero(np.swapaxes(kept, 1, 2))  # by robot, ray, then kind
     distance = distances[sensor, kind, ray]
-    bottoms = np.array([0.0, 0.5 * wall_height, 0.0])
     columns = np.stack([distance * np.cos(angles[ray]), distance * np.sin(angles[ray]),
-                        bottoms[kind], tops[sensor, kind, ray]], axis=1)
+                        bottoms[sensor, kind, ray], tops[sensor, kind, ray]], axis=1)
     splits = np.cumsum(np.bincount(sensor, minlength=count))[:-1]
     return [PointCloud(stamp, part, config.height_step) for part in np.split(columns, splits)]
 

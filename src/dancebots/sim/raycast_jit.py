@@ -54,22 +54,39 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
                 continue
             candidates[found] = s
             found += 1
-        for k in range(rays):
-            angle = headings[r] + angles[k]
-            dx, dy = math.cos(angle), math.sin(angle)
-            best, best_height = np.inf, 0.0
-            for c in range(found):
-                s = candidates[c]
-                px, py = segments[s, 0, 0], segments[s, 0, 1]
-                ex, ey = segments[s, 1, 0] - px, segments[s, 1, 1] - py
+        # each candidate edge only against the rays inside its angular span (rays evenly
+        # spaced over the full circle from angles[0])
+        step = 2.0 * math.pi / rays
+        for c in range(found):
+            s = candidates[c]
+            px, py = segments[s, 0, 0], segments[s, 0, 1]
+            ex, ey = segments[s, 1, 0] - px, segments[s, 1, 1] - py
+            a0 = math.atan2(py - oy, px - ox) - headings[r] - angles[0]
+            a1 = math.atan2(py + ey - oy, px + ex - ox) - headings[r] - angles[0]
+            first = a0 % (2.0 * math.pi)
+            span = (a1 - a0) % (2.0 * math.pi)
+            if span > math.pi:
+                first = a1 % (2.0 * math.pi)
+                span = 2.0 * math.pi - span
+            start = int(math.floor(first / step))
+            size = int(math.floor((first + span) / step)) - start + 2
+            qx, qy = px - ox, py - oy
+            for j in range(size):
+                k = (start + j) % rays
+                angle = headings[r] + angles[k]
+                dx, dy = math.cos(angle), math.sin(angle)
                 denominator = dx * ey - dy * ex
                 if abs(denominator) <= 1e-12:
                     continue
-                qx, qy = px - ox, py - oy
                 t = (qx * ey - qy * ex) / denominator
                 u = (qx * dy - qy * dx) / denominator
-                if t >= 0.0 and 0.0 <= u <= 1.0 and t < best:
-                    best, best_height = t, heights[s]
+                if t >= 0.0 and 0.0 <= u <= 1.0 and t < solid[r, k]:
+                    solid[r, k] = t
+                    solid_height[r, k] = heights[s]
+        for k in range(rays):
+            angle = headings[r] + angles[k]
+            dx, dy = math.cos(angle), math.sin(angle)
+            best, best_height = solid[r, k], solid_height[r, k]
             for c in range(discs.shape[0]):
                 rx, ry = ox - discs[c, 0], oy - discs[c, 1]
                 b = dx * rx + dy * ry
@@ -94,3 +111,38 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
                     nearest = t
             wall[r, k] = nearest
     return solid, solid_height, wall
+
+
+@njit(cache=True)
+def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
+                  angles: FloatArray, min_range: float, max_range: float,
+                  wall_height: float) -> tuple[FloatArray, NDArray[np.int64]]:
+    """The thesis's height columns of every ray, robot by robot: the solid hit (0 to its
+    height) and the upper half of the wall behind it, or the whole wall when nothing stands
+    before it; nothing nearer than min_range or beyond max_range. Returns columns (K, 4) =
+    x, y, z_low, z_high in ``base_link``, robot after robot, and each robot's count (R,)."""
+    count, rays = solid.shape
+    counts = np.zeros(count, dtype=np.int64)
+    for r in range(count):
+        for k in range(rays):
+            blocked = solid[r, k] < wall[r, k]
+            if blocked and min_range <= solid[r, k] <= max_range:
+                counts[r] += 1
+            if wall[r, k] <= max_range:
+                counts[r] += 1
+    columns = np.empty((counts.sum(), 4))
+    i = 0
+    for r in range(count):
+        for k in range(rays):
+            c, s = math.cos(angles[k]), math.sin(angles[k])
+            blocked = solid[r, k] < wall[r, k]
+            if blocked and min_range <= solid[r, k] <= max_range:
+                columns[i, 0], columns[i, 1] = solid[r, k] * c, solid[r, k] * s
+                columns[i, 2], columns[i, 3] = 0.0, solid_height[r, k]
+                i += 1
+            if wall[r, k] <= max_range:
+                columns[i, 0], columns[i, 1] = wall[r, k] * c, wall[r, k] * s
+                columns[i, 2] = 0.5 * wall_height if blocked else 0.0
+                columns[i, 3] = wall_height
+                i += 1
+    return columns, counts
