@@ -68,8 +68,8 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
             if span > math.pi:
                 first = a1 % (2.0 * math.pi)
                 span = 2.0 * math.pi - span
-            start = int(math.floor(first / step))
-            size = int(math.floor((first + span) / step)) - start + 2
+            start = int(math.floor(first / step))  # noqa: RUF046 (explicit for numba)
+            size = int(math.floor((first + span) / step)) - start + 2  # noqa: RUF046
             qx, qy = px - ox, py - oy
             for j in range(size):
                 k = (start + j) % rays
