@@ -15,7 +15,7 @@ P is ``slot0^-1 ⊕ P`` in the robot's map frame.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -214,15 +214,17 @@ class RobotBrain:
                     linear = max(linear, -sensing.approach_gain * max(seen.rear_free - stop, 0.0))
             if (angular > 0 and not seen.turn_left) or (angular < 0 and not seen.turn_right):
                 angular = 0.0  # never swing a corner into something beside the robot
-            state = replace(state, follower=follower)
             command = Command(linear, angular)
+        else:
+            follower = state.follower
         safety, events, may_move = safety_step(
             sensing.safety, state.safety, show_time, pose is not None,
             cloud is not None or not sensing.lidar, held)
         if not may_move:
             command = STOP
-        new_state = replace(state, safety=safety, obstacles=obstacles, seen_from=seen_from,
-                            history=history, held=held, height_step=height_step)
+        new_state = BrainState(follower=follower, safety=safety, obstacles=obstacles,
+                               height_step=height_step, seen_from=seen_from, history=history,
+                               held=held)
         return new_state, command, events
 
     def _perceive(self, columns: np.ndarray, height_step: float,

@@ -7,7 +7,7 @@ Frames: every position is in the robot's own ``map`` frame (x, y in m); the robo
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 __all__ = [
     "ARRIVAL_GAIN",
@@ -151,4 +151,4 @@ def thesis_follower_step(
     angular = 3.0 * _sign(gx * gy) * alpha - 2.0 * _sign(fx) * alpha2 * magnitude
     command = (_clip_keep_sign(linear, params.max_linear),
                _clip_keep_sign(angular, params.max_angular))
-    return replace(state, queue=queue, last_fill=last_fill), command
+    return FollowerState(queue, last_fill), command

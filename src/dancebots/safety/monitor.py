@@ -10,7 +10,7 @@ consecutive failed pose look-ups put the robot into an error state it never leav
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 __all__ = ["STOP_SENTENCE", "Event", "SafetyParams", "SafetyState", "safety_step"]
 
@@ -76,6 +76,5 @@ def safety_step(params: SafetyParams, state: SafetyState, now: float, pose_ok: b
     elif not held and stopped_since is not None:
         stopped_since, last_beep = None, None
         events = (Event("resume", "the way is clear"),)
-    new = replace(state, lookup_failures=failures, last_cloud=last_cloud, first_tick=first,
-                  stopped_since=stopped_since, last_beep=last_beep)
+    new = SafetyState(None, failures, last_cloud, first, stopped_since, last_beep)
     return new, events, True

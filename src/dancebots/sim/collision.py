@@ -63,7 +63,7 @@ class Boundaries:
 
     @staticmethod
     def _segments(polygon: FloatArray) -> FloatArray:
-        return np.stack([polygon, np.roll(polygon, -1, axis=0)], axis=1)
+        return np.stack([polygon, np.concatenate([polygon[1:], polygon[:1]])], axis=1)
 
     def _near(self, centres: FloatArray, reach: FloatArray) -> NDArray[np.bool_]:
         """(R, E): is each robot's centre within its reach of each boundary segment."""

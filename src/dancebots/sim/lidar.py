@@ -57,7 +57,7 @@ class LidarConfig:
 
 
 def _segments(polygon: FloatArray) -> FloatArray:
-    return np.stack([polygon, np.roll(polygon, -1, axis=0)], axis=1)
+    return np.stack([polygon, np.concatenate([polygon[1:], polygon[:1]])], axis=1)
 
 
 def _distance_to_segments(points: FloatArray, segments: FloatArray) -> FloatArray:
@@ -130,8 +130,8 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
 
 def _segments_of(corners: FloatArray) -> FloatArray:
     """The 4 edges (4R, 2, 2) of R footprints (R, 4, 2), robot by robot."""
-    result: FloatArray = np.stack([corners, np.roll(corners, -1, axis=1)], axis=2).reshape(
-        -1, 2, 2)
+    following = np.concatenate([corners[:, 1:], corners[:, :1]], axis=1)
+    result: FloatArray = np.stack([corners, following], axis=2).reshape(-1, 2, 2)
     return result
 
 
