@@ -209,6 +209,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     events: list[RobotEvent] = []
     status = np.zeros(count, dtype=np.int8)
     scans: list[tuple[float, tuple[FloatArray, ...]]] = []
+    corners_now = _corners(starts.astype(float), lengths, widths)
     if config.lidar is not None:  # the LIDARs run before the start: clouds arrive from t = 0
         lidar0 = config.lidar
         start = starts.astype(float)
@@ -235,7 +236,6 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     for step in range(total_steps + 1):
         now = step * config.dt
         if step % steps_per_tick == 0:
-            corners_now = _corners(pose, lengths, widths)
             lidar = config.lidar
             if lidar is not None and _due(now, lidar.period):
                 clouds = scan_clouds(lidar, now, pose, corners_now, arena.room,
@@ -285,7 +285,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         if pairs:
             # a robot is stopped when its move runs into where the other one stands now;
             # one that moves away from a contact goes on (else touching robots lock up)
-            now_corners = _corners(pose, lengths, widths)
+            now_corners = corners_now
             first, second = np.array(pairs).T
             first_in = rectangles_overlap(corners[first], now_corners[second])
             second_in = rectangles_overlap(now_corners[first], corners[second])
@@ -310,6 +310,8 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                                                  float(pose[i, 1])))
             active[key] = now + config.dt
         proposed[blocked] = pose[blocked]
+        corners[blocked] = corners_now[blocked]
+        corners_now = corners  # the footprints where the robots now stand
         velocity[blocked] = 0.0
         pose = proposed
         if len(spectators):
