@@ -38,6 +38,12 @@ OUTPUT_FILES = ("metrics.json", "speeds_distances.png", "trajectories.png", "log
 MARKER = "metrics.json"
 
 
+def _short(path: str) -> str:
+    """The path relative to the working directory when that is shorter (for titles)."""
+    relative = os.path.relpath(path)
+    return relative if len(relative) < len(path) else path
+
+
 def _fail(message: str) -> int:
     print(f"dancebots run: error: {message}", file=sys.stderr)
     return EXIT_INVALID
@@ -86,9 +92,9 @@ def _progress(console: Console, label: str) -> Iterator[Callable[[float, float],
 
 def run_show(args: argparse.Namespace) -> int:
     if args.scenario is None:  # the bundled open-day show in its hall
-        args.scenario = bundled("open_day.dance")
+        args.scenario = _short(bundled("open_day.dance"))
         if args.world is None:
-            args.world = bundled("open_day.toml")
+            args.world = _short(bundled("open_day.toml"))
     sources: dict[str, list[str]] = {}
     plan, world, diagnostics = compile_files(args, sources)
     if has_errors(diagnostics) or plan is None:
