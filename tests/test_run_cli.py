@@ -136,3 +136,17 @@ def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) ->
     target = tmp_path / "a.mp4"
     animate_run(result, str(target))
     assert target.read_bytes()[4:8] == b"ftyp"
+
+
+def test_the_bundled_open_day_show(capsys: Capture, tmp_path: Path) -> None:
+    """The main job: the open-day show with visitors runs without collision, and the robots
+    stop and speak for the visitors (issue 4's open-day example)."""
+    out = tmp_path / "open_day"
+    assert main(["run", "--no-animation", "--out", str(out)]) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["collisions"] == 0
+    assert metrics["stops"] >= 5
+    speech = [e for e in metrics["events"] if e["kind"] == "speech"]
+    assert {e["text"] for e in speech} == {"Obstacle is too close, I have to stop"}
+    assert metrics["scenario"].endswith("open_day.dance")
+    capsys.readouterr()
