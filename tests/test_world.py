@@ -114,3 +114,11 @@ def test_spectator_errors(text: str, headline: str) -> None:
     world, diagnostics = parse_world(text, "w.toml")
     assert world is None
     assert diagnostics[0].headline() == headline
+
+
+def test_slowest_speed_is_the_default_vmax(data: Path) -> None:
+    world = load_world(str(data / "worlds" / "two_robots.toml"))
+    assert world.slowest_speed() == 0.5  # the TRADR; the HUSKY drives 1.0 m/s
+    empty, _ = parse_world("", "w.toml")
+    assert empty is not None
+    assert empty.slowest_speed() is None

@@ -208,11 +208,12 @@ def _summaries(plan: Plan, types: Sequence[RobotType],
         members = list(formation.robots)
         offsets = np.array([formation.offsets[r] for r in members])  # (M, 2)
         speeds = np.abs(v[None, :] - w[None, :] * offsets[:, 1:2])  # (M, N)
+        turn = float(np.abs(w).max())
         for k, robot in enumerate(members):
             i = index[robot]
             length[i] += float(speeds[k] @ dt)
             peak[i] = max(peak[i], float(speeds[k].max()))
-            peak_turn[i] = max(peak_turn[i], float(np.abs(w).max()))
+            peak_turn[i] = max(peak_turn[i], turn)
         limits = np.array([types[index[r]].max_speed for r in members])
         for timing in formation.timings:
             a, b = np.searchsorted(leader.times, [timing.start, timing.end])

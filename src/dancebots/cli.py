@@ -159,9 +159,7 @@ def compile_files(args: argparse.Namespace, sources: dict[str, list[str]]
     if text is None:
         return None, world, diagnostics
     sources[args.scenario] = text.splitlines()
-    vmax = args.vmax
-    if vmax is None and world is not None and world.robots:
-        vmax = min(r.type.max_speed for r in world.robots)
+    vmax = args.vmax or (world.slowest_speed() if world is not None else None)
     _, plan, problems = compile_scenario(text, args.scenario, PlanParameters(vmax=vmax or 0.5))
     diagnostics.extend(problems)
     if has_errors(diagnostics):

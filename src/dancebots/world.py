@@ -113,6 +113,11 @@ class World:
     def robot(self, name: str) -> WorldRobot | None:
         return next((r for r in self.robots if r.name == name), None)
 
+    def slowest_speed(self) -> float | None:
+        """The smallest max speed of the world's robots, m/s: the default vmax (thesis 4.1:
+        the user gives the speed of the slowest robot); None without robots."""
+        return min((r.type.max_speed for r in self.robots), default=None)
+
 
 def square_room(size: float) -> NDArray[np.float64]:
     """The square room [0, size] x [0, size] as a counter-clockwise polygon (4, 2)."""

@@ -109,19 +109,6 @@ def test_clear_distances_in_the_corridor() -> None:
     assert clear_distances(np.zeros((0, 2)), LENGTH, WIDTH) == (math.inf, math.inf)
 
 
-@given(arrays(np.float64, st.tuples(st.integers(0, 40), st.just(2)),
-              elements=st.floats(-2, 2, allow_nan=False)))
-def test_perceive_agrees_with_the_separate_functions(points: np.ndarray) -> None:
-    from dancebots.control.force_field import repulsive_force
-    from dancebots.perception.obstacles import perceive, rotation_allowed
-
-    seen = perceive(points, LENGTH, WIDTH)
-    assert seen.flags == stop_flags(points, LENGTH, WIDTH)
-    assert (seen.front_free, seen.rear_free) == clear_distances(points, LENGTH, WIDTH)
-    assert (seen.turn_left, seen.turn_right) == rotation_allowed(points, LENGTH, WIDTH)
-    assert seen.force == pytest.approx(repulsive_force(points, LENGTH, WIDTH), abs=1e-12)
-
-
 @settings(deadline=None)  # the first call compiles the numba function
 @given(arrays(np.float64, st.tuples(st.integers(1, 40), st.just(2)),
               elements=st.floats(-2, 2, allow_nan=False)),

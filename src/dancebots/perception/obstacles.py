@@ -17,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.control.force_field import repulsive_force
+
 __all__ = [
     "DetectorParams",
     "Perception",
@@ -84,15 +86,8 @@ def stop_flags(points: FloatArray, length: float, width: float,
     """Obstacle points (M, 2) in ``base_link`` -> (stop_front, stop_rear): is a point within
     ``stop_distance`` ahead of the front edge / behind the rear edge, inside the corridor the
     robot sweeps (its width plus the margin on each side)."""
-    if len(points) == 0:
-        return StopFlags(False, False)
-    half_l = 0.5 * length
-    corridor = np.abs(points[:, 1]) <= 0.5 * width + params.corridor_margin
-    front = corridor & (points[:, 0] >= half_l - 1e-9) & (
-        points[:, 0] < half_l + params.stop_distance)
-    rear = corridor & (points[:, 0] <= -half_l + 1e-9) & (
-        points[:, 0] > -half_l - params.stop_distance)
-    return StopFlags(bool(front.any()), bool(rear.any()))
+    front, rear = clear_distances(points, length, width, params)
+    return StopFlags(front < params.stop_distance, rear < params.stop_distance)
 
 
 def clear_distances(points: FloatArray, length: float, width: float,
@@ -159,32 +154,14 @@ CLEAR = Perception(StopFlags(False, False), math.inf, math.inf, True, True, (0.0
 def perceive(points: FloatArray, length: float, width: float,
              params: DetectorParams = DetectorParams(), force_radius: float = 1.0,
              force_gain: float = 0.02) -> Perception:
-    """:func:`stop_flags`, :func:`clear_distances`, :func:`rotation_allowed` and
-    ``control.force_field.repulsive_force`` of the same points (M, 2) at once (the tests
-    hold it equal to them); the simulator calls it for every robot ten times a second."""
+    """Everything a control tick needs from the obstacle points (M, 2) in ``base_link``:
+    :func:`clear_distances` (and the stop flags they imply), :func:`rotation_allowed` and
+    ``control.force_field.repulsive_force``. ``perception.fast`` compiles the same pass."""
     if len(points) == 0:
         return CLEAR
-    x, y = points[:, 0], points[:, 1]
-    half_l, half_w = 0.5 * length, 0.5 * width
-    corridor = np.abs(y) <= half_w + params.corridor_margin
-    ahead = corridor & (x >= half_l - 1e-9)
-    behind = corridor & (x <= -half_l + 1e-9)
-    front_x, rear_x = x[ahead], x[behind]
-    front_free = float(front_x.min() - half_l) if front_x.size else math.inf
-    rear_free = float(-rear_x.max() - half_l) if rear_x.size else math.inf
-    flags = StopFlags(front_free < params.stop_distance, rear_free < params.stop_distance)
-    nearest_x = np.clip(x, -half_l, half_l)
-    nearest_y = np.clip(y, -half_w, half_w)
-    away_x, away_y = nearest_x - x, nearest_y - y
-    distance = np.hypot(away_x, away_y)
-    guard = distance < params.turn_guard
-    quadrant = x[guard] * y[guard]
-    force = (0.0, 0.0)
-    if force_radius > 0:
-        near = (distance < force_radius) & (distance > 1e-9)
-        if near.any():
-            d = distance[near]
-            weight = force_gain * (1.0 - d / force_radius) ** 2 / d
-            force = (float((away_x[near] * weight).sum()), float((away_y[near] * weight).sum()))
-    return Perception(flags, front_free, rear_free, not bool((quadrant > 0).any()),
-                      not bool((quadrant < 0).any()), force)
+    front, rear = clear_distances(points, length, width, params)
+    turn_left, turn_right = rotation_allowed(points, length, width, params)
+    force = repulsive_force(points, length, width, force_radius, force_gain) if (
+        force_radius > 0) else (0.0, 0.0)
+    return Perception(StopFlags(front < params.stop_distance, rear < params.stop_distance),
+                      front, rear, turn_left, turn_right, force)

@@ -188,7 +188,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         for robot, kind in zip(placement.robots, placement.types, strict=True)]
     states: list[BrainState] = [brain.initial_state() for brain in brains]
     starts = placement.starts
-    start_poses = [Pose(*(float(v) for v in starts[i])) for i in range(count)]
+    to_own = [Pose(*(float(v) for v in starts[i])).inverse() for i in range(count)]
     lengths = np.array([t.length for t in placement.types])
     widths = np.array([t.width for t in placement.types])
     reach = 0.5 * np.hypot(lengths, widths)
@@ -249,7 +249,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
             for i, brain in enumerate(brains):
                 if now >= lidar_faults.get(i, math.inf):
                     arrived[i] = None
-                own = start_poses[i].inverse().compose(Pose(*pose[i].tolist()))
+                own = to_own[i].compose(Pose(*pose[i].tolist()))
                 seen = None if now >= pose_faults.get(i, math.inf) else (own.x, own.y,
                                                                          own.theta)
                 states[i], cmd, happened = brain.step(states[i], now, seen, arrived[i])
