@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from dancebots.sim.lidar import LidarConfig, scan_clouds
+from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
 from dancebots.sim.simulator import _corners
 
 
@@ -29,12 +29,13 @@ def main() -> None:
         corners = _corners(poses, np.full(count, 1.2), np.full(count, 0.6))
         room = np.array([[0.0, 0.0], [12.0, 0.0], [12.0, 2.0 * rows + 4.0],
                          [0.0, 2.0 * rows + 4.0]])
+        scene = LidarScene.build(room, 2.0, [])
         for rays in (256, 1024):
             config = LidarConfig(rays=rays)
             times = []
             for _ in range(args.repeat):
                 started = time.perf_counter()
-                scan_clouds(config, 0.0, poses, corners, room, 2.0, [], np.zeros((0, 3)),
+                scan_clouds(config, 0.0, poses, corners, scene, np.zeros((0, 3)),
                             np.zeros(0))
                 times.append(time.perf_counter() - started)
             median = statistics.median(times)

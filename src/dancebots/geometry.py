@@ -95,12 +95,18 @@ def footprint_corners(
     scalars or arrays of shape S. Returns shape S + (4, 2), corners counter-clockwise starting
     at the front left.
     """
-    shape = np.shape(x)
-    half_l = 0.5 * np.broadcast_to(np.asarray(length, dtype=float), shape)[..., None]
-    half_w = 0.5 * np.broadcast_to(np.asarray(width, dtype=float), shape)[..., None]
-    local_x = np.array([1.0, -1.0, -1.0, 1.0]) * half_l
-    local_y = np.array([1.0, 1.0, -1.0, -1.0]) * half_w
-    c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
-    cx = x[..., None] + c * local_x - s * local_y
-    cy = y[..., None] + s * local_x + c * local_y
-    return np.stack([cx, cy], axis=-1)
+    c, s = np.cos(theta), np.sin(theta)
+    half_l, half_w = 0.5 * np.asarray(length, dtype=float), 0.5 * np.asarray(width, dtype=float)
+    along_x, along_y = c * half_l, s * half_l  # half the length along the heading
+    across_x, across_y = -s * half_w, c * half_w  # half the width to the left
+    shape = np.broadcast_shapes(np.shape(x), np.shape(along_x), np.shape(across_x))
+    result = np.empty((*shape, 4, 2))
+    result[..., 0, 0] = x + along_x + across_x  # front left
+    result[..., 0, 1] = y + along_y + across_y
+    result[..., 1, 0] = x - along_x + across_x  # rear left
+    result[..., 1, 1] = y - along_y + across_y
+    result[..., 2, 0] = x - along_x - across_x  # rear right
+    result[..., 2, 1] = y - along_y - across_y
+    result[..., 3, 0] = x + along_x - across_x  # front right
+    result[..., 3, 1] = y + along_y - across_y
+    return result

@@ -14,6 +14,7 @@ P is ``slot0^-1 ⊕ P`` in the robot's map frame.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 
@@ -251,12 +252,22 @@ class RobotBrain:
     @staticmethod
     def _pose_at(history: tuple[tuple[float, float, float, float], ...],
                  stamp: float) -> tuple[float, float, float] | None:
-        """The own pose recorded nearest to ``stamp`` (None without history)."""
+        """The own pose recorded nearest to ``stamp`` (None without history; the history is
+        in time order, the earlier of two equally near records wins)."""
         if not history:
             return None
-        best = min(history, key=lambda h: abs(h[0] - stamp))
+        after = bisect.bisect_left(history, stamp, key=_record_time)
+        if after == len(history) or (after > 0 and stamp - history[after - 1][0]
+                                     <= history[after][0] - stamp):
+            after -= 1
+        best = history[after]
         return best[1], best[2], best[3]
 
     def leader_in_own_frame(self, show_time: float) -> tuple[float, float]:
         """The virtual leader's position in this robot's map frame at ``show_time``."""
         return self._sample(show_time).leader
+
+
+def _record_time(record: tuple[float, float, float, float]) -> float:
+    """The time of a pose record (t, x, y, theta)."""
+    return record[0]

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dancebots.sim.lidar import LidarConfig, scan_clouds
+from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
 from dancebots.sim.raycast import (
     ray_directions,
     rays_to_discs,
@@ -52,7 +52,8 @@ def cloud_of_first_robot(poses: np.ndarray, discs: np.ndarray | None = None,
                          config: LidarConfig | None = None) -> np.ndarray:
     corners = _corners(poses, np.full(len(poses), 1.2), np.full(len(poses), 0.6))
     discs = np.zeros((0, 3)) if discs is None else discs
-    clouds = scan_clouds(config or LidarConfig(), 1.5, poses, corners, ROOM, 2.0, [], discs,
+    clouds = scan_clouds(config or LidarConfig(), 1.5, poses, corners,
+                         LidarScene.build(ROOM, 2.0, []), discs,
                          np.full(len(discs), 1.7))
     assert clouds[0].stamp == 1.5
     return clouds[0].points()
@@ -119,7 +120,7 @@ def test_compiled_and_numpy_scans_agree(seed: int) -> None:
     obstacles = [(np.array([[6.0, 6.0], [7.0, 6.5], [6.5, 7.5]]), 1.0)]
     discs = np.array([[3.0, 7.0, 0.3], [8.0, 2.0, 0.25]])
     heights = np.array([1.7, 1.2])
-    args = (1.0, poses, corners, ROOM, 2.0, obstacles, discs, heights)
+    args = (1.0, poses, corners, LidarScene.build(ROOM, 2.0, obstacles), discs, heights)
     compiled = scan_clouds(LidarConfig(rays=64), *args)
     reference = scan_clouds(LidarConfig(rays=64, compiled=False), *args)
     for a, b in zip(compiled, reference, strict=True):

@@ -5,8 +5,11 @@ Vectorised over robots: corners have shape (R, 4, 2) (see ``geometry.footprint_c
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import shapely
+from numba import njit
 from numpy.typing import NDArray
 
 __all__ = ["Boundaries", "overlapping_pairs", "rectangles_overlap"]
@@ -30,19 +33,74 @@ def rectangles_overlap(first: FloatArray, second: FloatArray) -> NDArray[np.bool
 
 
 def overlapping_pairs(corners: FloatArray, reach: FloatArray) -> list[tuple[int, int]]:
-    """All pairs (i < j) of robots whose rectangles overlap; ``reach`` (R,) is each robot's
-    half diagonal, used to skip pairs whose centres are too far apart."""
-    centres = corners.mean(axis=1)
-    count = len(centres)
-    if count < 2:
-        return []
-    i, j = np.triu_indices(count, k=1)
-    near = np.hypot(*(centres[i] - centres[j]).T) < reach[i] + reach[j]
-    i, j = i[near], j[near]
-    if i.size == 0:
-        return []
-    hit = rectangles_overlap(corners[i], corners[j])
-    return list(zip(i[hit].tolist(), j[hit].tolist(), strict=True))
+    """All pairs (i < j) of robots whose rectangles (R, 4, 2) overlap (a zero gap is no
+    overlap); ``reach`` (R,) is each robot's half diagonal, used to skip pairs whose centres
+    are too far apart. Compiled loops: NumPy's per-call cost dominates for a few robots."""
+    pairs = _overlapping_pairs(np.ascontiguousarray(corners, dtype=np.float64),
+                               np.asarray(reach, dtype=np.float64))
+    return [(int(i), int(j)) for i, j in pairs]
+
+
+@njit(cache=True)
+def _separated(first: FloatArray, second: FloatArray, along: FloatArray) -> bool:
+    """Do two rectangles (4, 2) lie apart along both edge directions of ``along`` (4, 2)?"""
+    for axis in range(2):
+        ax = along[axis + 1, 0] - along[axis, 0]
+        ay = along[axis + 1, 1] - along[axis, 1]
+        low_a = low_b = np.inf
+        high_a = high_b = -np.inf
+        for c in range(4):
+            pa = ax * first[c, 0] + ay * first[c, 1]
+            pb = ax * second[c, 0] + ay * second[c, 1]
+            low_a, high_a = min(low_a, pa), max(high_a, pa)
+            low_b, high_b = min(low_b, pb), max(high_b, pb)
+        if high_a <= low_b or high_b <= low_a:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _overlapping_pairs(corners: FloatArray, reach: FloatArray) -> NDArray[np.int64]:
+    """(P, 2) index pairs of overlapping rectangles: the separating-axis test of
+    :func:`rectangles_overlap` on the pairs whose centres are nearer than their reaches."""
+    count = corners.shape[0]
+    result = np.empty((max(count * (count - 1) // 2, 0), 2), dtype=np.int64)
+    found = 0
+    for i in range(count):
+        xi = 0.5 * (corners[i, 0, 0] + corners[i, 2, 0])
+        yi = 0.5 * (corners[i, 0, 1] + corners[i, 2, 1])
+        for j in range(i + 1, count):
+            xj = 0.5 * (corners[j, 0, 0] + corners[j, 2, 0])
+            yj = 0.5 * (corners[j, 0, 1] + corners[j, 2, 1])
+            if math.hypot(xi - xj, yi - yj) >= reach[i] + reach[j]:
+                continue
+            if _separated(corners[i], corners[j], corners[i]) or _separated(
+                    corners[i], corners[j], corners[j]):
+                continue
+            result[found, 0], result[found, 1] = i, j
+            found += 1
+    return result[:found]
+
+
+@njit(cache=True)
+def _near_segments(centres: FloatArray, reach: FloatArray, start: FloatArray,
+                   direction: FloatArray, length2: FloatArray) -> NDArray[np.bool_]:
+    """(R, E): is each centre (R, 2) within its reach (R,) of each segment (start (E, 2),
+    direction (E, 2), squared length (E,))?"""
+    result = np.zeros((centres.shape[0], start.shape[0]), dtype=np.bool_)
+    for r in range(centres.shape[0]):
+        for e in range(start.shape[0]):
+            rx, ry = centres[r, 0] - start[e, 0], centres[r, 1] - start[e, 1]
+            u = min(max((rx * direction[e, 0] + ry * direction[e, 1]) / length2[e], 0.0), 1.0)
+            result[r, e] = math.hypot(rx - u * direction[e, 0],
+                                      ry - u * direction[e, 1]) < reach[r]
+    return result
+
+
+def _centres(corners: FloatArray) -> FloatArray:
+    """The centres (R, 2) of rectangles (R, 4, 2): the middle of a diagonal."""
+    result: FloatArray = 0.5 * (corners[:, 0] + corners[:, 2])
+    return result
 
 
 class Boundaries:
@@ -58,8 +116,11 @@ class Boundaries:
         for obstacle in self.obstacles:
             shapely.prepare(obstacle)
         segments = [self._segments(room)] + [self._segments(o) for o in obstacles]
-        self._segments_all = np.concatenate(segments)  # (E, 2, 2)
+        every = np.concatenate(segments)  # (E, 2, 2)
         self._owner = np.concatenate([np.full(len(s), k - 1) for k, s in enumerate(segments)])
+        self._start = np.ascontiguousarray(every[:, 0])  # (E, 2)
+        self._direction = every[:, 1] - self._start
+        self._length2 = np.maximum((self._direction**2).sum(axis=1), 1e-12)
 
     @staticmethod
     def _segments(polygon: FloatArray) -> FloatArray:
@@ -67,20 +128,13 @@ class Boundaries:
 
     def _near(self, centres: FloatArray, reach: FloatArray) -> NDArray[np.bool_]:
         """(R, E): is each robot's centre within its reach of each boundary segment."""
-        start = self._segments_all[:, 0]  # (E, 2)
-        direction = self._segments_all[:, 1] - start
-        length2 = np.maximum((direction**2).sum(axis=1), 1e-12)
-        rel = centres[:, None, :] - start[None, :, :]  # (R, E, 2)
-        u = np.clip((rel * direction).sum(axis=2) / length2, 0.0, 1.0)
-        closest = start[None] + u[..., None] * direction[None]
-        distance = np.hypot(*(centres[:, None, :] - closest).transpose(2, 0, 1))
-        result: NDArray[np.bool_] = distance < reach[:, None]
-        return result
+        return _near_segments(np.ascontiguousarray(centres), np.asarray(reach, dtype=float),
+                              self._start, self._direction, self._length2)
 
     def contacts(self, corners: FloatArray, reach: FloatArray) -> list[tuple[int, int]]:
         """(robot, what) for every robot touching a wall (what = -1) or inside or touching
         obstacle k (what = k); a robot entirely outside the room counts as at the wall."""
-        centres = corners.mean(axis=1)
+        centres = _centres(corners)
         near = self._near(centres, reach)
         inside_room = shapely.contains_xy(self.room, centres[:, 0], centres[:, 1])
         result: list[tuple[int, int]] = []

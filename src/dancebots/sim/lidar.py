@@ -27,7 +27,7 @@ from dancebots.sim.raycast import (
 )
 from dancebots.sim.raycast_jit import build_columns, cast_scene
 
-__all__ = ["LidarConfig", "PointCloud", "scan_clouds"]
+__all__ = ["LidarConfig", "LidarScene", "PointCloud", "scan_clouds"]
 
 FloatArray = NDArray[np.float64]
 
@@ -72,47 +72,69 @@ def _distance_to_segments(points: FloatArray, segments: FloatArray) -> FloatArra
     return result
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class LidarScene:
+    """What the LIDARs see that does not move, prepared once per show.
+
+    walls (W, 2, 2): the room's edges; convex_room: the room (W, 2) counter-clockwise when it
+    is convex, else None; wall_height in m; obstacle_segments (S, 2, 2): the obstacles' edges,
+    counter-clockwise per outline, with their heights (S,) in m.
+    """
+
+    room: FloatArray
+    walls: FloatArray
+    convex_room: FloatArray | None
+    wall_height: float
+    obstacle_segments: FloatArray
+    obstacle_heights: FloatArray
+
+    @classmethod
+    def build(cls, room: FloatArray, wall_height: float,
+              obstacles: list[tuple[FloatArray, float]]) -> LidarScene:
+        """The scene of a room polygon (W, 2) and (polygon (K, 2), height) obstacles."""
+        outlines = [_segments(_counter_clockwise(polygon)) for polygon, _ in obstacles]
+        segments = np.concatenate(outlines) if outlines else np.zeros((0, 2, 2))
+        heights = np.concatenate([np.full(len(s), h) for s, (_, h) in zip(
+            outlines, obstacles, strict=True)]) if outlines else np.zeros(0)
+        return cls(room, _segments(room), _counter_clockwise(room) if _is_convex(room) else None,
+                   float(wall_height), segments, heights)
+
+
 def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: FloatArray,
-                room: FloatArray, wall_height: float, obstacles: list[tuple[FloatArray, float]],
-                discs: FloatArray, disc_heights: FloatArray) -> list[PointCloud]:
+                scene: LidarScene, discs: FloatArray, disc_heights: FloatArray,
+                ) -> list[PointCloud]:
     """One scan of every robot.
 
-    poses (R, 3) world; corners (R, 4, 2) robot footprints; room polygon (W, 2); obstacles:
-    (polygon (K, 2), height) pairs; discs (C, 3) spectators (x, y, radius) with heights (C,).
+    poses (R, 3) world; corners (R, 4, 2) robot footprints; scene: walls and obstacles;
+    discs (C, 3) spectators (x, y, radius) with heights (C,).
     Returns one :class:`PointCloud` per robot.
     """
     count = len(poses)
     angles = config.angles()
     origins = poses[:, :2]
     headings = poses[:, 2]
-    # robots' edges and obstacles' edges: culled by angular span and range
-    robot_segments = _segments_of(corners)  # (4R, 2, 2)
-    obstacle_segments = [_segments(_counter_clockwise(polygon)) for polygon, _ in obstacles]
-    segments = np.concatenate([robot_segments, *obstacle_segments]) if obstacle_segments \
-        else robot_segments
-    heights = np.concatenate([np.full(len(robot_segments), config.robot_height),
-                              *[np.full(len(s), h) for s, (_, h) in zip(
-                                  obstacle_segments, obstacles, strict=True)]])
-    owner = np.concatenate([np.repeat(np.arange(count), 4),
-                            np.full(len(segments) - len(robot_segments), -1)])
+    if len(discs) == 0:
+        discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
     if config.compiled:
-        discs_ = discs if len(discs) else np.zeros((0, 3))
         solid, solid_height, wall = cast_scene(
-            origins, headings, angles, segments, owner, heights, discs_,
-            disc_heights.astype(float) if len(discs) else np.zeros(0), _segments(room),
+            origins, headings, angles, corners, config.robot_height, scene.obstacle_segments,
+            scene.obstacle_heights, discs, disc_heights.astype(float), scene.walls,
             config.max_range)
-    else:
-        solid, solid_height, wall = _cast_numpy(config, origins, headings, angles, segments,
-                                                owner, heights, room, discs, disc_heights)
-
-    # columns of points, robot by robot: the hit itself (below the wall), the wall's upper
-    # half behind it, or the whole wall when nothing stands before it
-    if config.compiled:
+        # columns of points, robot by robot: the hit itself (below the wall), the wall's
+        # upper half behind it, or the whole wall when nothing stands before it
         columns, counts = build_columns(solid, solid_height, wall, angles, config.min_range,
-                                        config.max_range, wall_height)
+                                        config.max_range, scene.wall_height)
         splits = np.cumsum(counts)[:-1]
         return [PointCloud(stamp, part, config.height_step)
                 for part in np.split(columns, splits)]
+    # robots' edges and obstacles' edges: culled by angular span and range
+    segments = np.concatenate([_segments_of(corners), scene.obstacle_segments])  # (4R + S,)
+    heights = np.concatenate([np.full(4 * count, config.robot_height), scene.obstacle_heights])
+    owner = np.concatenate([np.repeat(np.arange(count), 4),
+                            np.full(len(scene.obstacle_segments), -1)])
+    solid, solid_height, wall = _cast_numpy(config, origins, headings, angles, segments,
+                                            owner, heights, scene, discs, disc_heights)
+    wall_height = scene.wall_height
     in_range = (solid >= config.min_range) & (solid <= config.max_range)
     blocked = solid < wall
     wall_seen = wall <= config.max_range
@@ -152,7 +174,7 @@ def _is_convex(polygon: FloatArray) -> bool:
 
 def _cast_numpy(config: LidarConfig, origins: FloatArray, headings: FloatArray,
                 angles: FloatArray, segments: FloatArray, owner: NDArray[np.int64],
-                heights: FloatArray, room: FloatArray, discs: FloatArray,
+                heights: FloatArray, scene: LidarScene, discs: FloatArray,
                 disc_heights: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The vectorised NumPy caster (the reference the compiled one is tested against)."""
     count = len(origins)
@@ -171,9 +193,9 @@ def _cast_numpy(config: LidarConfig, origins: FloatArray, headings: FloatArray,
         nearer = people < solid
         solid = np.where(nearer, people, solid)
         solid_height = np.where(nearer, disc_heights[np.maximum(who, 0)], solid_height)
-    if _is_convex(room):
-        wall = rays_to_convex_walls(origins, directions, _counter_clockwise(room))
+    if scene.convex_room is not None:
+        wall = rays_to_convex_walls(origins, directions, scene.convex_room)
     else:
-        wall, _ = rays_to_segments(origins, directions, _segments(room))
+        wall, _ = rays_to_segments(origins, directions, scene.walls)
 
     return solid, solid_height, wall

@@ -19,97 +19,122 @@ FloatArray = NDArray[np.float64]
 
 
 @njit(cache=True)
+def _ray_span(ax: float, ay: float, bx: float, by: float, base: float,
+              rays: int) -> tuple[int, int]:
+    """The rays (first index, count) that can cross the segment from (ax, ay) to (bx, by),
+    both relative to the sensor, for ``rays`` rays evenly spaced over the circle from the
+    world angle ``base``: the segment's angular span (at most pi) with one ray of margin."""
+    step = 2.0 * math.pi / rays
+    a0 = math.atan2(ay, ax) - base
+    a1 = math.atan2(by, bx) - base
+    first = a0 % (2.0 * math.pi)
+    span = (a1 - a0) % (2.0 * math.pi)
+    if span > math.pi:
+        first = a1 % (2.0 * math.pi)
+        span = 2.0 * math.pi - span
+    start = int(math.floor(first / step))  # noqa: RUF046 (explicit for numba)
+    size = int(math.floor((first + span) / step)) - start + 2  # noqa: RUF046
+    return start, min(size, rays)
+
+
+@njit(cache=True)
+def _ray_hit(dx: float, dy: float, qx: float, qy: float, ex: float, ey: float) -> float:
+    """Distance along the unit ray (dx, dy) from the sensor to the segment that starts at
+    (qx, qy) relative to the sensor and runs along (ex, ey); inf when it misses."""
+    denominator = dx * ey - dy * ex
+    if abs(denominator) <= 1e-12:
+        return np.inf
+    t = (qx * ey - qy * ex) / denominator
+    u = (qx * dy - qy * dx) / denominator
+    if t >= 0.0 and 0.0 <= u <= 1.0:
+        return t
+    return np.inf
+
+
+@njit(cache=True)
 def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
-               segments: FloatArray, owner: NDArray[np.int64], heights: FloatArray,
-               discs: FloatArray, disc_heights: FloatArray, walls: FloatArray,
-               max_range: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+               corners: FloatArray, robot_height: float, segments: FloatArray,
+               heights: FloatArray, discs: FloatArray, disc_heights: FloatArray,
+               walls: FloatArray, max_range: float) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Per sensor and ray: the nearest solid hit (robots' and obstacles' edges, discs), its
     height, and the distance to the room's walls.
 
-    origins (R, 2), headings (R,), angles (N,) relative to the heading, segments (S, 2, 2)
-    with owner (S,) (the robot they belong to, -1 for obstacles; a sensor skips its own) and
+    origins (R, 2), headings (R,), angles (N,) relative to the heading (evenly spaced over
+    the circle), corners (R, 4, 2) the robots' footprints (counter-clockwise; a sensor does
+    not see its own) of height robot_height, segments (S, 2, 2) the obstacles' edges with
     heights (S,), discs (C, 3) with heights (C,), walls (W, 2, 2). Edges facing away from a
-    sensor (outlines are counter-clockwise) and edges beyond max_range are skipped.
+    sensor (outlines are counter-clockwise) and edges beyond max_range are skipped; every
+    edge and disc is tested only against the rays inside its angular span.
     Returns solid (R, N), solid_height (R, N), wall (R, N); inf where nothing is hit.
     """
     count, rays = origins.shape[0], angles.shape[0]
     solid = np.full((count, rays), np.inf)
     solid_height = np.zeros((count, rays))
     wall = np.full((count, rays), np.inf)
-    candidates = np.empty(segments.shape[0], dtype=np.int64)
+    ray_x = np.empty(rays)
+    ray_y = np.empty(rays)
     for r in range(count):
         ox, oy = origins[r, 0], origins[r, 1]
-        found = 0
-        for s in range(segments.shape[0]):
-            if owner[s] == r:
-                continue
-            px, py = segments[s, 0, 0], segments[s, 0, 1]
-            ex, ey = segments[s, 1, 0] - px, segments[s, 1, 1] - py
-            if (px - ox) * ey - (py - oy) * ex >= 0.0:  # back face
+        base = headings[r] + angles[0]
+        for k in range(rays):
+            ray_x[k] = math.cos(headings[r] + angles[k])
+            ray_y[k] = math.sin(headings[r] + angles[k])
+        for s in range(4 * count + segments.shape[0]):
+            if s < 4 * count:  # the other robots' edges
+                other, corner = s // 4, s % 4
+                if other == r:
+                    continue
+                ax, ay = corners[other, corner, 0], corners[other, corner, 1]
+                bx, by = corners[other, (corner + 1) % 4, 0], corners[other, (corner + 1) % 4, 1]
+                height = robot_height
+            else:
+                e = s - 4 * count
+                ax, ay, bx, by = segments[e, 0, 0], segments[e, 0, 1], segments[e, 1, 0], \
+                    segments[e, 1, 1]
+                height = heights[e]
+            qx, qy, ex, ey = ax - ox, ay - oy, bx - ax, by - ay
+            if qx * ey - qy * ex >= 0.0:  # back face
                 continue
             length2 = ex * ex + ey * ey
-            u = ((ox - px) * ex + (oy - py) * ey) / length2 if length2 > 0 else 0.0
+            u = -(qx * ex + qy * ey) / length2 if length2 > 0 else 0.0
             u = min(max(u, 0.0), 1.0)
-            if math.hypot(px + u * ex - ox, py + u * ey - oy) > max_range:
+            if math.hypot(qx + u * ex, qy + u * ey) > max_range:
                 continue
-            candidates[found] = s
-            found += 1
-        # each candidate edge only against the rays inside its angular span (rays evenly
-        # spaced over the full circle from angles[0])
-        step = 2.0 * math.pi / rays
-        for c in range(found):
-            s = candidates[c]
-            px, py = segments[s, 0, 0], segments[s, 0, 1]
-            ex, ey = segments[s, 1, 0] - px, segments[s, 1, 1] - py
-            a0 = math.atan2(py - oy, px - ox) - headings[r] - angles[0]
-            a1 = math.atan2(py + ey - oy, px + ex - ox) - headings[r] - angles[0]
-            first = a0 % (2.0 * math.pi)
-            span = (a1 - a0) % (2.0 * math.pi)
-            if span > math.pi:
-                first = a1 % (2.0 * math.pi)
-                span = 2.0 * math.pi - span
-            start = int(math.floor(first / step))  # noqa: RUF046 (explicit for numba)
-            size = int(math.floor((first + span) / step)) - start + 2  # noqa: RUF046
-            qx, qy = px - ox, py - oy
+            start, size = _ray_span(qx, qy, qx + ex, qy + ey, base, rays)
             for j in range(size):
                 k = (start + j) % rays
-                angle = headings[r] + angles[k]
-                dx, dy = math.cos(angle), math.sin(angle)
-                denominator = dx * ey - dy * ex
-                if abs(denominator) <= 1e-12:
-                    continue
-                t = (qx * ey - qy * ex) / denominator
-                u = (qx * dy - qy * dx) / denominator
-                if t >= 0.0 and 0.0 <= u <= 1.0 and t < solid[r, k]:
+                t = _ray_hit(ray_x[k], ray_y[k], qx, qy, ex, ey)
+                if t < solid[r, k]:
                     solid[r, k] = t
-                    solid_height[r, k] = heights[s]
-        for k in range(rays):
-            angle = headings[r] + angles[k]
-            dx, dy = math.cos(angle), math.sin(angle)
-            best, best_height = solid[r, k], solid_height[r, k]
-            for c in range(discs.shape[0]):
-                rx, ry = ox - discs[c, 0], oy - discs[c, 1]
-                b = dx * rx + dy * ry
-                cc = rx * rx + ry * ry - discs[c, 2] * discs[c, 2]
+                    solid_height[r, k] = height
+        for c in range(discs.shape[0]):
+            rx, ry = ox - discs[c, 0], oy - discs[c, 1]
+            radius = discs[c, 2]
+            cc = rx * rx + ry * ry - radius * radius
+            if cc <= 0.0:  # the sensor inside the disc sees nothing of it
+                continue
+            centre = math.atan2(-ry, -rx) - base
+            half = math.asin(radius / math.sqrt(rx * rx + ry * ry))
+            step = 2.0 * math.pi / rays
+            start = int(math.floor(((centre - half) % (2.0 * math.pi)) / step))  # noqa: RUF046
+            size = min(int(2.0 * half / step) + 2, rays)
+            for j in range(size):
+                k = (start + j) % rays
+                b = ray_x[k] * rx + ray_y[k] * ry
                 disc = b * b - cc
-                if cc > 0.0 and disc >= 0.0:
+                if disc >= 0.0:
                     t = -b - math.sqrt(disc)
-                    if 0.0 <= t < best:
-                        best, best_height = t, disc_heights[c]
-            solid[r, k], solid_height[r, k] = best, best_height
-            nearest = np.inf
-            for w in range(walls.shape[0]):
-                px, py = walls[w, 0, 0], walls[w, 0, 1]
-                ex, ey = walls[w, 1, 0] - px, walls[w, 1, 1] - py
-                denominator = dx * ey - dy * ex
-                if abs(denominator) <= 1e-12:
-                    continue
-                qx, qy = px - ox, py - oy
-                t = (qx * ey - qy * ex) / denominator
-                u = (qx * dy - qy * dx) / denominator
-                if t >= 0.0 and 0.0 <= u <= 1.0 and t < nearest:
-                    nearest = t
-            wall[r, k] = nearest
+                    if 0.0 <= t < solid[r, k]:
+                        solid[r, k], solid_height[r, k] = t, disc_heights[c]
+        for w in range(walls.shape[0]):
+            qx, qy = walls[w, 0, 0] - ox, walls[w, 0, 1] - oy
+            ex, ey = walls[w, 1, 0] - walls[w, 0, 0], walls[w, 1, 1] - walls[w, 0, 1]
+            start, size = _ray_span(qx, qy, qx + ex, qy + ey, base, rays)
+            for j in range(size):
+                k = (start + j) % rays
+                t = _ray_hit(ray_x[k], ray_y[k], qx, qy, ex, ey)
+                if t < wall[r, k]:
+                    wall[r, k] = t
     return solid, solid_height, wall
 
 
@@ -131,10 +156,11 @@ def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
             if wall[r, k] <= max_range:
                 counts[r] += 1
     columns = np.empty((counts.sum(), 4))
+    cosines, sines = np.cos(angles), np.sin(angles)
     i = 0
     for r in range(count):
         for k in range(rays):
-            c, s = math.cos(angles[k]), math.sin(angles[k])
+            c, s = cosines[k], sines[k]
             blocked = solid[r, k] < wall[r, k]
             if blocked and min_range <= solid[r, k] <= max_range:
                 columns[i, 0], columns[i, 1] = solid[r, k] * c, solid[r, k] * s

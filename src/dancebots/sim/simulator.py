@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import astuple, dataclass, field
 
 import numpy as np
 import shapely
@@ -25,7 +25,7 @@ from dancebots.plan.planner import Plan
 from dancebots.robot import BrainState, RobotBrain, SensingConfig
 from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
 from dancebots.sim.kinematics import IDEAL, Profile, actuate, fresh_commands
-from dancebots.sim.lidar import LidarConfig, scan_clouds
+from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.spectators import spectator_discs
 
@@ -188,14 +188,16 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         for robot, kind in zip(placement.robots, placement.types, strict=True)]
     states: list[BrainState] = [brain.initial_state() for brain in brains]
     starts = placement.starts
-    to_own = [Pose(*(float(v) for v in starts[i])).inverse() for i in range(count)]
+    to_own = np.array([astuple(Pose(*(float(v) for v in starts[i])).inverse())
+                       for i in range(count)]).reshape(count, 3)
     lengths = np.array([t.length for t in placement.types])
     widths = np.array([t.width for t in placement.types])
     reach = 0.5 * np.hypot(lengths, widths)
     limits = np.array([[t.max_speed, t.max_angular_speed] for t in placement.types])
     boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles])
     names = {-1: "wall", **{k: o.name for k, o in enumerate(arena.obstacles)}}
-    obstacles = [(o.polygon, o.height) for o in arena.obstacles]
+    scene = LidarScene.build(arena.room, arena.wall_height,
+                             [(o.polygon, o.height) for o in arena.obstacles])
     spectators = arena.spectators
     walked = np.zeros(len(spectators))
     waiting = np.zeros(len(spectators))
@@ -217,8 +219,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         for k in range(-math.ceil(lidar0.latency / lidar0.period - 1e-9), 0):
             stamp = k * lidar0.period
             pending.append((stamp + lidar0.latency, scan_clouds(
-                lidar0, stamp, start, corners0, arena.room, arena.wall_height, obstacles, discs,
-                disc_heights)))
+                lidar0, stamp, start, corners0, scene, discs, disc_heights)))
 
     pose = starts.astype(float).copy()
     velocity = np.zeros((count, 2))
@@ -238,26 +239,26 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         if step % steps_per_tick == 0:
             lidar = config.lidar
             if lidar is not None and _due(now, lidar.period):
-                clouds = scan_clouds(lidar, now, pose, corners_now, arena.room,
-                                     arena.wall_height, obstacles, discs, disc_heights)
+                clouds = scan_clouds(lidar, now, pose, corners_now, scene, discs,
+                                     disc_heights)
                 pending.append((now + lidar.latency, clouds))
                 if config.record_lidar:
                     scans.append((now + lidar.latency, _world_points(clouds, pose)))
             arrived: list[PointCloud | None] = [None] * count
             while pending and pending[0][0] <= now + 1e-9:
                 arrived = list(pending.pop(0)[1])
+            own_poses = _in_own_frames(to_own, pose).tolist()
             for i, brain in enumerate(brains):
                 if now >= lidar_faults.get(i, math.inf):
                     arrived[i] = None
-                own = to_own[i].compose(Pose(*pose[i].tolist()))
-                seen = None if now >= pose_faults.get(i, math.inf) else (own.x, own.y,
-                                                                         own.theta)
+                seen = None if now >= pose_faults.get(i, math.inf) else tuple(own_poses[i])
                 states[i], cmd, happened = brain.step(states[i], now, seen, arrived[i])
                 command[i] = (cmd.linear, cmd.angular)
                 issued[i] = now
                 status[i] = STATUS.index(states[i].status)
-                events.extend(RobotEvent(round(now, 6), placement.robots[i], e.kind, e.text)
-                              for e in happened)
+                if happened:
+                    events.extend(RobotEvent(round(now, 6), placement.robots[i], e.kind,
+                                             e.text) for e in happened)
             records.append((now, pose.copy(), velocity.copy(), command.copy(), status.copy(),
                             discs[:, :2].copy()))
             if progress is not None and now - last_report >= 1.0:
@@ -335,6 +336,17 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         progress(end, end)
     return _result(plan, arena, placement, config, records, brains, tuple(collisions),
                    tuple(events), tuple(scans))
+
+
+def _in_own_frames(to_own: FloatArray, poses: FloatArray) -> FloatArray:
+    """World poses (R, 3) in each robot's own map frame, to_own (R, 3) ⊕ pose (its start
+    pose's inverse composed with the pose)."""
+    c, s = np.cos(to_own[:, 2]), np.sin(to_own[:, 2])
+    result = np.empty_like(poses)
+    result[:, 0] = to_own[:, 0] + c * poses[:, 0] - s * poses[:, 1]
+    result[:, 1] = to_own[:, 1] + s * poses[:, 0] + c * poses[:, 1]
+    result[:, 2] = wrap_angles(to_own[:, 2] + poses[:, 2])
+    return result
 
 
 def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArray, ...]:

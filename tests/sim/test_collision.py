@@ -1,0 +1,56 @@
+"""Collision tests: the compiled pair search agrees with the NumPy separating-axis test and
+with shapely; boundary contacts agree with shapely's distances."""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dancebots.geometry import footprint_corners
+from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
+
+
+def random_footprints(seed: int, count: int) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    lengths, widths = rng.uniform(0.3, 1.5, count), rng.uniform(0.3, 1.0, count)
+    corners = footprint_corners(rng.uniform(0, 4, count), rng.uniform(0, 4, count),
+                                rng.uniform(-3.2, 3.2, count), lengths, widths)
+    return corners, 0.5 * np.hypot(lengths, widths)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 100_000), st.integers(0, 12))
+def test_overlapping_pairs_agree_with_shapely(seed: int, count: int) -> None:
+    corners, reach = random_footprints(seed, count)
+    shapes = shapely.polygons(corners) if count else []
+    expected = [(i, j) for i in range(count) for j in range(i + 1, count)
+                if shapely.intersection(shapes[i], shapes[j]).area > 1e-9]
+    assert overlapping_pairs(corners, reach) == expected
+    for i, j in expected:  # and with the NumPy separating-axis test
+        assert rectangles_overlap(corners[i:i + 1], corners[j:j + 1])[0]
+
+
+def test_touching_rectangles_do_not_overlap() -> None:
+    corners = footprint_corners(np.array([0.0, 1.0]), np.zeros(2), np.zeros(2), 1.0, 0.5)
+    assert overlapping_pairs(corners, np.full(2, 0.56)) == []
+    corners = footprint_corners(np.array([0.0, 0.99]), np.zeros(2), np.zeros(2), 1.0, 0.5)
+    assert overlapping_pairs(corners, np.full(2, 0.56)) == [(0, 1)]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 100_000))
+def test_boundary_contacts_agree_with_shapely(seed: int) -> None:
+    room = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [2.0, 3.0], [2.0, 4.0], [0.0, 4.0]])
+    pillar = np.array([[2.5, 1.0], [3.0, 1.0], [3.0, 1.5], [2.5, 1.5]])
+    boundaries = Boundaries(room, [pillar])
+    corners, reach = random_footprints(seed, 8)
+    expected = []
+    room_shape, pillar_shape = shapely.Polygon(room), shapely.Polygon(pillar)
+    for robot, outline in enumerate(shapely.polygons(corners)):
+        if not room_shape.contains(outline):
+            expected.append((robot, -1))
+        if pillar_shape.intersects(outline):
+            expected.append((robot, 0))
+    assert sorted(boundaries.contacts(corners, reach)) == expected
