@@ -1,0 +1,43 @@
+"""Start synchronisation (thesis ch. 3 and 4.2) as pure state machines.
+
+``network_test``: every robot checks that it hears every other robot and is heard back (the
+echo test of the ``network_test`` node) before it says it is ready. ``start``: the robots
+agree on one start time for the virtual leader from proposals each makes when it is ready.
+Messages are plain text as they travel on the shared ``/sync`` topic (std_msgs/String).
+"""
+
+from dancebots.sync.messages import (
+    EchoMessage,
+    StartProposal,
+    SyncMessageError,
+    format_message,
+    parse_message,
+)
+from dancebots.sync.network_test import NetworkTest, network_test_receive, start_network_test
+from dancebots.sync.start import (
+    START_DELAY,
+    START_STRATEGIES,
+    StartAgreement,
+    agreement_ready,
+    agreement_receive,
+    new_agreement,
+    show_time,
+)
+
+__all__ = [
+    "START_DELAY",
+    "START_STRATEGIES",
+    "EchoMessage",
+    "NetworkTest",
+    "StartAgreement",
+    "StartProposal",
+    "SyncMessageError",
+    "agreement_ready",
+    "agreement_receive",
+    "format_message",
+    "network_test_receive",
+    "new_agreement",
+    "parse_message",
+    "show_time",
+    "start_network_test",
+]

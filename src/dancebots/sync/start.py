@@ -1,0 +1,115 @@
+"""The start agreement of thesis ch. 4.2 as a pure state machine, in two strategies.
+
+Once its network test is done, each robot publishes ``sync ROLE T`` at 10 Hz, T being its
+clock + 4 s ("to accommodate any transmission delay"). A robot that hears a role for the
+first time strikes it off its waiting list and keeps its proposal; when the list is empty it
+waits until the start time and the virtual leader starts to move. The clocks are shared (NTP).
+
+``thesis``: as written, the proposal of every message is the sender's clock + 4 s at
+    sending, and the start is "the last valid proposal": that of the role heard last. Two
+    robots that hear the roles in different orders (delays, losses) start at different times.
+``agreed`` (an addition): each robot fixes its proposal once, when it is ready, and repeats
+    that same value; the start is the latest of all roles' proposals. Every robot then holds
+    the same set of values once it has heard every role, whatever the order, delay, loss,
+    duplication or reordering of messages, so all agree on one start; and as every proposal
+    is made only when its robot is ready, nobody starts before every role is ready. A robot
+    that hears the last proposal after the start time starts late and catches up: its virtual
+    leader is computed from the same start.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from dancebots.sync.messages import StartProposal
+
+__all__ = ["START_DELAY", "START_STRATEGIES", "StartAgreement", "agreement_ready",
+           "agreement_receive", "new_agreement", "show_time"]
+
+START_DELAY = 4.0
+"""Seconds between a robot's clock when it proposes and the start it proposes (thesis 4.2)."""
+START_STRATEGIES = ("thesis", "agreed")
+
+
+@dataclass(frozen=True, slots=True)
+class StartAgreement:
+    """One robot's view of the start agreement.
+
+    strategy: ``thesis`` or ``agreed`` (see the module); role, roles: this robot's and the
+    formation's; proposal: this robot's own fixed proposal once it is ready (``agreed``);
+    ready: has its network test passed; heard: the roles heard so far; value: the last
+    valid proposal (``thesis``) or the latest proposal heard (``agreed``), s.
+    """
+
+    strategy: str
+    role: str
+    roles: frozenset[str]
+    ready: bool = False
+    proposal: float | None = None
+    heard: frozenset[str] = frozenset()
+    value: float | None = None
+
+    @property
+    def start(self) -> float | None:
+        """The agreed start time (s, common clock) once every role is heard, else None."""
+        return self.value if self.heard >= self.roles else None
+
+    def message(self, now: float) -> StartProposal | None:
+        """What to publish on /sync at ``now`` (10 Hz), None before the robot is ready."""
+        if not self.ready:
+            return None
+        if self.strategy == "thesis":
+            return StartProposal(self.role, now + START_DELAY)
+        assert self.proposal is not None
+        return StartProposal(self.role, self.proposal)
+
+
+def new_agreement(role: str, roles: tuple[str, ...] | frozenset[str],
+                  strategy: str = "agreed") -> StartAgreement:
+    """The agreement of robot ``role`` in a formation of ``roles`` (which include it)."""
+    if strategy not in START_STRATEGIES:
+        raise ValueError(f"unknown start strategy {strategy!r}; use one of "
+                         f"{', '.join(START_STRATEGIES)}")
+    if role not in roles:
+        raise ValueError(f"role {role!r} is not one of the scenario's robots "
+                         f"({', '.join(sorted(roles))})")
+    return StartAgreement(strategy, role, frozenset(roles))
+
+
+def agreement_ready(agreement: StartAgreement, now: float) -> StartAgreement:
+    """The network test passed at ``now`` (``/all_ready``): start proposing. Under
+    ``agreed`` the robot fixes its proposal (now + 4 s) and counts it as heard."""
+    if agreement.ready:
+        return agreement
+    if agreement.strategy == "thesis":  # its own role is struck off when its message returns
+        return replace(agreement, ready=True)
+    proposal = now + START_DELAY
+    return _hear(replace(agreement, ready=True, proposal=proposal),
+                 StartProposal(agreement.role, proposal))
+
+
+def agreement_receive(agreement: StartAgreement, proposal: StartProposal) -> StartAgreement:
+    """The agreement after hearing ``proposal`` on /sync (any order, any number of times).
+    Roles outside the formation are ignored; a role's first proposal is the one kept."""
+    if proposal.role not in agreement.roles or proposal.role in agreement.heard:
+        return agreement
+    if agreement.strategy == "agreed" and proposal.role == agreement.role:
+        return agreement  # its own value was fixed when it became ready
+    return _hear(agreement, proposal)
+
+
+def show_time(agreement: StartAgreement, now: float) -> float | None:
+    """Seconds since the agreed start at ``now`` (negative before it), None while the start
+    is not agreed yet."""
+    start = agreement.start
+    return None if start is None else now - start
+
+
+def _hear(agreement: StartAgreement, proposal: StartProposal) -> StartAgreement:
+    if agreement.strategy == "thesis":
+        value = proposal.start  # "the proposed time is saved as the last valid proposal"
+    else:
+        value = proposal.start if agreement.value is None else max(agreement.value,
+                                                                   proposal.start)
+    return replace(agreement, heard=agreement.heard | {proposal.role}, value=value)
+
