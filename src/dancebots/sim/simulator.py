@@ -1,41 +1,32 @@
 """The 2D simulation loop: fixed step, vectorised over robots, deterministic.
 
-Each step of ``dt`` seconds: the brains tick at the control rate (10 Hz), a robot whose last
-command is older than ``command_timeout`` stops (the robots' 10 Hz rule, thesis ch. 2), the
-actuation profile turns commands into velocities, the robots move along exact unicycle arcs,
-and any robot whose move would run into another robot, a wall or an obstacle stays where it
-was (the contact is counted and reported, never passed through). Noise comes from a
-``numpy.random.Generator`` seeded by the configuration.
+Each step of ``dt`` seconds the brains tick at the control rate (10 Hz) with the clouds the
+:class:`~dancebots.sim.stage.Stage` delivers and the poses it holds, and the stage moves
+everything by one step (10 Hz rule, actuation profile, exact arcs, contacts; see
+``sim/stage.py``). Noise comes from a generator seeded by the configuration.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import astuple, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
 from dancebots.control.follower import FollowerParams
-from dancebots.geometry import Pose, footprint_corners, integrate_unicycle, wrap_angles
-from dancebots.perception.cloud import PointCloud
+from dancebots.geometry import Pose, footprint_corners, wrap_angles
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainState, RobotBrain, SensingConfig
-from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
-from dancebots.sim.kinematics import IDEAL, Profile, actuate, fresh_commands
-from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
+from dancebots.sim.kinematics import IDEAL, Profile
+from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.setup import Arena, Placement
-from dancebots.sim.spectators import spectator_discs
+from dancebots.sim.stage import CollisionEvent, Stage
 
 __all__ = ["STATUS", "CollisionEvent", "Fault", "RobotEvent", "RunResult", "SimConfig",
            "simulate"]
-
-STEP_BACK_AFTER = 2.0
-"""A visitor blocked by a robot this long (s) steps back ..."""
-STEP_BACK = 1.5
-"""... by this much of its walking time (s), to let the robot pass."""
 
 STATUS = ("ok", "stopped", "error")
 """Codes of ``RunResult.status``: 0 moving freely, 1 held by a stop flag, 2 error state."""
@@ -88,19 +79,6 @@ class SimConfig:
     force_steering: str = "blend"
     faults: tuple[Fault, ...] = ()
     record_lidar: bool = False
-
-
-@dataclass(frozen=True, slots=True)
-class CollisionEvent:
-    """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
-    obstacle's name); ``kind`` is "robot", "wall" or "obstacle"; (x, y) the robot's centre."""
-
-    time: float
-    robot: str
-    other: str
-    kind: str
-    x: float
-    y: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,7 +155,6 @@ def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: in
 def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig = SimConfig(),
              progress: Progress | None = None) -> RunResult:
     """Run the show; ``progress(show_time, end_time)`` is called about once per second."""
-    rng = np.random.default_rng(config.seed)
     count = len(placement.robots)
     brains = [RobotBrain(plan, robot, FollowerParams(
         vmax=plan.parameters.vmax, max_linear=kind.max_speed,
@@ -187,49 +164,19 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
             force_radius=config.force_radius))
         for robot, kind in zip(placement.robots, placement.types, strict=True)]
     states: list[BrainState] = [brain.initial_state() for brain in brains]
-    starts = placement.starts
-    to_own = np.array([astuple(Pose(*(float(v) for v in starts[i])).inverse())
-                       for i in range(count)]).reshape(count, 3)
-    lengths = np.array([t.length for t in placement.types])
-    widths = np.array([t.width for t in placement.types])
-    reach = 0.5 * np.hypot(lengths, widths)
-    limits = np.array([[t.max_speed, t.max_angular_speed] for t in placement.types])
-    boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles])
-    names = {-1: "wall", **{k: o.name for k, o in enumerate(arena.obstacles)}}
-    scene = LidarScene.build(arena.room, arena.wall_height,
-                             [(o.polygon, o.height) for o in arena.obstacles])
-    spectators = arena.spectators
-    walked = np.zeros(len(spectators))
-    waiting = np.zeros(len(spectators))
-    disc_heights = np.array([p.height for p in spectators])
-    discs = spectator_discs(spectators, walked)
-    pending: list[tuple[float, list[PointCloud]]] = []
+    stage = Stage(arena, placement, config.profile, config.dt, config.lidar,
+                  config.command_timeout, config.seed, config.record_lidar)
     lidar_faults = {placement.robots.index(f.robot): f.start for f in config.faults
                     if f.kind == "lidar"}
     pose_faults = {placement.robots.index(f.robot): f.start for f in config.faults
                    if f.kind == "pose"}
     events: list[RobotEvent] = []
     status = np.zeros(count, dtype=np.int8)
-    scans: list[tuple[float, tuple[FloatArray, ...]]] = []
-    corners_now = _corners(starts.astype(float), lengths, widths)
-    if config.lidar is not None:  # the LIDARs run before the start: clouds arrive from t = 0
-        lidar0 = config.lidar
-        start = starts.astype(float)
-        corners0 = _corners(start, lengths, widths)
-        for k in range(-math.ceil(lidar0.latency / lidar0.period - 1e-9), 0):
-            stamp = k * lidar0.period
-            pending.append((stamp + lidar0.latency, scan_clouds(
-                lidar0, stamp, start, corners0, scene, discs, disc_heights)))
-
-    pose = starts.astype(float).copy()
-    velocity = np.zeros((count, 2))
     command = np.zeros((count, 2))
     issued = np.full(count, -math.inf)
     steps_per_tick = max(1, round(config.control_period / config.dt))
     end = plan.duration + config.settle
     total_steps = math.ceil(end / config.dt)
-    active: dict[tuple[int, int | str], float] = {}
-    collisions: list[CollisionEvent] = []
     records: list[tuple[float, FloatArray, FloatArray, FloatArray, NDArray[np.int8],
                         FloatArray]] = []
     still_since: float | None = None
@@ -237,17 +184,8 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     for step in range(total_steps + 1):
         now = step * config.dt
         if step % steps_per_tick == 0:
-            lidar = config.lidar
-            if lidar is not None and _due(now, lidar.period):
-                clouds = scan_clouds(lidar, now, pose, corners_now, scene, discs,
-                                     disc_heights)
-                pending.append((now + lidar.latency, clouds))
-                if config.record_lidar:
-                    scans.append((now + lidar.latency, _world_points(clouds, pose)))
-            arrived: list[PointCloud | None] = [None] * count
-            while pending and pending[0][0] <= now + 1e-9:
-                arrived = list(pending.pop(0)[1])
-            own_poses = _in_own_frames(to_own, pose).tolist()
+            arrived = stage.deliveries(now)
+            own_poses = stage.own_poses().tolist()
             for i, brain in enumerate(brains):
                 if now >= lidar_faults.get(i, math.inf):
                     arrived[i] = None
@@ -259,12 +197,12 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                 if happened:
                     events.extend(RobotEvent(round(now, 6), placement.robots[i], e.kind,
                                              e.text) for e in happened)
-            records.append((now, pose.copy(), velocity.copy(), command.copy(), status.copy(),
-                            discs[:, :2].copy()))
+            records.append((now, stage.pose.copy(), stage.velocity.copy(), command.copy(),
+                            status.copy(), stage.discs[:, :2].copy()))
             if progress is not None and now - last_report >= 1.0:
                 progress(now, end)
                 last_report = now
-            moving = np.abs(velocity).max() > 1e-3 or np.abs(command).max() > 1e-9
+            moving = np.abs(stage.velocity).max() > 1e-3 or np.abs(command).max() > 1e-9
             if now >= plan.duration and not moving:
                 still_since = now if still_since is None else still_since
                 if now - still_since >= 1.0:
@@ -273,112 +211,11 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                 still_since = None
         if step == total_steps:
             break
-        wanted = fresh_commands(np.clip(command, -limits, limits), issued, now,
-                                config.command_timeout)
-        velocity = actuate(config.profile, velocity, wanted, config.dt, rng)
-        x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2], velocity[:, 0],
-                                         velocity[:, 1], np.full(count, config.dt))
-        proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
-        corners = _corners(proposed, lengths, widths)
-        blocked = np.zeros(count, dtype=bool)
-        contacts: list[tuple[int, int | str, str]] = []
-        pairs = overlapping_pairs(corners, reach)
-        if pairs:
-            # a robot is stopped when its move runs into where the other one stands now;
-            # one that moves away from a contact goes on (else touching robots lock up)
-            now_corners = corners_now
-            first, second = np.array(pairs).T
-            first_in = rectangles_overlap(corners[first], now_corners[second])
-            second_in = rectangles_overlap(now_corners[first], corners[second])
-            for (i, j), a, b in zip(pairs, first_in.tolist(), second_in.tolist(), strict=True):
-                if a or not b:
-                    blocked[i] = True
-                if b or not a:
-                    blocked[j] = True
-                contacts.append((i, placement.robots[j], "robot"))
-        for i, what in boundaries.contacts(corners, reach):
-            blocked[i] = True
-            contacts.append((i, names[what], "wall" if what == -1 else "obstacle"))
-        if len(spectators):
-            for i, k in _disc_contacts(proposed, lengths, widths, discs):
-                blocked[i] = True
-                contacts.append((i, spectators[k].name, "spectator"))
-        for i, other, kind in contacts:
-            key = (i, other)
-            if now + config.dt - active.get(key, -math.inf) > 1.0:  # a new contact
-                collisions.append(CollisionEvent(round(now + config.dt, 6), placement.robots[i],
-                                                 str(other), kind, float(pose[i, 0]),
-                                                 float(pose[i, 1])))
-            active[key] = now + config.dt
-        proposed[blocked] = pose[blocked]
-        corners[blocked] = corners_now[blocked]
-        corners_now = corners  # the footprints where the robots now stand
-        velocity[blocked] = 0.0
-        pose = proposed
-        if len(spectators):
-            # visitors walk on unless a robot stands where they would step; one kept waiting
-            # for STEP_BACK_AFTER s steps back along its way to let the robot pass
-            ahead = spectator_discs(spectators, walked + config.dt)
-            free = np.ones(len(spectators), dtype=bool)
-            for _, k in _disc_contacts(pose, lengths, widths, ahead):
-                free[k] = False
-            waiting = np.where(free, 0.0, waiting + config.dt)
-            walked = walked + np.where(free, config.dt, 0.0)
-            for k in np.flatnonzero(waiting >= STEP_BACK_AFTER).tolist():
-                back = walked.copy()
-                back[k] = max(spectators[k].start, walked[k] - STEP_BACK)
-                if not any(j == k for _, j in _disc_contacts(
-                        pose, lengths, widths, spectator_discs(spectators, back))):
-                    walked = back
-                waiting[k] = 0.0
-            discs = spectator_discs(spectators, walked)
+        stage.advance(now, command, issued)
     if progress is not None:
         progress(end, end)
-    return _result(plan, arena, placement, config, records, brains, tuple(collisions),
-                   tuple(events), tuple(scans))
-
-
-def _in_own_frames(to_own: FloatArray, poses: FloatArray) -> FloatArray:
-    """World poses (R, 3) in each robot's own map frame, to_own (R, 3) ⊕ pose (its start
-    pose's inverse composed with the pose)."""
-    c, s = np.cos(to_own[:, 2]), np.sin(to_own[:, 2])
-    result = np.empty_like(poses)
-    result[:, 0] = to_own[:, 0] + c * poses[:, 0] - s * poses[:, 1]
-    result[:, 1] = to_own[:, 1] + s * poses[:, 0] + c * poses[:, 1]
-    result[:, 2] = wrap_angles(to_own[:, 2] + poses[:, 2])
-    return result
-
-
-def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArray, ...]:
-    """Each robot's hits (M, 2) in the world frame, from its cloud and its pose (R, 3)."""
-    result = []
-    for cloud, (x, y, theta) in zip(clouds, poses.tolist(), strict=True):
-        c, s = math.cos(theta), math.sin(theta)
-        local = cloud.columns[:, :2]
-        result.append(np.stack([x + c * local[:, 0] - s * local[:, 1],
-                                y + s * local[:, 0] + c * local[:, 1]], axis=1))
-    return tuple(result)
-
-
-def _due(now: float, period: float) -> bool:
-    """Is ``now`` a multiple of ``period`` (within rounding)?"""
-    k = round(now / period)
-    return abs(k * period - now) < 1e-6
-
-
-def _disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
-                   discs: FloatArray) -> list[tuple[int, int]]:
-    """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
-    if len(discs) == 0:
-        return []
-    dx = discs[None, :, 0] - poses[:, None, 0]
-    dy = discs[None, :, 1] - poses[:, None, 1]
-    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
-    lx, ly = c * dx + s * dy, -s * dx + c * dy
-    ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
-    ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
-    r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
-    return list(zip(r.tolist(), k.tolist(), strict=True))
+    return _result(plan, arena, placement, config, records, brains, tuple(stage.collisions),
+                   tuple(events), tuple(stage.scans))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,

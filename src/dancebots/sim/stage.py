@@ -1,0 +1,231 @@
+"""The simulated world the robots live in: bodies, room, obstacles, spectators and LIDARs.
+
+A :class:`Stage` is the thin mutable shell around the pure kernels (kinematics, collision
+tests, ray casting, spectator walks). ``simulate`` steps it with the robots' brains in the
+loop; the ROS bridge (``ros1/sim_bridge.py``) steps it with commands that arrive over ROS.
+Each step of ``dt`` seconds: a robot whose last command is older than ``command_timeout``
+stops (the robots' 10 Hz rule, thesis ch. 2), the actuation profile turns commands into
+velocities, the robots move along exact unicycle arcs, and any robot whose move would run
+into another robot, a wall, an obstacle or a spectator stays where it was (the contact is
+counted and reported, never passed through). Noise comes from a seeded generator.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import astuple, dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from dancebots.geometry import Pose, footprint_corners, integrate_unicycle, wrap_angles
+from dancebots.perception.cloud import PointCloud
+from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
+from dancebots.sim.kinematics import Profile, actuate, fresh_commands
+from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
+from dancebots.sim.setup import Arena, Placement
+from dancebots.sim.spectators import spectator_discs
+
+__all__ = ["STEP_BACK", "STEP_BACK_AFTER", "CollisionEvent", "Stage"]
+
+FloatArray = NDArray[np.float64]
+
+STEP_BACK_AFTER = 2.0
+"""A visitor blocked by a robot this long (s) steps back ..."""
+STEP_BACK = 1.5
+"""... by this much of its walking time (s), to let the robot pass."""
+
+
+@dataclass(frozen=True, slots=True)
+class CollisionEvent:
+    """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
+    obstacle's name); ``kind`` is "robot", "wall" or "obstacle"; (x, y) the robot's centre."""
+
+    time: float
+    robot: str
+    other: str
+    kind: str
+    x: float
+    y: float
+
+
+class Stage:
+    """The world of one show. Times are the stage's clock in s (the show time in
+    ``simulate``); arrays hold one row per robot of ``placement`` (R robots).
+
+    pose (R, 3) world x, y, theta; velocity (R, 2) actual (v, w); discs (C, 3) spectators
+    (x, y, radius); collisions: contacts so far; scans: with ``record_lidar``, every scan as
+    (time it reached the robots, per robot its hits (M, 2) in the world frame).
+    """
+
+    def __init__(self, arena: Arena, placement: Placement, profile: Profile, dt: float,
+                 lidar: LidarConfig | None, command_timeout: float = 0.1, seed: int = 0,
+                 record_lidar: bool = False) -> None:
+        self.arena, self.placement, self.profile, self.dt = arena, placement, profile, dt
+        self.lidar, self.command_timeout, self.record_lidar = lidar, command_timeout, record_lidar
+        self.rng = np.random.default_rng(seed)
+        count = len(placement.robots)
+        starts = placement.starts.astype(float)
+        self.to_own = np.array([astuple(Pose(*(float(v) for v in starts[i])).inverse())
+                                for i in range(count)]).reshape(count, 3)
+        self.lengths = np.array([t.length for t in placement.types])
+        self.widths = np.array([t.width for t in placement.types])
+        self.reach = 0.5 * np.hypot(self.lengths, self.widths)
+        self.limits = np.array([[t.max_speed, t.max_angular_speed] for t in placement.types])
+        self.boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles])
+        self.names = {-1: "wall", **{k: o.name for k, o in enumerate(arena.obstacles)}}
+        self.scene = LidarScene.build(arena.room, arena.wall_height,
+                                      [(o.polygon, o.height) for o in arena.obstacles])
+        self.spectators = arena.spectators
+        self.walked = np.zeros(len(self.spectators))
+        self.waiting = np.zeros(len(self.spectators))
+        self.disc_heights = np.array([p.height for p in self.spectators])
+        self.discs = spectator_discs(self.spectators, self.walked)
+        self.pose = starts.copy()
+        self.velocity = np.zeros((count, 2))
+        self.corners = self._footprints(self.pose)  # where the robots stand now
+        self.pending: list[tuple[float, list[PointCloud]]] = []
+        self.collisions: list[CollisionEvent] = []
+        self.scans: list[tuple[float, tuple[FloatArray, ...]]] = []
+        self._active: dict[tuple[int, int | str], float] = {}
+        if lidar is not None:  # the LIDARs run before the start: clouds arrive from t = 0
+            for k in range(-math.ceil(lidar.latency / lidar.period - 1e-9), 0):
+                stamp = k * lidar.period
+                self.pending.append((stamp + lidar.latency, scan_clouds(
+                    lidar, stamp, self.pose, self.corners, self.scene, self.discs,
+                    self.disc_heights)))
+
+    def deliveries(self, now: float) -> list[PointCloud | None]:
+        """Scan when a LIDAR period is due at ``now``, and return each robot's cloud that
+        reaches it at ``now`` after the LIDAR's latency (None for robots that get none)."""
+        count = len(self.pose)
+        lidar = self.lidar
+        if lidar is not None and _due(now, lidar.period):
+            clouds = scan_clouds(lidar, now, self.pose, self.corners, self.scene, self.discs,
+                                 self.disc_heights)
+            self.pending.append((now + lidar.latency, clouds))
+            if self.record_lidar:
+                self.scans.append((now + lidar.latency, _world_points(clouds, self.pose)))
+        arrived: list[PointCloud | None] = [None] * count
+        while self.pending and self.pending[0][0] <= now + 1e-9:
+            arrived = list(self.pending.pop(0)[1])
+        return arrived
+
+    def own_poses(self) -> FloatArray:
+        """Each robot's pose (R, 3) in its own map frame (its start pose is the origin)."""
+        return _in_own_frames(self.to_own, self.pose)
+
+    def advance(self, now: float, command: FloatArray, issued: FloatArray) -> None:
+        """Move everything by one ``dt`` from ``now``: commands (R, 2) (v, w) issued at
+        ``issued`` (R,) s act under the 10 Hz rule; contacts block and are recorded."""
+        dt, count = self.dt, len(self.pose)
+        pose, corners_now = self.pose, self.corners
+        wanted = fresh_commands(np.clip(command, -self.limits, self.limits), issued, now,
+                                self.command_timeout)
+        velocity = actuate(self.profile, self.velocity, wanted, dt, self.rng)
+        x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2], velocity[:, 0],
+                                         velocity[:, 1], np.full(count, dt))
+        proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
+        corners = self._footprints(proposed)
+        blocked = np.zeros(count, dtype=bool)
+        contacts: list[tuple[int, int | str, str]] = []
+        pairs = overlapping_pairs(corners, self.reach)
+        if pairs:
+            # a robot is stopped when its move runs into where the other one stands now;
+            # one that moves away from a contact goes on (else touching robots lock up)
+            first, second = np.array(pairs).T
+            first_in = rectangles_overlap(corners[first], corners_now[second])
+            second_in = rectangles_overlap(corners_now[first], corners[second])
+            for (i, j), a, b in zip(pairs, first_in.tolist(), second_in.tolist(), strict=True):
+                if a or not b:
+                    blocked[i] = True
+                if b or not a:
+                    blocked[j] = True
+                contacts.append((i, self.placement.robots[j], "robot"))
+        for i, what in self.boundaries.contacts(corners, self.reach):
+            blocked[i] = True
+            contacts.append((i, self.names[what], "wall" if what == -1 else "obstacle"))
+        if len(self.spectators):
+            for i, k in _disc_contacts(proposed, self.lengths, self.widths, self.discs):
+                blocked[i] = True
+                contacts.append((i, self.spectators[k].name, "spectator"))
+        for i, other, kind in contacts:
+            key = (i, other)
+            if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact
+                self.collisions.append(CollisionEvent(
+                    round(now + dt, 6), self.placement.robots[i], str(other), kind,
+                    float(pose[i, 0]), float(pose[i, 1])))
+            self._active[key] = now + dt
+        proposed[blocked] = pose[blocked]
+        corners[blocked] = corners_now[blocked]
+        velocity[blocked] = 0.0
+        self.pose, self.corners, self.velocity = proposed, corners, velocity
+        if len(self.spectators):
+            self._walk_spectators()
+
+    def _walk_spectators(self) -> None:
+        """Visitors walk on unless a robot stands where they would step; one kept waiting
+        for STEP_BACK_AFTER s steps back along its way to let the robot pass."""
+        spectators, dt = self.spectators, self.dt
+        ahead = spectator_discs(spectators, self.walked + dt)
+        free = np.ones(len(spectators), dtype=bool)
+        for _, k in _disc_contacts(self.pose, self.lengths, self.widths, ahead):
+            free[k] = False
+        self.waiting = np.where(free, 0.0, self.waiting + dt)
+        walked = self.walked + np.where(free, dt, 0.0)
+        for k in np.flatnonzero(self.waiting >= STEP_BACK_AFTER).tolist():
+            back = walked.copy()
+            back[k] = max(spectators[k].start, walked[k] - STEP_BACK)
+            if not any(j == k for _, j in _disc_contacts(
+                    self.pose, self.lengths, self.widths, spectator_discs(spectators, back))):
+                walked = back
+            self.waiting[k] = 0.0
+        self.walked = walked
+        self.discs = spectator_discs(spectators, walked)
+
+    def _footprints(self, poses: FloatArray) -> FloatArray:
+        return footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], self.lengths,
+                                 self.widths)
+
+
+def _in_own_frames(to_own: FloatArray, poses: FloatArray) -> FloatArray:
+    """World poses (R, 3) in each robot's own map frame, to_own (R, 3) ⊕ pose (its start
+    pose's inverse composed with the pose)."""
+    c, s = np.cos(to_own[:, 2]), np.sin(to_own[:, 2])
+    result = np.empty_like(poses)
+    result[:, 0] = to_own[:, 0] + c * poses[:, 0] - s * poses[:, 1]
+    result[:, 1] = to_own[:, 1] + s * poses[:, 0] + c * poses[:, 1]
+    result[:, 2] = wrap_angles(to_own[:, 2] + poses[:, 2])
+    return result
+
+
+def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArray, ...]:
+    """Each robot's hits (M, 2) in the world frame, from its cloud and its pose (R, 3)."""
+    result = []
+    for cloud, (x, y, theta) in zip(clouds, poses.tolist(), strict=True):
+        c, s = math.cos(theta), math.sin(theta)
+        local = cloud.columns[:, :2]
+        result.append(np.stack([x + c * local[:, 0] - s * local[:, 1],
+                                y + s * local[:, 0] + c * local[:, 1]], axis=1))
+    return tuple(result)
+
+
+def _due(now: float, period: float) -> bool:
+    """Is ``now`` a multiple of ``period`` (within rounding)?"""
+    k = round(now / period)
+    return abs(k * period - now) < 1e-6
+
+
+def _disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
+                   discs: FloatArray) -> list[tuple[int, int]]:
+    """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
+    if len(discs) == 0:
+        return []
+    dx = discs[None, :, 0] - poses[:, None, 0]
+    dy = discs[None, :, 1] - poses[:, None, 1]
+    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
+    lx, ly = c * dx + s * dy, -s * dx + c * dy
+    ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
+    ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
+    r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
+    return list(zip(r.tolist(), k.tolist(), strict=True))
