@@ -108,6 +108,9 @@ def _parser() -> argparse.ArgumentParser:
                      "move its points by the robot's motion since the scan")
     run.add_argument("--force-steering", choices=("blend", "thesis"), default="blend",
                      help="how the virtual force field steers (docs/safety.md)")
+    from dancebots.ros_command import add_ros_parser
+
+    add_ros_parser(commands)
     return parser
 
 
@@ -122,6 +125,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from dancebots.run_command import run_show
 
             return run_show(args)
+        if args.command == "ros":
+            from dancebots.ros_command import run_ros
+
+            return run_ros(args)
         return _plan(args)
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

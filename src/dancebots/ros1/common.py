@@ -1,0 +1,74 @@
+"""What the nodes share: loading the show, reading parameters, and the /sync transport
+wrapper that injects delay and loss in-process (the test kernel has no netem)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import threading
+from typing import Any
+
+import numpy as np
+
+from dancebots.cli import compile_files, print_diagnostics
+from dancebots.diagnostics import has_errors
+from dancebots.plan.planner import Plan
+from dancebots.world import World
+
+__all__ = ["DelayedPublisher", "load_show", "required_param"]
+
+
+def load_show(scenario: str, world: str | None = None, vmax: float | None = None,
+              ) -> tuple[Plan, World | None]:
+    """The plan every robot computes identically (same scenario, world and vmax), or exit
+    with the scenario's positioned diagnostics on stderr (exit status 2)."""
+    sources: dict[str, list[str]] = {}
+    plan, loaded, diagnostics = compile_files(
+        argparse.Namespace(scenario=scenario, world=world or None, vmax=vmax or None), sources)
+    if plan is None or has_errors(diagnostics):
+        print_diagnostics(diagnostics, sources)
+        sys.exit(2)
+    return plan, loaded
+
+
+def required_param(name: str) -> Any:
+    """A node's parameter that has no default; exits with a clear message when missing."""
+    import rospy
+
+    if not rospy.has_param(name):
+        rospy.logfatal(f"missing parameter {rospy.resolve_name(name)} (set it in the launch "
+                       f"file or with _{name.lstrip('~')}:=VALUE)")
+        sys.exit(2)
+    return rospy.get_param(name)
+
+
+class DelayedPublisher:
+    """A rospy publisher whose messages are each dropped with probability ``loss`` or sent
+    after a uniform random delay in [0, max_delay] s (seeded), so they may overtake each
+    other: delay, loss and reordering injected in-process for tests, as this kernel has no
+    netem. With max_delay = loss = 0 it publishes at once."""
+
+    def __init__(self, publisher: Any, max_delay: float = 0.0, loss: float = 0.0,
+                 seed: int = 0) -> None:
+        self.publisher, self.max_delay, self.loss = publisher, max_delay, loss
+        self.rng = np.random.default_rng(seed)
+        self.lock = threading.Lock()
+
+    def publish(self, message: Any) -> None:
+        with self.lock:
+            lost = self.loss > 0 and self.rng.random() < self.loss
+            delay = float(self.rng.uniform(0.0, self.max_delay)) if self.max_delay > 0 else 0.0
+        if lost:
+            return
+        if delay <= 0.0:
+            self.publisher.publish(message)
+            return
+        timer = threading.Timer(delay, self._late, (message,))
+        timer.daemon = True
+        timer.start()
+
+    def _late(self, message: Any) -> None:
+        import rospy
+
+        if not rospy.is_shutdown():
+            self.publisher.publish(message)

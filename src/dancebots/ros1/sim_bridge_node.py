@@ -1,0 +1,143 @@
+"""The simulator bridge (the thesis's turtle_bridge, ch. 7.1): each simulated robot looks
+like a real one over ROS, so unmodified formation_member nodes drive it.
+
+Parameters: ``~scenario`` (required), ``~world``, ``~vmax`` (as for formation_member),
+``~profile`` (ideal | realistic), ``~seed``, ``~lidar`` (default true), ``~rate`` (simulation
+steps per second, default 20), ``~record`` (optional .npz path: the run's times, poses,
+applied commands and contacts, written every 5 s and at shutdown), ``~stop_after`` (s; shut
+down after this long, which ends a launch whose bridge is required; 0: run until stopped).
+Per robot R of the scenario (its name prefixes everything, as all share one master):
+subscribes ``/R/nav/cmd_vel`` (geometry_msgs/Twist; a command older than 0.1 s stops the
+robot, the robots' 10 Hz rule); publishes TF ``R/map`` -> ``R/base_link`` (the map's origin
+is the robot's start pose) every step and ``/R/points_filtered`` (PointCloud2 in
+``R/base_link``, 10 Hz, stamped with the scan time and delivered the LIDAR's 0.3 s later).
+The stage's clock is ROS time since the bridge started; spectators walk from then.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from pathlib import Path
+
+import numpy as np
+import rospy
+import tf2_ros
+from geometry_msgs.msg import TransformStamped, Twist
+from sensor_msgs.msg import PointCloud2
+from std_msgs.msg import Header
+
+from dancebots.ros1.common import load_show, required_param
+from dancebots.ros1.convert import cloud_message
+from dancebots.ros1.naming import RobotNames
+from dancebots.sim.kinematics import PROFILES, fresh_commands
+from dancebots.sim.lidar import LidarConfig
+from dancebots.sim.setup import SetupError, prepare_show
+from dancebots.sim.stage import Stage
+
+RECORD_EVERY = 5.0  # s between writes of the record
+
+
+def main() -> None:
+    rospy.init_node("sim_bridge")
+    world_file = str(rospy.get_param("~world", "")) or None
+    plan, world = load_show(str(required_param("~scenario")), world_file,
+                            float(rospy.get_param("~vmax", 0.0)) or None)
+    profile = str(rospy.get_param("~profile", "ideal"))
+    if profile not in PROFILES:
+        rospy.logfatal(f"unknown profile {profile!r}; use one of {', '.join(PROFILES)}")
+        raise SystemExit(2)
+    try:
+        arena, placement = prepare_show(plan, world)
+    except SetupError as exc:
+        rospy.logfatal(str(exc))
+        raise SystemExit(2) from None
+    dt = 1.0 / float(rospy.get_param("~rate", 20.0))
+    lidar = LidarConfig() if rospy.get_param("~lidar", True) else None
+    stage = Stage(arena, placement, PROFILES[profile], dt, lidar,
+                  seed=int(rospy.get_param("~seed", 0)))
+    robots = placement.robots
+    names = [RobotNames(robot) for robot in robots]
+    count = len(robots)
+    lock = threading.Lock()
+    command = np.zeros((count, 2))
+    issued = np.full(count, -math.inf)
+    start = rospy.get_time()
+
+    def commanded(message: Twist, robot: int) -> None:
+        with lock:
+            command[robot] = (message.linear.x, message.angular.z)
+            issued[robot] = rospy.get_time() - start
+
+    for i, name in enumerate(names):
+        rospy.Subscriber(name.topic("nav/cmd_vel"), Twist, commanded, callback_args=i,
+                         queue_size=1)
+    clouds = [rospy.Publisher(name.topic("points_filtered"), PointCloud2, queue_size=1)
+              for name in names]
+    broadcaster = tf2_ros.TransformBroadcaster()
+    record_path = str(rospy.get_param("~record", "")) or None
+    times: list[float] = []
+    poses: list[np.ndarray] = []
+    applied: list[np.ndarray] = []
+
+    def write_record() -> None:
+        if record_path is None or not times:
+            return
+        partial = Path(record_path).with_suffix(".partial.npz")
+        np.savez(partial, robots=np.array(robots), times=np.array(times),
+                 poses=np.stack(poses, axis=1), commands=np.stack(applied, axis=1),
+                 lengths=np.array([t.length for t in placement.types]),
+                 widths=np.array([t.width for t in placement.types]),
+                 contacts=np.array([(c.time, robots.index(c.robot)) for c in stage.collisions]
+                                   ).reshape(-1, 2))
+        partial.replace(record_path)
+
+    rospy.on_shutdown(write_record)
+    rospy.loginfo(f"sim_bridge: {count} robots, {1 / dt:g} steps/s, LIDAR "
+                  f"{'on' if lidar else 'off'}")
+    stop_after = float(rospy.get_param("~stop_after", 0.0))
+    step = 0
+    last_write = 0.0
+    while not rospy.is_shutdown():
+        now = step * dt
+        if 0 < stop_after <= now:
+            rospy.loginfo(f"sim_bridge: {stop_after:g} s are over; {len(stage.collisions)} "
+                          "contacts")
+            rospy.signal_shutdown("the show is over")
+            break
+        delay = start + now - rospy.get_time()
+        if delay > 0:
+            rospy.sleep(delay)
+        stamp = rospy.Time.from_sec(start + now)
+        for i, cloud in enumerate(stage.deliveries(now)):
+            if cloud is not None:
+                header = Header(stamp=rospy.Time.from_sec(start + cloud.stamp),
+                                frame_id=names[i].frame("base_link"))
+                clouds[i].publish(cloud_message(cloud.points(), header))
+        broadcaster.sendTransform([_transform(stamp, name, pose) for name, pose in
+                                   zip(names, stage.own_poses().tolist(), strict=True)])
+        with lock:
+            current, sent = command.copy(), issued.copy()
+        times.append(start + now)
+        poses.append(stage.pose.copy())
+        applied.append(fresh_commands(current, sent, now, stage.command_timeout))
+        stage.advance(now, current, sent)
+        if now - last_write >= RECORD_EVERY:
+            write_record()
+            last_write = now
+        step += 1
+
+
+def _transform(stamp: rospy.Time, names: RobotNames, pose: list[float]) -> TransformStamped:
+    transform = TransformStamped()
+    transform.header.stamp = stamp
+    transform.header.frame_id = names.frame("map")
+    transform.child_frame_id = names.frame("base_link")
+    transform.transform.translation.x, transform.transform.translation.y = pose[0], pose[1]
+    transform.transform.rotation.z = math.sin(0.5 * pose[2])
+    transform.transform.rotation.w = math.cos(0.5 * pose[2])
+    return transform
+
+
+if __name__ == "__main__":
+    main()
