@@ -5,7 +5,8 @@ Parameters: ``~scenario`` (required), ``~world``, ``~vmax`` (as for formation_me
 ``~profile`` (ideal | realistic), ``~seed``, ``~lidar`` (default true), ``~rate`` (simulation
 steps per second, default 20), ``~record`` (optional .npz path: the run's times, poses,
 applied commands and contacts, written every 5 s and at shutdown), ``~stop_after`` (s; shut
-down after this long, which ends a launch whose bridge is required; 0: run until stopped).
+down after this long, which ends a launch whose bridge is required; 0: run until stopped),
+``~silence`` (fault injection: "R1@12.5" stops publishing R1's clouds from 12.5 s on).
 Per robot R of the scenario (its name prefixes everything, as all share one master):
 subscribes ``/R/nav/cmd_vel`` (geometry_msgs/Twist; a command older than 0.1 s stops the
 robot, the robots' 10 Hz rule); publishes TF ``R/map`` -> ``R/base_link`` (the map's origin
@@ -96,6 +97,7 @@ def main() -> None:
     rospy.loginfo(f"sim_bridge: {count} robots, {1 / dt:g} steps/s, LIDAR "
                   f"{'on' if lidar else 'off'}")
     stop_after = float(rospy.get_param("~stop_after", 0.0))
+    silenced = _silences(str(rospy.get_param("~silence", "")), robots)
     step = 0
     last_write = 0.0
     while not rospy.is_shutdown():
@@ -110,7 +112,7 @@ def main() -> None:
             rospy.sleep(delay)
         stamp = rospy.Time.from_sec(start + now)
         for i, cloud in enumerate(stage.deliveries(now)):
-            if cloud is not None:
+            if cloud is not None and now < silenced.get(i, math.inf):
                 header = Header(stamp=rospy.Time.from_sec(start + cloud.stamp),
                                 frame_id=names[i].frame("base_link"))
                 clouds[i].publish(cloud_message(cloud.points(), header))
@@ -126,6 +128,20 @@ def main() -> None:
             write_record()
             last_write = now
         step += 1
+
+
+def _silences(text: str, robots: tuple[str, ...]) -> dict[int, float]:
+    """Parse "R1@12.5,R2@20" into {robot index: time}; exits on a malformed entry."""
+    result = {}
+    for entry in filter(None, (part.strip() for part in text.split(","))):
+        robot, _, when = entry.partition("@")
+        try:
+            result[robots.index(robot)] = float(when)
+        except ValueError:
+            rospy.logfatal(f"~silence: {entry!r} is not ROBOT@SECONDS with a robot of "
+                           f"the scenario ({', '.join(robots)})")
+            raise SystemExit(2) from None
+    return result
 
 
 def _transform(stamp: rospy.Time, names: RobotNames, pose: list[float]) -> TransformStamped:

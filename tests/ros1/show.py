@@ -1,0 +1,136 @@
+"""Starting a ROS show for the tests: the simulator bridge and each robot's formation.launch
+as separate roslaunch processes (optionally each in its own network namespace), as on real
+robots, and reading the bridge's record."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from tests.ros1.conftest import Master, stop
+
+from dancebots.check import compile_scenario
+from dancebots.plan.planner import Plan
+from dancebots.sim import SimConfig, prepare_show, simulate
+from dancebots.sim.simulator import RunResult
+
+EXAMPLES = Path(__file__).parents[2] / "examples"
+SCENARIO_7_1 = EXAMPLES / "thesis_7_1.dance"
+START_ALLOWANCE = 30.0  # s for the nodes to start, test the network and agree (4 s delay)
+
+
+def plan_of(path: Path) -> Plan:
+    _, plan, diagnostics = compile_scenario(path.read_text(), str(path))
+    assert plan is not None, diagnostics
+    return plan
+
+
+def pure_run(path: Path) -> RunResult:
+    plan = plan_of(path)
+    arena, placement = prepare_show(plan, None)
+    return simulate(plan, arena, placement, SimConfig())
+
+
+@dataclass
+class Record:
+    """The bridge's record: times (T,) ROS time s, poses (R, T, 3) world, commands (R, T, 2)
+    as applied (after the 10 Hz rule), contacts (K, 2) (time, robot index)."""
+
+    robots: tuple[str, ...]
+    times: np.ndarray
+    poses: np.ndarray
+    commands: np.ndarray
+    contacts: np.ndarray
+
+    @classmethod
+    def load(cls, path: Path) -> Record:
+        data = np.load(path)
+        return cls(tuple(str(r) for r in data["robots"]), data["times"], data["poses"],
+                   data["commands"], data["contacts"])
+
+    def index(self, robot: str) -> int:
+        return self.robots.index(robot)
+
+
+@dataclass
+class RosShow:
+    """A running show: the bridge and each robot's nodes as roslaunch processes."""
+
+    master: Master
+    folder: Path
+    processes: dict[str, subprocess.Popen[bytes]] = field(default_factory=dict)
+
+    def launch(self, key: str, arguments: list[str], netns: str | None = None,
+               env: dict[str, str] | None = None) -> None:
+        command = ["roslaunch", "--wait", *arguments]
+        if netns is not None:
+            command = ["ip", "netns", "exec", netns, *command]
+        with open(self.folder / f"{key}.log", "wb") as log:
+            self.processes[key] = subprocess.Popen(
+                command, env=env or self.master.env, stdout=log, stderr=subprocess.STDOUT,
+                start_new_session=True)
+
+    def start_bridge(self, scenario: Path, stop_after: float, silence: str = "") -> Path:
+        record = self.folder / "record.npz"
+        self.launch("bridge", ["dancebots_ros", "sim_bridge.launch", f"scenario:={scenario}",
+                               f"record:={record}", f"stop_after:={stop_after}",
+                               f"silence:={silence}"])
+        return record
+
+    def start_robot(self, scenario: Path, role: str, netns: str | None = None,
+                    env: dict[str, str] | None = None) -> None:
+        self.launch(role, ["dancebots_ros", "formation.launch", f"scenario:={scenario}",
+                           f"role:={role}", f"robot_name:={role}", "hostname:=simulator"],
+                    netns, env)
+
+    def wait_bridge(self, timeout: float) -> None:
+        self.processes["bridge"].wait(timeout)
+
+    def log(self, key: str) -> str:
+        return (self.folder / f"{key}.log").read_text(errors="replace")
+
+    def stop_all(self) -> None:
+        for process in self.processes.values():
+            stop(process)
+
+
+def kill_tree(pid: int) -> list[int]:
+    """SIGKILL a process and all its descendants (roslaunch starts every node in a session
+    of its own, so killing its process group would leave the nodes running). Returns the
+    killed pids."""
+    table = subprocess.run(["ps", "-eo", "pid=,ppid="], capture_output=True, text=True,
+                           check=True).stdout.split()
+    children: dict[int, list[int]] = {}
+    for child, parent in zip(table[::2], table[1::2], strict=True):
+        children.setdefault(int(parent), []).append(int(child))
+    tree, frontier = [], [pid]
+    while frontier:
+        current = frontier.pop()
+        tree.append(current)
+        frontier.extend(children.get(current, []))
+    for member in tree:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(member, signal.SIGKILL)
+    return tree
+
+
+def wait_until(condition: object, timeout: float, what: str) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if callable(condition) and condition():
+            return
+        time.sleep(0.2)
+    raise TimeoutError(f"{what} did not happen within {timeout:g} s")
+
+
+def spacing_change(poses: np.ndarray, first: int, second: int, desired: float) -> float:
+    """The largest change of the distance between two robots from ``desired``, m."""
+    distance = np.hypot(poses[first, :, 0] - poses[second, :, 0],
+                        poses[first, :, 1] - poses[second, :, 1])
+    return float(np.abs(distance - desired).max())

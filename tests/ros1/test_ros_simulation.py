@@ -1,0 +1,109 @@
+"""Scenario 7.1 end to end through a real ROS master: the simulator bridge, and per robot the
+unmodified network_test, formation_member and obstacle_detection nodes; and faults.
+
+Figures and tolerances: in the pure simulation (ideal, LIDAR on) the row distance of 7.1
+changes by at most 0.193 m and the robots end 1.2 m apart; through ROS the nodes tick on
+their own clocks with real message delays, so the tests allow 0.10 m more row-distance
+change and 0.15 m at the final positions.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from tests.ros1.conftest import Master
+from tests.ros1.show import (
+    SCENARIO_7_1,
+    START_ALLOWANCE,
+    Record,
+    RosShow,
+    kill_tree,
+    plan_of,
+    pure_run,
+    spacing_change,
+    wait_until,
+)
+
+pytestmark = pytest.mark.ros
+
+SPACING_TOLERANCE = 0.10
+FINAL_TOLERANCE = 0.15
+
+
+def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
+                                                              tmp_path: Path) -> None:
+    record_path = tmp_path / "record.npz"
+    dancebots = Path(sys.executable).parent / "dancebots"
+    duration = plan_of(SCENARIO_7_1).duration
+    with open(tmp_path / "simulate.log", "wb") as log:
+        finished = subprocess.run(
+            [str(dancebots), "ros", "simulate", str(SCENARIO_7_1), "--record",
+             str(record_path)], env=roscore.env, stdout=log, stderr=subprocess.STDOUT,
+            timeout=duration + START_ALLOWANCE + 60, check=False)
+    output = (tmp_path / "simulate.log").read_text(errors="replace")
+    assert finished.returncode == 0, output[-3000:]
+    record = Record.load(record_path)
+    pure = pure_run(SCENARIO_7_1)
+    assert len(record.contacts) == 0
+    assert "stopped for good" not in output.split("are over")[0], output[-3000:]
+    ros_change = spacing_change(record.poses, 0, 1, 1.2)
+    pure_change = spacing_change(pure.poses, 0, 1, 1.2)
+    assert abs(ros_change - pure_change) <= SPACING_TOLERANCE, (ros_change, pure_change)
+    final_gap = np.hypot(*(record.poses[:, -1, :2] - pure.poses[:, -1, :2]).T)
+    assert final_gap.max() <= FINAL_TOLERANCE, final_gap
+
+
+def test_a_robot_whose_nodes_are_killed_stops_and_the_other_finishes(roscore: Master,
+                                                                     tmp_path: Path) -> None:
+    duration = plan_of(SCENARIO_7_1).duration
+    show = RosShow(roscore, tmp_path)
+    try:
+        record_path = show.start_bridge(SCENARIO_7_1, duration + START_ALLOWANCE)
+        for role in ("R1", "R2"):
+            show.start_robot(SCENARIO_7_1, role)
+        wait_until(lambda: "R1: ok at show time" in show.log("R1"), 60, "R1's start")
+        time.sleep(10.0)  # well into the show
+        killed_at = time.time()
+        assert len(kill_tree(show.processes["R1"].pid)) >= 4  # no goodbye: a crash
+        show.wait_bridge(duration + START_ALLOWANCE + 30)
+    finally:
+        show.stop_all()
+    record = Record.load(record_path)
+    pure = pure_run(SCENARIO_7_1)
+    r1, r2 = record.index("R1"), record.index("R2")
+    after = record.times > killed_at + 0.3
+    assert np.all(record.commands[r1, after] == 0.0)  # the 10 Hz rule stops the orphan
+    moved = np.hypot(*(record.poses[r1, -1, :2] - record.poses[r1, after.argmax(), :2]))
+    assert moved < 0.05
+    gap = np.hypot(*(record.poses[r2, -1, :2] - pure.poses[r2, -1, :2]))
+    assert gap <= FINAL_TOLERANCE  # R2 finished its part of the show
+
+
+def test_silent_points_filtered_puts_the_robot_into_the_error_state(roscore: Master,
+                                                                   tmp_path: Path) -> None:
+    duration = plan_of(SCENARIO_7_1).duration
+    show = RosShow(roscore, tmp_path)
+    try:
+        record_path = show.start_bridge(SCENARIO_7_1, duration + START_ALLOWANCE,
+                                        silence="R1@15")
+        for role in ("R1", "R2"):
+            show.start_robot(SCENARIO_7_1, role)
+        show.wait_bridge(duration + START_ALLOWANCE + 30)
+    finally:
+        show.stop_all()
+    record = Record.load(record_path)
+    r1 = record.index("R1")
+    start = record.times[0]
+    log = show.log("R1")
+    assert "R1: no LIDAR data for" in log
+    assert "stopped for good" in log
+    # the last cloud left the bridge just before 15 s; 0.3 s later the brain is in error and
+    # its zero command reaches the bridge within a tick
+    late = record.times > start + 15.0 + 0.3 + 0.2
+    assert np.all(record.commands[r1, late] == 0.0)
+    assert np.any(record.commands[r1, record.times < start + 15.0] != 0.0)
