@@ -3,7 +3,8 @@
 #   run the main job:  bash scripts/dev.sh show   (simulates the open-day show into out/)
 #   run every test:    bash scripts/dev.sh test
 # Works on a fresh Debian 12 as root; installs python3-venv, ffmpeg and espeak-ng with apt-get
-# if they are missing.
+# if they are missing, and for the tests Debian's ROS 1 packages (a real roscore for the ROS
+# tests), iproute2 (network namespaces) and procps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
@@ -18,6 +19,25 @@ apt_install() {  # Debian packages the project uses, installed once when missing
     echo "dancebots: installing ${missing[*]} (apt-get)" >&2
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
       --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+}
+
+ROS_PACKAGES=(ros-core python3-rospy python3-rosmaster python3-roslaunch python3-tf2-ros
+              python3-sensor-msgs python3-geometry-msgs python3-std-msgs)
+
+ros_install() {  # the ROS tests run a real roscore and real nodes
+  local missing=()
+  command -v roscore >/dev/null && /usr/bin/python3 -c 'import rospy, tf2_ros, roslaunch' \
+    2>/dev/null || missing+=("${ROS_PACKAGES[@]}")
+  command -v ip >/dev/null || missing+=(iproute2)
+  command -v ps >/dev/null || missing+=(procps)
+  if [ ${#missing[@]} -gt 0 ] && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "dancebots: installing ${missing[*]} (apt-get)" >&2
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+      --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    export DANCEBOTS_REQUIRE_ROS=1  # ROS could be installed: its tests must run, not skip
   fi
 }
 
@@ -39,6 +59,7 @@ show() {
 }
 
 tests() {
+  ros_install
   .venv/bin/ruff check src tests benchmarks
   .venv/bin/mypy
   .venv/bin/python -m pytest

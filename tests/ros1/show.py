@@ -84,10 +84,10 @@ class RosShow:
         return record
 
     def start_robot(self, scenario: Path, role: str, netns: str | None = None,
-                    env: dict[str, str] | None = None) -> None:
+                    env: dict[str, str] | None = None, extra: tuple[str, ...] = ()) -> None:
         self.launch(role, ["dancebots_ros", "formation.launch", f"scenario:={scenario}",
-                           f"role:={role}", f"robot_name:={role}", "hostname:=simulator"],
-                    netns, env)
+                           f"role:={role}", f"robot_name:={role}", "hostname:=simulator",
+                           *extra], netns, env)
 
     def wait_bridge(self, timeout: float) -> None:
         self.processes["bridge"].wait(timeout)

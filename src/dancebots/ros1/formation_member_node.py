@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 import socket
 import threading
+import zlib
 from typing import Any
 
 import rospy
@@ -89,7 +90,7 @@ def main() -> None:
     sync = DelayedPublisher(rospy.Publisher(SYNC_TOPIC, String, queue_size=100),
                             float(rospy.get_param("~sync_delay", 0.0)),
                             float(rospy.get_param("~sync_loss", 0.0)),
-                            int(rospy.get_param("~sync_seed", 0)) + 1)
+                            int(rospy.get_param("~sync_seed", zlib.crc32(role.encode()))) + 1)
     cmd_vel = rospy.Publisher(names.topic("nav/cmd_vel"), Twist, queue_size=1)
     sound = rospy.Publisher(names.topic("robotsound"), SoundRequest, queue_size=10)
     events_out = rospy.Publisher(names.topic("events"), String, queue_size=10)
@@ -140,6 +141,7 @@ def main() -> None:
     state: BrainState = brain.initial_state()
     command = Twist()
     status = "waiting"
+    start_logged = False
     rate = rospy.Rate(PUBLISH_HZ)
     tick = 0
     while not rospy.is_shutdown():
@@ -158,6 +160,10 @@ def main() -> None:
             if proposal is not None:
                 sync.publish(String(format_message(proposal)))
             elapsed = show_time(current, now)
+            if elapsed is not None and not start_logged:
+                rospy.loginfo(f"{role}: start agreed at {current.start!r} "
+                              f"({current.strategy}), show time now {elapsed:.2f} s")
+                start_logged = True
             command = Twist()
             if elapsed is not None:
                 cloud: PointCloud | None = None

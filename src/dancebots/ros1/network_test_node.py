@@ -4,7 +4,7 @@
 Parameters: ``~scenario`` (the show's file, for its list of robots), ``~role`` (this robot's
 name in the scenario), ``~robot_name`` (optional prefix of its topics), ``~sync_delay`` and
 ``~sync_loss`` (test only: delay up to s / drop probability of every /sync message it sends,
-injected in-process), ``~sync_seed``.
+injected in-process), ``~sync_seed`` (default: from the role).
 Publishes ``/sync`` (std_msgs/String) at 10 Hz and ``[/robot_name]/all_ready``
 (std_msgs/Bool, latched) once every robot has echoed it.
 """
@@ -12,6 +12,7 @@ Publishes ``/sync`` (std_msgs/String) at 10 Hz and ``[/robot_name]/all_ready``
 from __future__ import annotations
 
 import threading
+import zlib
 
 import rospy
 from std_msgs.msg import Bool, String
@@ -44,7 +45,7 @@ def main() -> None:
     sync = DelayedPublisher(rospy.Publisher(SYNC_TOPIC, String, queue_size=100),
                             float(rospy.get_param("~sync_delay", 0.0)),
                             float(rospy.get_param("~sync_loss", 0.0)),
-                            int(rospy.get_param("~sync_seed", 0)))
+                            int(rospy.get_param("~sync_seed", zlib.crc32(role.encode()))))
     ready = rospy.Publisher(names.topic("all_ready"), Bool, queue_size=1, latch=True)
     ready.publish(Bool(False))
 

@@ -1,0 +1,75 @@
+"""Several hosts: the ROS master and the simulator bridge in one network namespace, each
+robot's nodes in a namespace of its own, linked by veth pairs (as robots on a network with
+one master). The show runs across them; a robot whose cable is pulled is at zero command
+within 0.3 s (the robots' 10 Hz rule at the bridge) while the others finish."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from tests.ros1.conftest import require_ros, start_master, stop
+from tests.ros1.netns import hosts, netns_missing
+from tests.ros1.show import (
+    SCENARIO_7_1,
+    START_ALLOWANCE,
+    Record,
+    RosShow,
+    plan_of,
+    pure_run,
+    wait_until,
+)
+from tests.ros1.test_ros_simulation import FINAL_TOLERANCE
+
+pytestmark = pytest.mark.ros
+
+
+@pytest.mark.parametrize("pull_cable", [False, True], ids=["clean", "link-down"])
+def test_show_across_network_namespaces(tmp_path: Path, pull_cable: bool) -> None:
+    require_ros()
+    reason = netns_missing()
+    if reason is not None:
+        if os.environ.get("DANCEBOTS_REQUIRE_ROS") == "1":
+            pytest.fail(reason)
+        pytest.skip(reason)
+    duration = plan_of(SCENARIO_7_1).duration
+    pure = pure_run(SCENARIO_7_1)
+    with hosts(("R1", "R2")) as network:
+        master, roscore = start_master(tmp_path, network.master_address, network.master)
+        show = RosShow(master, tmp_path)
+        pulled_at = None
+        try:
+            bridge_env = dict(master.env)
+            show.launch("bridge", ["dancebots_ros", "sim_bridge.launch",
+                                   f"scenario:={SCENARIO_7_1}",
+                                   f"record:={tmp_path / 'record.npz'}",
+                                   f"stop_after:={duration + START_ALLOWANCE}"],
+                        network.master, bridge_env)
+            for robot in ("R1", "R2"):
+                env = dict(master.env, ROS_IP=network.addresses[robot])
+                show.start_robot(SCENARIO_7_1, robot, network.robots[robot], env)
+            wait_until(lambda: "R1: ok at show time" in show.log("R1"), 60, "R1's start")
+            if pull_cable:
+                time.sleep(10.0)
+                pulled_at = time.time()
+                network.take_down("R1")
+            show.wait_bridge(duration + START_ALLOWANCE + 30)
+        finally:
+            show.stop_all()
+            stop(roscore)
+    record = Record.load(tmp_path / "record.npz")
+    r1, r2 = record.index("R1"), record.index("R2")
+    assert len(record.contacts) == 0
+    gap = np.hypot(*(record.poses[:, -1, :2] - pure.poses[:, -1, :2]).T)
+    assert gap[r2] <= FINAL_TOLERANCE  # R2 always finishes its part
+    if pulled_at is None:
+        assert gap[r1] <= FINAL_TOLERANCE  # and R1 too when nothing goes wrong
+        assert "every robot answered" in show.log("R1")
+    else:
+        late = record.times > pulled_at + 0.3
+        assert late.any()
+        assert np.all(record.commands[r1, late] == 0.0)
+        assert np.any(record.commands[r1, record.times < pulled_at] != 0.0)
