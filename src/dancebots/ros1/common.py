@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 import threading
+import zlib
 from typing import Any
 
 import numpy as np
@@ -13,9 +14,10 @@ import numpy as np
 from dancebots.cli import compile_files, print_diagnostics
 from dancebots.diagnostics import has_errors
 from dancebots.plan.planner import Plan
+from dancebots.sync import EchoMessage, StartProposal, SyncMessageError, parse_message
 from dancebots.world import World
 
-__all__ = ["DelayedPublisher", "load_show", "required_param"]
+__all__ = ["DelayedPublisher", "load_show", "parse_sync", "required_param", "sync_publisher"]
 
 
 def load_show(scenario: str, world: str | None = None, vmax: float | None = None,
@@ -72,3 +74,28 @@ class DelayedPublisher:
 
         if not rospy.is_shutdown():
             self.publisher.publish(message)
+
+
+def sync_publisher(role: str, stream: int) -> DelayedPublisher:
+    """The /sync publisher of a node, wrapped for the test-only ``~sync_delay`` and
+    ``~sync_loss`` parameters; ``stream`` separates the random draws of a robot's nodes."""
+    import rospy
+    from std_msgs.msg import String
+
+    from dancebots.ros1.naming import SYNC_TOPIC
+
+    seed = int(rospy.get_param("~sync_seed", zlib.crc32(role.encode())))
+    return DelayedPublisher(rospy.Publisher(SYNC_TOPIC, String, queue_size=100),
+                            float(rospy.get_param("~sync_delay", 0.0)),
+                            float(rospy.get_param("~sync_loss", 0.0)), seed + stream)
+
+
+def parse_sync(text: str) -> EchoMessage | StartProposal | None:
+    """A /sync message, or None (logged, at most every 5 s) for text that is none."""
+    import rospy
+
+    try:
+        return parse_message(text)
+    except SyncMessageError as exc:
+        rospy.logwarn_throttle(5.0, str(exc))
+        return None

@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 import socket
 import threading
-import zlib
 from typing import Any
 
 import rospy
@@ -39,18 +38,16 @@ from dancebots.control.follower import FollowerParams
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
 from dancebots.robot import BrainState, RobotBrain, SensingConfig
-from dancebots.ros1.common import DelayedPublisher, load_show, required_param
+from dancebots.ros1.common import load_show, parse_sync, required_param, sync_publisher
 from dancebots.ros1.convert import cloud_points, obstacle_cloud
 from dancebots.ros1.naming import SYNC_TOPIC, RobotNames, robot_type_for_host
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
     StartProposal,
-    SyncMessageError,
     agreement_ready,
     agreement_receive,
     format_message,
     new_agreement,
-    parse_message,
     show_time,
 )
 
@@ -87,10 +84,7 @@ def main() -> None:
 
     lock = threading.Lock()
     latest_cloud: list[Any] = []
-    sync = DelayedPublisher(rospy.Publisher(SYNC_TOPIC, String, queue_size=100),
-                            float(rospy.get_param("~sync_delay", 0.0)),
-                            float(rospy.get_param("~sync_loss", 0.0)),
-                            int(rospy.get_param("~sync_seed", zlib.crc32(role.encode()))) + 1)
+    sync = sync_publisher(role, 1)
     cmd_vel = rospy.Publisher(names.topic("nav/cmd_vel"), Twist, queue_size=1)
     sound = rospy.Publisher(names.topic("robotsound"), SoundRequest, queue_size=10)
     events_out = rospy.Publisher(names.topic("events"), String, queue_size=10)
@@ -104,11 +98,7 @@ def main() -> None:
 
     def heard(message: String) -> None:
         nonlocal agreement
-        try:
-            parsed = parse_message(message.data)
-        except SyncMessageError as exc:
-            rospy.logwarn_throttle(5.0, str(exc))
-            return
+        parsed = parse_sync(message.data)
         if isinstance(parsed, StartProposal):
             with lock:
                 agreement = agreement_receive(agreement, parsed)

@@ -12,19 +12,16 @@ Publishes ``/sync`` (std_msgs/String) at 10 Hz and ``[/robot_name]/all_ready``
 from __future__ import annotations
 
 import threading
-import zlib
 
 import rospy
 from std_msgs.msg import Bool, String
 
-from dancebots.ros1.common import DelayedPublisher, load_show, required_param
+from dancebots.ros1.common import load_show, parse_sync, required_param, sync_publisher
 from dancebots.ros1.naming import SYNC_TOPIC, RobotNames
 from dancebots.sync import (
     EchoMessage,
-    SyncMessageError,
     format_message,
     network_test_receive,
-    parse_message,
     start_network_test,
 )
 
@@ -42,20 +39,13 @@ def main() -> None:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None
     lock = threading.Lock()
-    sync = DelayedPublisher(rospy.Publisher(SYNC_TOPIC, String, queue_size=100),
-                            float(rospy.get_param("~sync_delay", 0.0)),
-                            float(rospy.get_param("~sync_loss", 0.0)),
-                            int(rospy.get_param("~sync_seed", zlib.crc32(role.encode()))))
+    sync = sync_publisher(role, 0)
     ready = rospy.Publisher(names.topic("all_ready"), Bool, queue_size=1, latch=True)
     ready.publish(Bool(False))
 
     def heard(message: String) -> None:
         nonlocal test
-        try:
-            parsed = parse_message(message.data)
-        except SyncMessageError as exc:
-            rospy.logwarn_throttle(5.0, str(exc))
-            return
+        parsed = parse_sync(message.data)
         if not isinstance(parsed, EchoMessage):
             return
         with lock:
