@@ -102,13 +102,16 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
     return "\n".join(lines) + "\n"
 
 
-def run_ros(args: argparse.Namespace) -> int:
-    roslaunch = shutil.which("roslaunch")
-    if roslaunch is None:
+def _roslaunch() -> str | None:
+    found = shutil.which("roslaunch")
+    if found is None:
         print("dancebots ros: roslaunch is not installed; install Debian's ROS 1 packages: "
               "apt-get install ros-core python3-rospy python3-roslaunch python3-tf2-ros "
               "python3-sensor-msgs python3-geometry-msgs python3-std-msgs", file=sys.stderr)
-        return 2
+    return found
+
+
+def run_ros(args: argparse.Namespace) -> int:
     sources: dict[str, list[str]] = {}
     plan, world, diagnostics = compile_files(argparse.Namespace(
         scenario=args.scenario, world=args.world or None, vmax=args.vmax or None), sources)
@@ -121,6 +124,9 @@ def run_ros(args: argparse.Namespace) -> int:
         if args.role not in plan.robots:
             print(f"dancebots ros: --role {args.role!r} is not one of the scenario's robots "
                   f"({', '.join(plan.robots)})", file=sys.stderr)
+            return 2
+        roslaunch = _roslaunch()
+        if roslaunch is None:
             return 2
         command = [roslaunch, "dancebots_ros", "formation.launch", f"scenario:={scenario}",
                    f"role:={args.role}", f"world:={world_file}", f"vmax:={args.vmax}",
@@ -140,6 +146,9 @@ def run_ros(args: argparse.Namespace) -> int:
     if args.print_launch:
         print(text, end="")
         return 0
+    roslaunch = _roslaunch()
+    if roslaunch is None:
+        return 2
     folder = Path(tempfile.mkdtemp(prefix="dancebots-ros-"))
     launch = folder / "simulation.launch"
     launch.write_text(text)
