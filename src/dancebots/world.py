@@ -57,6 +57,8 @@ BUILTIN_ROBOT_TYPES: Mapping[str, RobotType] = {
     "TRADR": RobotType("TRADR", 0.73, 0.60, 0.5, math.pi),
     # thesis ch. 3: the 2D simulator's robot is 1.2 x 0.6 m.
     "SIM": RobotType("SIM", 1.2, 0.6, 0.5, math.pi),
+    # the second seed's queues: TurtleBot3 Burger, 138 x 178 mm, 0.22 m/s, 2.84 rad/s.
+    "TURTLEBOT3": RobotType("TURTLEBOT3", 0.138, 0.178, 0.22, 2.84),
 }
 DEFAULT_ROBOT_TYPE = BUILTIN_ROBOT_TYPES["SIM"]
 

@@ -27,7 +27,7 @@ from dancebots.sim.raycast import (
 )
 from dancebots.sim.raycast_jit import build_columns, cast_scene
 
-__all__ = ["LidarConfig", "LidarScene", "PointCloud", "scan_clouds"]
+__all__ = ["LidarConfig", "LidarScene", "PointCloud", "scan_clouds", "scan_ranges"]
 
 FloatArray = NDArray[np.float64]
 
@@ -148,6 +148,25 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
                         bottoms[sensor, kind, ray], tops[sensor, kind, ray]], axis=1)
     splits = np.cumsum(np.bincount(sensor, minlength=count))[:-1]
     return [PointCloud(stamp, part, config.height_step) for part in np.split(columns, splits)]
+
+
+def scan_ranges(config: LidarConfig, poses: FloatArray, corners: FloatArray,
+                scene: LidarScene, discs: FloatArray, disc_heights: FloatArray) -> FloatArray:
+    """A planar scan (a 2D LIDAR such as a TurtleBot's, at the height of everything): per
+    robot and ray the range to the nearest robot edge, obstacle, spectator or wall, m;
+    inf where that is nearer than ``min_range`` or beyond ``max_range`` (an invalid
+    reading). poses (R, 3), corners (R, 4, 2), discs (C, 3). Returns (R, N), rays at
+    ``config.angles()`` from the robot's heading."""
+    if len(discs) == 0:
+        discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
+    solid, _, wall = cast_scene(poses[:, :2], poses[:, 2], config.angles(), corners,
+                                config.robot_height, scene.obstacle_segments,
+                                scene.obstacle_heights, discs, disc_heights.astype(float),
+                                scene.walls, config.max_range)
+    ranges = np.minimum(solid, wall)
+    result: FloatArray = np.where((ranges >= config.min_range) & (ranges <= config.max_range),
+                                  ranges, np.inf)
+    return result
 
 
 def _segments_of(corners: FloatArray) -> FloatArray:

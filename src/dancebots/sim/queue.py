@@ -1,0 +1,267 @@
+"""The queue show of the second seed: robots in a line, each following the object in front
+of it with nothing but its own planar LIDAR and odometry (no communication).
+
+The leader is the world's spectator named ``leader`` (a walking person). Each follower runs
+a detector (A1, A2, A2-track) on its scans and a controller (B1 PID, B2 VO) every tick; the
+:class:`~dancebots.sim.stage.Stage` moves everything (10 Hz rule, contacts). Scans are
+planar (``sim.lidar.scan_ranges``), at the LIDAR's period and delivered after its latency,
+with the pose of the robot when it scanned (its odometry, exact here).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from dancebots.geometry import Pose
+from dancebots.leader_follower.controllers import (
+    PidParams,
+    PidState,
+    VoParams,
+    VoState,
+    pid_step,
+    vo_step,
+)
+from dancebots.leader_follower.detectors import (
+    ClusterParams,
+    ClusterState,
+    TrackingParams,
+    TrackingState,
+    cluster_step,
+    tracking_step,
+)
+from dancebots.leader_follower.scan import Detection, Scan
+from dancebots.sim.kinematics import IDEAL, Profile
+from dancebots.sim.lidar import LidarConfig, scan_ranges
+from dancebots.sim.setup import Arena, Placement, SetupError
+from dancebots.sim.stage import CollisionEvent, Stage
+from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
+
+__all__ = ["QueueConfig", "QueueResult", "simulate_queue"]
+
+FloatArray = NDArray[np.float64]
+LEADER = "leader"
+KIDNAP_DISTANCE = 0.5
+"""m: a target nearer than this to some object other than the one in front (and nearer to
+that object than to the one in front) is a kidnapping."""
+
+
+def _lds() -> LidarConfig:
+    """The TurtleBot3's LDS-01: 360 beams, 0.12-3.5 m, 5 Hz; latency about a tenth of s."""
+    return LidarConfig(rays=360, min_range=0.12, max_range=3.5, latency=0.1, period=0.2)
+
+
+@dataclass(frozen=True, slots=True)
+class QueueConfig:
+    """robots: followers; detector: a1 | a2 | a2-track; controller: pid | vo; robot_type;
+    standoff: the distance each keeps to the object in front, m; spacing: between
+    neighbours at the start, m; lidar; dt: step and control period, s; profile; seed;
+    settle: s after the leader's walk; reciprocal: RVO in the vo controller."""
+
+    robots: int = 3
+    detector: str = "a1"
+    controller: str = "pid"
+    robot_type: RobotType = BUILTIN_ROBOT_TYPES["TURTLEBOT3"]
+    standoff: float = 0.5
+    spacing: float = 0.6
+    lidar: LidarConfig = field(default_factory=_lds)
+    dt: float = 0.1
+    profile: Profile = IDEAL
+    seed: int = 0
+    settle: float = 10.0
+    reciprocal: bool = False
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class QueueResult:
+    """A queue run sampled every tick. robots (R,) followers, front to back; times (T,) s;
+    poses (R, T, 3) world; commands (R, T, 2) (u, w); targets (R, T, 2) the detector's
+    target in the world (NaN: none); ahead (R, T, 2) the true position of the object in
+    front (the leader or the previous robot); kidnapped (R, T) bool; spectators (C, T, 2)
+    with names and radii; collisions."""
+
+    config: QueueConfig
+    arena: Arena
+    robots: tuple[str, ...]
+    times: FloatArray
+    poses: FloatArray
+    commands: FloatArray
+    targets: FloatArray
+    ahead: FloatArray
+    kidnapped: NDArray[np.bool_]
+    spectators: FloatArray
+    spectator_names: tuple[str, ...]
+    spectator_radii: FloatArray
+    collisions: tuple[CollisionEvent, ...]
+
+    @property
+    def gap(self) -> FloatArray:
+        """(R, T) distance from each follower to the object in front, m."""
+        result: FloatArray = np.hypot(self.poses[..., 0] - self.ahead[..., 0],
+                                      self.poses[..., 1] - self.ahead[..., 1])
+        return result
+
+    @property
+    def lost(self) -> NDArray[np.bool_]:
+        """(R, T): ticks without a target."""
+        result: NDArray[np.bool_] = np.isnan(self.targets[..., 0])
+        return result
+
+
+def queue_placement(world: World, config: QueueConfig) -> tuple[Arena, Placement]:
+    """The arena of ``world`` and the followers in a line behind its ``leader`` spectator,
+    facing along the leader's first leg."""
+    leaders = [s for s in world.spectators if s.name == LEADER]
+    if not leaders:
+        raise SetupError(f"{world.path}: the queue show needs a spectator named "
+                         f"'{LEADER}' (the person the queue follows)")
+    leader = leaders[0]
+    points = leader.waypoints
+    heading = math.atan2(points[1, 1] - points[0, 1], points[1, 0] - points[0, 0]) if len(
+        points) > 1 else 0.0
+    back = np.array([-math.cos(heading), -math.sin(heading)])
+    first = leader.radius + config.spacing
+    starts = np.array([[*(points[0] + back * (first + k * (config.spacing
+                                                           + config.robot_type.length))),
+                        heading] for k in range(config.robots)])
+    arena = Arena(world.room, world.wall_height, tuple(world.obstacles), world.path,
+                  tuple(world.spectators))
+    names = tuple(f"F{k + 1}" for k in range(config.robots))
+    return arena, Placement(names, (config.robot_type,) * config.robots, starts,
+                            Pose(0.0, 0.0, 0.0))
+
+
+def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
+                   progress: Callable[[float, float], None] | None = None) -> QueueResult:
+    """Run the queue until the leader has walked its path and ``settle`` s more."""
+    arena, placement = queue_placement(world, config)
+    count = config.robots
+    stage = Stage(arena, placement, config.profile, config.dt, None, seed=config.seed)
+    leader_index = [s.name for s in arena.spectators].index(LEADER)
+    leader = arena.spectators[leader_index]
+    end = _walk_duration(leader) + config.settle
+    detect, control = _parts(config)
+    detector_states: list[Any] = [None] * count
+    controller_states: list[Any] = [None] * count
+    detections: list[Detection | None] = [None] * count
+    pending: list[tuple[float, float, FloatArray, FloatArray]] = []
+    lidar = config.lidar
+    angles = lidar.angles()
+    command = np.zeros((count, 2))
+    records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]] = []
+    steps = math.ceil(end / config.dt)
+    last_report = -math.inf
+    for step in range(steps + 1):
+        now = step * config.dt
+        if _due(now, lidar.period):
+            ranges = scan_ranges(lidar, stage.pose, stage.corners, stage.scene, stage.discs,
+                                 stage.disc_heights)
+            pending.append((now + lidar.latency, now, ranges, stage.pose.copy()))
+        while pending and pending[0][0] <= now + 1e-9:
+            _, stamp, ranges, poses = pending.pop(0)
+            for i in range(count):
+                scan = Scan(stamp, ranges[i], angles, tuple(poses[i].tolist()))
+                detector_states[i], detections[i] = detect(detector_states[i], scan)
+        targets = np.full((count, 2), np.nan)
+        for i in range(count):
+            pose = tuple(stage.pose[i].tolist())
+            controller_states[i], (u, w) = control(controller_states[i], pose, detections[i])
+            command[i] = (u, w)
+            detection = detections[i]
+            if detection is not None and detection.target is not None:
+                targets[i] = detection.target.position
+        ahead = np.vstack([stage.discs[leader_index, :2], stage.pose[:-1, :2]])
+        records.append((now, stage.pose.copy(), command.copy(), targets, ahead,
+                        stage.discs[:, :2].copy()))
+        if progress is not None and now - last_report >= 1.0:
+            progress(now, end)
+            last_report = now
+        if step == steps:
+            break
+        stage.advance(now, command, np.full(count, now))
+    if progress is not None:
+        progress(end, end)
+    return _result(config, arena, placement, stage, records)
+
+
+def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detection]],
+                                         Callable[[Any, tuple[float, ...], Detection | None],
+                                                  tuple[Any, tuple[float, float]]]]:
+    """The detector and the controller of the configuration, as (state, input) -> (state,
+    output) functions that start from a None state."""
+    kind = config.robot_type
+    if config.detector == "a1":
+        cluster = ClusterParams()
+
+        def detect(state: Any, scan: Scan) -> tuple[Any, Detection]:
+            return cluster_step(cluster, state or ClusterState(), scan)
+    elif config.detector in ("a2", "a2-track"):
+        tracking = TrackingParams(rule="seed" if config.detector == "a2" else "track")
+
+        def detect(state: Any, scan: Scan) -> tuple[Any, Detection]:
+            return tracking_step(tracking, state or TrackingState(), scan)
+    else:
+        raise ValueError(f"unknown detector {config.detector!r}; use a1, a2 or a2-track")
+    if config.controller == "pid":
+        pid = PidParams(standoff=config.standoff, max_linear=kind.max_speed,
+                        max_angular=kind.max_angular_speed)
+
+        def control(state: Any, pose: tuple[float, ...],
+                    detection: Detection | None) -> tuple[Any, tuple[float, float]]:
+            return pid_step(pid, state or PidState(), (pose[0], pose[1], pose[2]), detection)
+    elif config.controller == "vo":
+        vo = VoParams(standoff=config.standoff, max_linear=kind.max_speed,
+                      max_angular=kind.max_angular_speed,
+                      radius=0.5 * math.hypot(kind.length, kind.width),
+                      reciprocal=config.reciprocal, dt=config.dt)
+
+        def control(state: Any, pose: tuple[float, ...],
+                    detection: Detection | None) -> tuple[Any, tuple[float, float]]:
+            return vo_step(vo, state or VoState(), (pose[0], pose[1], pose[2]), detection)
+    else:
+        raise ValueError(f"unknown controller {config.controller!r}; use pid or vo")
+    return detect, control
+
+
+def _walk_duration(spectator: Any) -> float:
+    """How long the spectator's walk lasts, s (its start, legs and pauses)."""
+    points = spectator.waypoints
+    legs = np.hypot(*np.diff(points, axis=0).T).sum() / spectator.speed
+    return float(spectator.start + legs + spectator.pauses[1:].sum())
+
+
+def _due(now: float, period: float) -> bool:
+    k = round(now / period)
+    return abs(k * period - now) < 1e-6
+
+
+def _result(config: QueueConfig, arena: Arena, placement: Placement, stage: Stage,
+            records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray,
+                                FloatArray]]) -> QueueResult:
+    times = np.array([r[0] for r in records])
+    poses = np.stack([r[1] for r in records], axis=1)
+    commands = np.stack([r[2] for r in records], axis=1)
+    targets = np.stack([r[3] for r in records], axis=1)
+    ahead = np.stack([r[4] for r in records], axis=1)
+    spectators = np.stack([r[5] for r in records], axis=1)  # (C, T, 2)
+    # a kidnapping: the target is near something that is not the object in front
+    others = [spectators[k] for k in range(len(spectators))
+              if arena.spectators[k].name != LEADER]
+    kidnapped = np.zeros(targets.shape[:2], dtype=bool)
+    for i in range(len(placement.robots)):
+        candidates = others + [poses[j, :, :2] for j in range(len(placement.robots))
+                               if j != i and j != i - 1]
+        to_ahead = np.hypot(*(targets[i] - ahead[i]).T)
+        for other in candidates:
+            to_other = np.hypot(*(targets[i] - other).T)
+            kidnapped[i] |= (to_other < KIDNAP_DISTANCE) & (to_other < to_ahead)
+    return QueueResult(config, arena, placement.robots, times, poses, commands, targets,
+                       ahead, kidnapped, spectators, tuple(s.name for s in arena.spectators),
+                       np.array([s.radius for s in arena.spectators]),
+                       tuple(stage.collisions))
+
