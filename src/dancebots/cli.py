@@ -108,9 +108,11 @@ def _parser() -> argparse.ArgumentParser:
                      "move its points by the robot's motion since the scan")
     run.add_argument("--force-steering", choices=("blend", "thesis"), default="blend",
                      help="how the virtual force field steers (docs/safety.md)")
+    from dancebots.follow_command import add_follow_parser
     from dancebots.ros_command import add_ros_parser
 
     add_ros_parser(commands)
+    add_follow_parser(commands)
     return parser
 
 
@@ -125,6 +127,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             from dancebots.run_command import run_show
 
             return run_show(args)
+        if args.command == "follow":
+            from dancebots.follow_command import run_follow
+
+            return run_follow(args)
         if args.command == "ros":
             from dancebots.ros_command import run_ros
 

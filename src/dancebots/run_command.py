@@ -73,6 +73,25 @@ def _check_output(target: Path) -> str | None:
     return None
 
 
+def write_staged(target: Path, write: Callable[[Path], list[str]]) -> list[str]:
+    """Let ``write`` fill a staging directory beside ``target``, then rename it into place
+    (replacing an earlier run), so a failed or interrupted run leaves no half directory."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
+    umask = os.umask(0)
+    os.umask(umask)
+    staging.chmod(0o777 & ~umask)  # mkdtemp makes it private; a run's outputs are not
+    try:
+        written = write(staging)
+        if target.exists():
+            shutil.rmtree(target)
+        staging.rename(target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return written
+
+
 @contextmanager
 def _progress(console: Console, label: str) -> Iterator[Callable[[float, float], None]]:
     """A rich progress bar on a terminal; nothing when output is redirected."""
@@ -130,20 +149,8 @@ def run_show(args: argparse.Namespace) -> int:
         result = simulate(plan, arena, placement, config, update)
     wall = time.perf_counter() - started
     metrics = run_metrics(result)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.partial-", dir=target.parent))
-    umask = os.umask(0)
-    os.umask(umask)
-    staging.chmod(0o777 & ~umask)  # mkdtemp makes it private; a run's outputs are not
-    try:
-        written = _write_outputs(result, metrics, staging, console, not args.no_animation,
-                                 args.sound)
-        if target.exists():
-            shutil.rmtree(target)
-        staging.rename(target)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+    written = write_staged(target, lambda staging: _write_outputs(
+        result, metrics, staging, console, not args.no_animation, args.sound))
     _summary(console, result, metrics, wall, target, written)
     return EXIT_OK
 
