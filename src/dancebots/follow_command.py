@@ -50,6 +50,9 @@ def add_follow_parser(commands: argparse._SubParsersAction) -> None:  # type: ig
     follow.add_argument("--controller", choices=CONTROLLERS, default="pid",
                         help="pid: go-to-goal PID (B1); vo: velocity obstacles (B2)")
     follow.add_argument("--rvo", action="store_true", help="reciprocal velocity obstacles")
+    follow.add_argument("--gains", choices=("first", "tuned"), default="first",
+                        help="the pid controller's seed gains: first (Kp_u 1.2, Kp_w 0.5, "
+                        "default) or tuned (Kp_u 0.6, Kp_w 0.1, Ki_w 0.01)")
     follow.add_argument("--standoff", type=float, default=0.5, metavar="M",
                         help="distance kept to the object in front, m (default 0.5)")
     follow.add_argument("--profile", choices=sorted(PROFILES), default="ideal")
@@ -82,7 +85,8 @@ def run_follow(args: argparse.Namespace) -> int:
         return _fail(problem)
     config = QueueConfig(robots=args.robots, detector=args.detector,
                          controller=args.controller, standoff=args.standoff,
-                         profile=PROFILES[args.profile], seed=args.seed, reciprocal=args.rvo)
+                         profile=PROFILES[args.profile], seed=args.seed, reciprocal=args.rvo,
+                         gains=args.gains)
     console = Console(stderr=True)
     started = time.perf_counter()
     try:

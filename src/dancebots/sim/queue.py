@@ -20,6 +20,8 @@ from numpy.typing import NDArray
 
 from dancebots.geometry import Pose
 from dancebots.leader_follower.controllers import (
+    SEED_FIRST_GAINS,
+    SEED_TUNED_GAINS,
     PidParams,
     PidState,
     VoParams,
@@ -42,10 +44,11 @@ from dancebots.sim.setup import Arena, Placement, SetupError
 from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
 
-__all__ = ["QueueConfig", "QueueResult", "simulate_queue"]
+__all__ = ["PID_GAINS", "QueueConfig", "QueueResult", "simulate_queue"]
 
 FloatArray = NDArray[np.float64]
 LEADER = "leader"
+PID_GAINS = {"first": SEED_FIRST_GAINS, "tuned": SEED_TUNED_GAINS}
 KIDNAP_DISTANCE = 0.5
 """m: a target nearer than this to some object other than the one in front (and nearer to
 that object than to the one in front) is a kidnapping."""
@@ -61,7 +64,9 @@ class QueueConfig:
     """robots: followers; detector: a1 | a2 | a2-track; controller: pid | vo; robot_type;
     standoff: the distance each keeps to the object in front, m; spacing: between
     neighbours at the start, m; lidar; dt: step and control period, s; profile; seed;
-    settle: s after the leader's walk; reciprocal: RVO in the vo controller."""
+    settle: s after the leader's walk; reciprocal: RVO in the vo controller; gains: the
+    pid controller's seed gain set, "first" (Kp_u 1.2, Kp_w 0.5) or "tuned" (Kp_u 0.6,
+    Kp_w 0.1, Ki_w 0.01), see docs/leader-follower.md for why "first" is the default."""
 
     robots: int = 3
     detector: str = "a1"
@@ -75,6 +80,7 @@ class QueueConfig:
     seed: int = 0
     settle: float = 10.0
     reciprocal: bool = False
+    gains: str = "first"
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -208,8 +214,10 @@ def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detect
     else:
         raise ValueError(f"unknown detector {config.detector!r}; use a1, a2 or a2-track")
     if config.controller == "pid":
-        pid = PidParams(standoff=config.standoff, max_linear=kind.max_speed,
-                        max_angular=kind.max_angular_speed)
+        if config.gains not in PID_GAINS:
+            raise ValueError(f"unknown gains {config.gains!r}; use {' or '.join(PID_GAINS)}")
+        pid = PidParams(PID_GAINS[config.gains], standoff=config.standoff,
+                        max_linear=kind.max_speed, max_angular=kind.max_angular_speed)
 
         def control(state: Any, pose: tuple[float, ...],
                     detection: Detection | None) -> tuple[Any, tuple[float, float]]:

@@ -1,0 +1,89 @@
+"""The queue show end to end: the bundled course without collision, the seed's kidnapping
+by a crossing person reproduced, and the tracking addition that prevents it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dancebots.cli import bundled, main
+from dancebots.report.follow import queue_metrics, surface_gaps
+from dancebots.sim.queue import QueueConfig, simulate_queue
+from dancebots.world import load_world, parse_world
+
+
+@pytest.fixture(scope="module")
+def course():  # type: ignore[no-untyped-def]
+    return load_world(bundled("follow_course.toml"))
+
+
+@pytest.fixture(scope="module")
+def crossing():  # type: ignore[no-untyped-def]
+    return load_world(bundled("follow_crossing.toml"))
+
+
+def test_a1_pid_queue_runs_the_course_without_collision(course) -> None:  # type: ignore[no-untyped-def]
+    result = simulate_queue(course, QueueConfig(detector="a1", controller="pid"))
+    metrics = queue_metrics(result)
+    assert result.collisions == ()
+    assert metrics.intact
+    assert all(f.kidnappings == 0 for f in metrics.followers)
+    gaps = surface_gaps(result)[:, result.times > 5.0]
+    assert gaps.min() > 0.2  # nobody drives into the one in front
+    # the followers did walk the course: the last one ends beyond the second box
+    assert result.poses[-1, -1, 0] > 8.5
+
+
+def test_the_seeds_a2_b2_is_kidnapped_by_the_crossing_person(crossing) -> None:  # type: ignore[no-untyped-def]
+    metrics = queue_metrics(simulate_queue(crossing, QueueConfig(detector="a2",
+                                                                 controller="vo")))
+    assert sum(f.kidnappings for f in metrics.followers) >= 1
+    assert not metrics.intact
+
+
+def test_tracking_the_target_keeps_the_queue_through_the_crossing(crossing) -> None:  # type: ignore[no-untyped-def]
+    result = simulate_queue(crossing, QueueConfig(detector="a2-track", controller="vo"))
+    metrics = queue_metrics(result)
+    assert result.collisions == ()
+    assert metrics.intact
+    assert all(f.kidnappings == 0 for f in metrics.followers)
+    assert not result.kidnapped.any()
+    # the crosser did pass between F1 and F2 (within a metre of both)
+    crosser = result.spectators[result.spectator_names.index("crosser")]
+    between = np.hypot(*(crosser - result.poses[0, :, :2]).T) < 1.0
+    assert (between & (np.hypot(*(crosser - result.poses[1, :, :2]).T) < 1.0)).any()
+
+
+def test_follow_command_writes_its_outputs(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "queue"
+    assert main(["follow", "--robots", "2", "--detector", "a2-track", "--controller", "pid",
+                 "--no-animation", "--out", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["log.csv", "metrics.json", "queue.png"]
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert [f["robot"] for f in metrics["followers"]] == ["F1", "F2"]
+    assert metrics["queue_intact"] is True
+    import pandas
+
+    log = pandas.read_csv(out / "log.csv")
+    assert set(log["robot"]) == {"F1", "F2"}
+    assert "queue intact" in capsys.readouterr().out
+
+
+def test_follow_needs_a_leader(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    world = tmp_path / "empty.toml"
+    world.write_text("[room]\nsize = 5.0\n")
+    assert parse_world(world.read_text(), str(world))[0] is not None
+    assert main(["follow", "--world", str(world), "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err == (
+        f"dancebots follow: error: {world}: the queue show needs a spectator named 'leader' "
+        "(the person the queue follows)\n")
+
+
+def test_follow_reports_a_bad_world_with_its_position(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    world = tmp_path / "bad.toml"
+    world.write_text("[room]\nsize = -5.0\n")
+    assert main(["follow", "--world", str(world)]) == 2
+    assert f"{world}:2:" in capsys.readouterr().err
