@@ -59,24 +59,28 @@ def median_call(function, repeat: int) -> float:  # type: ignore[no-untyped-def]
     return statistics.median(times)
 
 
+def detector_costs(beams: int, repeat: int) -> tuple[float, float]:
+    """Median seconds per scan of A1 (fresh state) and A2 (tracks carried over)."""
+    scans = [scene_scan(beams, 0.2 * k) for k in range(CALLS)]
+    cluster = ClusterParams()
+    a1 = median_call(lambda k: cluster_step(cluster, ClusterState(), scans[k]), repeat)
+    tracking = TrackingParams()
+    state = [TrackingState()]
+
+    def a2(k: int) -> None:
+        state[0], _ = tracking_step(tracking, state[0], scans[k])
+
+    return a1, median_call(a2, repeat)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
     for beams in (256, 1024):
-        scans = [scene_scan(beams, 0.2 * k) for k in range(CALLS)]
-        cluster = ClusterParams()
-        a1 = median_call(lambda k: cluster_step(cluster, ClusterState(), scans[k]),
-                         args.repeat)
-        tracking = TrackingParams()
-        state = [TrackingState()]
-
-        def a2(k: int) -> None:
-            state[0], _ = tracking_step(tracking, state[0], scans[k])
-
-        a2_cost = median_call(a2, args.repeat)
+        a1, a2 = detector_costs(beams, args.repeat)
         print(f"{beams:>5} beams: A1 (DBSCAN) {a1 * 1e3:6.2f} ms per scan, "
-              f"A2 (Kalman tracks) {a2_cost * 1e3:6.2f} ms per scan")
+              f"A2 (Kalman tracks) {a2 * 1e3:6.2f} ms per scan")
     _, detection = cluster_step(ClusterParams(), ClusterState(), scene_scan(360, 0.0))
     pid = median_call(lambda k: pid_step(PidParams(), PidState(), (0, 0, 0), detection),
                       args.repeat)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -62,12 +63,11 @@ def test_pid_integral_does_not_wind_up_while_saturated() -> None:
     assert w == pytest.approx(0.2)
     # the sum stopped growing at saturation: 0.01 x sum covers only what Kp leaves to 0.2
     assert params.gains.ki_w * state.sum_w < 0.2 - params.gains.kp_w * math.pi / 2 + 0.02
-    for step in range(20):  # the target now to the right: w turns within a couple of s
+    turns = []
+    for _ in range(20):  # the target now to the right: w turns within two seconds
         state, (_, w) = pid_step(params, state, (0, 0, 0), detection_at(1.0, -0.3))
-        if w < 0:
-            break
-    assert w < 0
-    assert step < 20
+        turns.append(w)
+    assert min(turns) < 0
 
 
 def test_pid_stops_when_the_target_is_lost() -> None:
@@ -114,7 +114,7 @@ def test_vo_steers_around_an_object_between_robot_and_target() -> None:
     params = VoParams(max_linear_acceleration=100.0, max_angular_acceleration=100.0)
     blocker = TrackedObject((0.7, 0.0), (0.0, 0.0), 0.2, track=7)  # reached within 2 s
     detection = Detection(TrackedObject((2.5, 0.0), track=3), (blocker,))
-    state, (u, w) = vo_step(params, VoState(), (0, 0, 0), detection)
+    state, (_u, w) = vo_step(params, VoState(), (0, 0, 0), detection)
     vx, vy = state.velocity
     assert abs(vy) > 0.02  # not straight at the blocker
     ttc = time_to_collision(__import__("numpy").array([[vx, vy]]),
@@ -132,4 +132,4 @@ def test_vo_starts_smoothly() -> None:
         state, (u, _) = vo_step(params, state, (0, 0, 0), detection_at(3.0, 0.0))
         speeds.append(u)
     assert speeds[0] == pytest.approx(0.05)  # 0.5 m/s^2 x 0.1 s, not 0 -> full speed
-    assert all(b - a <= 0.05 + 1e-9 for a, b in zip(speeds, speeds[1:], strict=False))
+    assert all(b - a <= 0.05 + 1e-9 for a, b in itertools.pairwise(speeds))

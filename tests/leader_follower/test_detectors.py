@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from tests.leader_follower.scans import box, legs, make_scan
 
 from dancebots.leader_follower.detectors import (
     ClusterParams,
@@ -16,7 +17,6 @@ from dancebots.leader_follower.detectors import (
     cluster_step,
     tracking_step,
 )
-from tests.leader_follower.scans import box, legs, make_scan
 
 WALL = [((3.0, -3.0), (3.0, 3.0))]
 
@@ -74,7 +74,8 @@ def test_a1_reports_in_the_odometry_frame() -> None:
     assert math.dist(detection.target.position, (2.0, 2.2)) < 0.12
 
 
-def track(scans, params=TrackingParams()):  # type: ignore[no-untyped-def]
+def track(scans, params=None):  # type: ignore[no-untyped-def]
+    params = params or TrackingParams()
     state = TrackingState()
     detections = []
     for scan in scans:
