@@ -29,7 +29,7 @@ from dancebots.report.follow import (
 )
 from dancebots.run_command import _check_output, _progress, _short, write_staged
 from dancebots.sim.kinematics import PROFILES
-from dancebots.sim.queue import QueueConfig, QueueResult, simulate_queue
+from dancebots.sim.queue import LEADERS, QueueConfig, QueueResult, simulate_queue
 from dancebots.sim.setup import SetupError
 from dancebots.world import load_world
 
@@ -44,6 +44,9 @@ def add_follow_parser(commands: argparse._SubParsersAction) -> None:  # type: ig
                         "'leader' whose path the queue follows (default: the bundled obstacle "
                         "course; follow_crossing.toml adds a person crossing the queue)")
     follow.add_argument("--robots", type=int, default=3, help="followers (default 3)")
+    follow.add_argument("--leader", choices=LEADERS, default="person",
+                        help="person: the world's 'leader' walks its path (default); robot: a "
+                        "robot drives that path, timed as the person walks it")
     follow.add_argument("--detector", choices=DETECTORS, default="a1",
                         help="a1: DBSCAN clusters; a2: Kalman tracks, the seed's target rule; "
                         "a2-track: Kalman tracks, the target is its track (default a1)")
@@ -86,7 +89,7 @@ def run_follow(args: argparse.Namespace) -> int:
     config = QueueConfig(robots=args.robots, detector=args.detector,
                          controller=args.controller, standoff=args.standoff,
                          profile=PROFILES[args.profile], seed=args.seed, reciprocal=args.rvo,
-                         gains=args.gains)
+                         gains=args.gains, leader=args.leader)
     console = Console(stderr=True)
     started = time.perf_counter()
     try:

@@ -87,3 +87,15 @@ def test_follow_reports_a_bad_world_with_its_position(tmp_path: Path, capsys) ->
     world.write_text("[room]\nsize = -5.0\n")
     assert main(["follow", "--world", str(world)]) == 2
     assert f"{world}:2:" in capsys.readouterr().err
+
+
+def test_a_queue_follows_a_robot_that_drives_the_path(course) -> None:  # type: ignore[no-untyped-def]
+    result = simulate_queue(course, QueueConfig(detector="a2-track", controller="vo",
+                                                leader="robot"))
+    metrics = queue_metrics(result)
+    assert result.robots == ("F1", "F2", "F3")
+    assert "leader" not in result.spectator_names  # the robot took the person's place
+    assert result.collisions == ()
+    assert metrics.intact
+    assert result.leader[-1, 0] > 10.5  # the leader robot drove to the path's end
+    assert np.hypot(*(result.leader[-1] - (11.0, 3.0))) < 0.2

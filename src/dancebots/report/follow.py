@@ -29,8 +29,7 @@ INTACT_GAP = 1.5
 
 def surface_gaps(result: QueueResult) -> FloatArray:
     """(R, T) free distance from each follower's centre to the object in front, m."""
-    leader = result.spectator_names.index(LEADER)
-    extent = np.array([result.spectator_radii[leader]]
+    extent = np.array([result.leader_extent]
                       + [0.5 * result.config.robot_type.length] * (len(result.robots) - 1))
     gaps: FloatArray = result.gap - extent[:, None]
     return gaps
@@ -112,9 +111,12 @@ def plot_queue(result: QueueResult) -> Any:
                                                  gridspec_kw={"width_ratios": [1.4, 1]})
     _draw_room(room_axes, result)
     colours = plt.get_cmap("tab10")
+    room_axes.plot(*result.leader.T, ls="--", color="0.3", lw=1.2,
+                   label=f"leader ({result.config.leader})")
     for k, name in enumerate(result.spectator_names):
-        room_axes.plot(*result.spectators[k].T, ls="--", color="0.3" if name == LEADER
-                       else "tab:red", lw=1.2, label=name)
+        if name != LEADER:
+            room_axes.plot(*result.spectators[k].T, ls="--", color="tab:red", lw=1.2,
+                           label=name)
     for i, robot in enumerate(result.robots):
         room_axes.plot(*result.poses[i, :, :2].T, color=colours(i), lw=1.5, label=robot)
         room_axes.plot(*result.poses[i, -1, :2], "o", color=colours(i))
@@ -172,6 +174,9 @@ def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
                               strict=True)]
     for person in people:
         axes.add_patch(person)
+    leader_mark = axes.scatter([], [], marker="s", color="0.3", s=40,
+                               label="leader robot") if result.config.leader == "robot" \
+        else None
     targets = axes.scatter([], [], marker="x", color="k", s=30, label="targets")
     clock = axes.text(0.01, 0.97, "", transform=axes.transAxes, va="top")
     step = max(1, round(speedup / fps / max(float(np.median(np.diff(result.times))), 1e-9)))
@@ -187,6 +192,9 @@ def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
         seen = result.targets[:, k]
         targets.set_offsets(seen[~np.isnan(seen[:, 0])].reshape(-1, 2))
         clock.set_text(f"t = {result.times[k]:.1f} s")
+        if leader_mark is not None:
+            leader_mark.set_offsets(result.leader[k:k + 1])
+            return [*bodies, *people, targets, clock, leader_mark]
         return [*bodies, *people, targets, clock]
 
     animation = FuncAnimation(figure, draw, frames=frames, blit=True)

@@ -41,13 +41,17 @@ from dancebots.leader_follower.scan import Detection, Scan
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig, scan_ranges
 from dancebots.sim.setup import Arena, Placement, SetupError
+from dancebots.sim.spectators import spectator_position
 from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
 
-__all__ = ["PID_GAINS", "QueueConfig", "QueueResult", "simulate_queue"]
+__all__ = ["LEADERS", "PID_GAINS", "QueueConfig", "QueueResult", "leader_robot_command",
+           "queue_placement", "simulate_queue"]
 
 FloatArray = NDArray[np.float64]
 LEADER = "leader"
+LEADERS = ("person", "robot")
+LEADER_ROBOT = "L"
 PID_GAINS = {"first": SEED_FIRST_GAINS, "tuned": SEED_TUNED_GAINS}
 KIDNAP_DISTANCE = 0.5
 """m: a target nearer than this to some object other than the one in front (and nearer to
@@ -66,7 +70,9 @@ class QueueConfig:
     neighbours at the start, m; lidar; dt: step and control period, s; profile; seed;
     settle: s after the leader's walk; reciprocal: RVO in the vo controller; gains: the
     pid controller's seed gain set, "first" (Kp_u 1.2, Kp_w 0.5) or "tuned" (Kp_u 0.6,
-    Kp_w 0.1, Ki_w 0.01), see docs/leader-follower.md for why "first" is the default."""
+    Kp_w 0.1, Ki_w 0.01), see docs/leader-follower.md for why "first" is the default;
+    leader: "person" (the world's ``leader`` spectator walks its path) or "robot" (a robot
+    of the same type drives that path, timed as the person would walk it)."""
 
     robots: int = 3
     detector: str = "a1"
@@ -81,6 +87,7 @@ class QueueConfig:
     settle: float = 10.0
     reciprocal: bool = False
     gains: str = "first"
+    leader: str = "person"
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -89,7 +96,8 @@ class QueueResult:
     poses (R, T, 3) world; commands (R, T, 2) (u, w); targets (R, T, 2) the detector's
     target in the world (NaN: none); ahead (R, T, 2) the true position of the object in
     front (the leader or the previous robot); kidnapped (R, T) bool; spectators (C, T, 2)
-    with names and radii; collisions."""
+    with names and radii; collisions; leader (T, 2) where the leader was (the person or the
+    leader robot), leader_extent: its radius or half length, m."""
 
     config: QueueConfig
     arena: Arena
@@ -104,6 +112,8 @@ class QueueResult:
     spectator_names: tuple[str, ...]
     spectator_radii: FloatArray
     collisions: tuple[CollisionEvent, ...]
+    leader: FloatArray
+    leader_extent: float
 
     @property
     def gap(self) -> FloatArray:
@@ -120,36 +130,61 @@ class QueueResult:
 
 
 def queue_placement(world: World, config: QueueConfig) -> tuple[Arena, Placement]:
-    """The arena of ``world`` and the followers in a line behind its ``leader`` spectator,
-    facing along the leader's first leg."""
+    """The arena of ``world`` and the robots in a line behind its ``leader`` spectator,
+    facing along the leader's first leg: the followers F1..FN, and with a robot leader the
+    robot L first, on the path's start (the person then leaves the arena)."""
     leaders = [s for s in world.spectators if s.name == LEADER]
     if not leaders:
         raise SetupError(f"{world.path}: the queue show needs a spectator named "
                          f"'{LEADER}' (the person the queue follows)")
+    if config.leader not in LEADERS:
+        raise SetupError(f"unknown leader {config.leader!r}; use person or robot")
     leader = leaders[0]
     points = leader.waypoints
     heading = math.atan2(points[1, 1] - points[0, 1], points[1, 0] - points[0, 0]) if len(
         points) > 1 else 0.0
     back = np.array([-math.cos(heading), -math.sin(heading)])
-    first = leader.radius + config.spacing
-    starts = np.array([[*(points[0] + back * (first + k * (config.spacing
-                                                           + config.robot_type.length))),
-                        heading] for k in range(config.robots)])
+    kind = config.robot_type
+    robot_leader = config.leader == "robot"
+    first = (0.5 * kind.length if robot_leader else leader.radius) + config.spacing
+    starts = [[*(points[0] + back * (first + k * (config.spacing + kind.length))), heading]
+              for k in range(config.robots)]
+    names = [f"F{k + 1}" for k in range(config.robots)]
+    spectators = tuple(world.spectators)
+    if robot_leader:
+        starts.insert(0, [float(points[0, 0]), float(points[0, 1]), heading])
+        names.insert(0, LEADER_ROBOT)
+        spectators = tuple(s for s in spectators if s.name != LEADER)
     arena = Arena(world.room, world.wall_height, tuple(world.obstacles), world.path,
-                  tuple(world.spectators))
-    names = tuple(f"F{k + 1}" for k in range(config.robots))
-    return arena, Placement(names, (config.robot_type,) * config.robots, starts,
+                  spectators)
+    return arena, Placement(tuple(names), (kind,) * len(names), np.array(starts),
                             Pose(0.0, 0.0, 0.0))
+
+
+def leader_robot_command(goal: tuple[float, float], pose: tuple[float, float, float],
+                         max_linear: float, max_angular: float) -> tuple[float, float]:
+    """The leader robot's (u, w) towards where the person would be now (a go-to-goal law:
+    u = 1.5 d cos(e), w = 2 e, e the heading error; stops within 5 cm; limits keep signs)."""
+    dx, dy = goal[0] - pose[0], goal[1] - pose[1]
+    distance = math.hypot(dx, dy)
+    if distance < 0.05:
+        return 0.0, 0.0
+    error = math.atan2(dy, dx) - pose[2]
+    error = math.atan2(math.sin(error), math.cos(error))
+    u = max(0.0, min(max_linear, 1.5 * distance * math.cos(error)))
+    w = math.copysign(min(abs(2.0 * error), max_angular), error)
+    return u, w
 
 
 def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
                    progress: Callable[[float, float], None] | None = None) -> QueueResult:
-    """Run the queue until the leader has walked its path and ``settle`` s more."""
+    """Run the queue until the leader has walked (or driven) its path and ``settle`` s more."""
     arena, placement = queue_placement(world, config)
     count = config.robots
+    lead = 1 if config.leader == "robot" else 0  # robots before the followers in the stage
     stage = Stage(arena, placement, config.profile, config.dt, None, seed=config.seed)
-    leader_index = [s.name for s in arena.spectators].index(LEADER)
-    leader = arena.spectators[leader_index]
+    leader = next(s for s in world.spectators if s.name == LEADER)
+    leader_index = None if lead else [s.name for s in arena.spectators].index(LEADER)
     end = _walk_duration(leader) + config.settle
     detect, control = _parts(config)
     detector_states: list[Any] = [None] * count
@@ -158,8 +193,10 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     pending: list[tuple[float, float, FloatArray, FloatArray]] = []
     lidar = config.lidar
     angles = lidar.angles()
-    command = np.zeros((count, 2))
-    records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]] = []
+    command = np.zeros((count + lead, 2))
+    kind = config.robot_type
+    records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray,
+                        FloatArray]] = []
     steps = math.ceil(end / config.dt)
     last_report = -math.inf
     for step in range(steps + 1):
@@ -171,28 +208,34 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
         while pending and pending[0][0] <= now + 1e-9:
             _, stamp, ranges, poses = pending.pop(0)
             for i in range(count):
-                scan = Scan(stamp, ranges[i], angles, tuple(poses[i].tolist()))
+                scan = Scan(stamp, ranges[lead + i], angles, tuple(poses[lead + i].tolist()))
                 detector_states[i], detections[i] = detect(detector_states[i], scan)
+        if lead:
+            command[0] = leader_robot_command(
+                spectator_position(leader, now), tuple(stage.pose[0].tolist()),
+                kind.max_speed, kind.max_angular_speed)
         targets = np.full((count, 2), np.nan)
         for i in range(count):
-            pose = tuple(stage.pose[i].tolist())
+            pose = tuple(stage.pose[lead + i].tolist())
             controller_states[i], (u, w) = control(controller_states[i], pose, detections[i])
-            command[i] = (u, w)
+            command[lead + i] = (u, w)
             detection = detections[i]
             if detection is not None and detection.target is not None:
                 targets[i] = detection.target.position
-        ahead = np.vstack([stage.discs[leader_index, :2], stage.pose[:-1, :2]])
-        records.append((now, stage.pose.copy(), command.copy(), targets, ahead,
-                        stage.discs[:, :2].copy()))
+        leader_at = stage.pose[0, :2] if lead else stage.discs[leader_index, :2]
+        ahead = np.vstack([leader_at, stage.pose[lead:lead + count - 1, :2]])
+        records.append((now, stage.pose[lead:].copy(), command[lead:].copy(), targets, ahead,
+                        stage.discs[:, :2].copy(), leader_at.copy()))
         if progress is not None and now - last_report >= 1.0:
             progress(now, end)
             last_report = now
         if step == steps:
             break
-        stage.advance(now, command, np.full(count, now))
+        stage.advance(now, command, np.full(count + lead, now))
     if progress is not None:
         progress(end, end)
-    return _result(config, arena, placement, stage, records)
+    extent = 0.5 * kind.length if lead else leader.radius
+    return _result(config, arena, placement.robots[lead:], stage, records, extent)
 
 
 def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detection]],
@@ -248,28 +291,31 @@ def _due(now: float, period: float) -> bool:
     return abs(k * period - now) < 1e-6
 
 
-def _result(config: QueueConfig, arena: Arena, placement: Placement, stage: Stage,
+def _result(config: QueueConfig, arena: Arena, robots: tuple[str, ...], stage: Stage,
             records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray,
-                                FloatArray]]) -> QueueResult:
+                                FloatArray, FloatArray]], leader_extent: float) -> QueueResult:
     times = np.array([r[0] for r in records])
     poses = np.stack([r[1] for r in records], axis=1)
     commands = np.stack([r[2] for r in records], axis=1)
     targets = np.stack([r[3] for r in records], axis=1)
     ahead = np.stack([r[4] for r in records], axis=1)
     spectators = np.stack([r[5] for r in records], axis=1)  # (C, T, 2)
+    leader = np.stack([r[6] for r in records])
     # a kidnapping: the target is near something that is not the object in front
     others = [spectators[k] for k in range(len(spectators))
               if arena.spectators[k].name != LEADER]
+    if config.leader == "robot":
+        others.append(leader)  # the leader robot is "something else" for F2.. only
     kidnapped = np.zeros(targets.shape[:2], dtype=bool)
-    for i in range(len(placement.robots)):
-        candidates = others + [poses[j, :, :2] for j in range(len(placement.robots))
-                               if j != i and j != i - 1]
+    for i in range(len(robots)):
+        candidates = [poses[j, :, :2] for j in range(len(robots)) if j not in (i, i - 1)]
+        candidates += [o for o in others if i > 0 or o is not leader]
         to_ahead = np.hypot(*(targets[i] - ahead[i]).T)
         for other in candidates:
             to_other = np.hypot(*(targets[i] - other).T)
             kidnapped[i] |= (to_other < KIDNAP_DISTANCE) & (to_other < to_ahead)
-    return QueueResult(config, arena, placement.robots, times, poses, commands, targets,
-                       ahead, kidnapped, spectators, tuple(s.name for s in arena.spectators),
-                       np.array([s.radius for s in arena.spectators]),
-                       tuple(stage.collisions))
-
+    contacts = tuple(c for c in stage.collisions if c.robot in robots)
+    return QueueResult(config, arena, robots, times, poses, commands, targets, ahead,
+                       kidnapped, spectators, tuple(s.name for s in arena.spectators),
+                       np.array([s.radius for s in arena.spectators]), contacts, leader,
+                       leader_extent)
