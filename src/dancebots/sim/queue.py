@@ -42,7 +42,7 @@ from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig, scan_ranges
 from dancebots.sim.setup import Arena, Placement, SetupError
 from dancebots.sim.spectators import spectator_position
-from dancebots.sim.stage import CollisionEvent, Stage
+from dancebots.sim.stage import CollisionEvent, Stage, period_due
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
 
 __all__ = ["LEADERS", "PID_GAINS", "QueueConfig", "QueueResult", "leader_robot_command",
@@ -201,7 +201,7 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     last_report = -math.inf
     for step in range(steps + 1):
         now = step * config.dt
-        if _due(now, lidar.period):
+        if period_due(now, lidar.period):
             ranges = scan_ranges(lidar, stage.pose, stage.corners, stage.scene, stage.discs,
                                  stage.disc_heights)
             pending.append((now + lidar.latency, now, ranges, stage.pose.copy()))
@@ -284,11 +284,6 @@ def _walk_duration(spectator: Any) -> float:
     points = spectator.waypoints
     legs = np.hypot(*np.diff(points, axis=0).T).sum() / spectator.speed
     return float(spectator.start + legs + spectator.pauses[1:].sum())
-
-
-def _due(now: float, period: float) -> bool:
-    k = round(now / period)
-    return abs(k * period - now) < 1e-6
 
 
 def _result(config: QueueConfig, arena: Arena, robots: tuple[str, ...], stage: Stage,

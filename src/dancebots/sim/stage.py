@@ -26,7 +26,7 @@ from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.spectators import spectator_discs
 
-__all__ = ["STEP_BACK", "STEP_BACK_AFTER", "CollisionEvent", "Stage"]
+__all__ = ["STEP_BACK", "STEP_BACK_AFTER", "CollisionEvent", "Stage", "period_due"]
 
 FloatArray = NDArray[np.float64]
 
@@ -100,7 +100,7 @@ class Stage:
         reaches it at ``now`` after the LIDAR's latency (None for robots that get none)."""
         count = len(self.pose)
         lidar = self.lidar
-        if lidar is not None and _due(now, lidar.period):
+        if lidar is not None and period_due(now, lidar.period):
             clouds = scan_clouds(lidar, now, self.pose, self.corners, self.scene, self.discs,
                                  self.disc_heights)
             self.pending.append((now + lidar.latency, clouds))
@@ -210,7 +210,7 @@ def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArr
     return tuple(result)
 
 
-def _due(now: float, period: float) -> bool:
+def period_due(now: float, period: float) -> bool:
     """Is ``now`` a multiple of ``period`` (within rounding)?"""
     k = round(now / period)
     return abs(k * period - now) < 1e-6
