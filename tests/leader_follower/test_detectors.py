@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from tests.leader_follower.scans import box, legs, make_scan
 
 from dancebots.leader_follower.detectors import (
@@ -130,3 +132,26 @@ def test_a2_track_rule_keeps_its_target_through_the_crossing() -> None:
             continue  # the first scans confirm the track
         assert detection.target is not None
         assert math.dist(detection.target.position, (1.6 + 0.15 * t, 0.0)) < 0.35
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.one_of(st.floats(0.0, 5.0), st.just(math.inf), st.just(math.nan)),
+                min_size=360, max_size=360),
+       st.tuples(st.floats(-5, 5), st.floats(-5, 5), st.floats(-4, 4)))
+def test_detectors_take_any_scan(readings: list[float], pose) -> None:  # type: ignore[no-untyped-def]
+    """Any readings (NaN and inf included) give a detection; a target lies within the field
+    of view and range it was sought in."""
+    scan = make_scan(pose=pose)
+    scan = type(scan)(0.0, np.array(readings), scan.angles, pose)
+    _, detection = cluster_step(ClusterParams(), ClusterState(), scan)
+    state, tracked = tracking_step(TrackingParams(), TrackingState(), scan)
+    _, tracked = tracking_step(TrackingParams(), state, type(scan)(0.2, scan.ranges,
+                                                                   scan.angles, pose))
+    for found in (detection.target, tracked.target):
+        if found is None:
+            continue
+        dx, dy = found.position[0] - pose[0], found.position[1] - pose[1]
+        bearing = math.atan2(math.sin(math.atan2(dy, dx) - pose[2]),
+                             math.cos(math.atan2(dy, dx) - pose[2]))
+        assert abs(bearing) <= math.radians(70) + 0.2  # centre of what was seen ahead
+        assert math.hypot(dx, dy) <= 3.5
