@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
+import socket
 import sys
 import tempfile
 from pathlib import Path
@@ -131,7 +132,9 @@ def run_ros(args: argparse.Namespace) -> int:
         command = [roslaunch, "dancebots_ros", "formation.launch", f"scenario:={scenario}",
                    f"role:={args.role}", f"world:={world_file}", f"vmax:={args.vmax}",
                    f"robot_name:={args.robot_name}", f"start_strategy:={args.start_strategy}",
-                   f"lidar:={str(not args.no_lidar).lower()}"]
+                   f"lidar:={str(not args.no_lidar).lower()}",
+                   # bash does not export HOSTNAME: pass the host's name when it is unset
+                   f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
         os.execve(roslaunch, command, ros_environment())
     try:
         _, placement = prepare_show(plan, world)
