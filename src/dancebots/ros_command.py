@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import shutil
 import socket
 import sys
@@ -54,6 +55,8 @@ def add_ros_parser(commands: argparse._SubParsersAction) -> None:  # type: ignor
                            "share one master")
     formation.add_argument("--start-strategy", choices=("agreed", "thesis"), default="agreed")
     formation.add_argument("--no-lidar", action="store_true")
+    formation.add_argument("--print-command", action="store_true",
+                           help="print the roslaunch command and exit")
     simulate = sub.add_parser("simulate", help="the simulator bridge and every robot's nodes "
                               "on this machine")
     simulate.add_argument("scenario", metavar="SCENARIO")
@@ -126,7 +129,7 @@ def run_ros(args: argparse.Namespace) -> int:
             print(f"dancebots ros: --role {args.role!r} is not one of the scenario's robots "
                   f"({', '.join(plan.robots)})", file=sys.stderr)
             return 2
-        roslaunch = _roslaunch()
+        roslaunch = "roslaunch" if args.print_command else _roslaunch()
         if roslaunch is None:
             return 2
         command = [roslaunch, "dancebots_ros", "formation.launch", f"scenario:={scenario}",
@@ -135,6 +138,9 @@ def run_ros(args: argparse.Namespace) -> int:
                    f"lidar:={str(not args.no_lidar).lower()}",
                    # bash does not export HOSTNAME: pass the host's name when it is unset
                    f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
+        if args.print_command:
+            print(shlex.join(command))
+            return 0
         os.execve(roslaunch, command, ros_environment())
     try:
         _, placement = prepare_show(plan, world)

@@ -1,0 +1,50 @@
+"""``dancebots ros``: the commands it would run, and its errors (no ROS needed)."""
+
+from __future__ import annotations
+
+import shlex
+import socket
+from pathlib import Path
+
+import pytest
+
+from dancebots.cli import main
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "thesis_7_1.dance"
+
+
+def test_formation_runs_formation_launch_for_the_role(capsys, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    monkeypatch.delenv("HOSTNAME", raising=False)
+    assert main(["ros", "formation", str(EXAMPLE), "--role", "R2", "--print-command"]) == 0
+    words = shlex.split(capsys.readouterr().out)
+    assert words[:3] == ["roslaunch", "dancebots_ros", "formation.launch"]
+    assert f"scenario:={EXAMPLE.resolve()}" in words
+    assert "role:=R2" in words
+    assert f"hostname:={socket.gethostname()}" in words  # HOSTNAME is not exported
+    monkeypatch.setenv("HOSTNAME", "husky-robot")
+    assert main(["ros", "formation", str(EXAMPLE), "--role", "R1", "--print-command"]) == 0
+    assert "hostname:=husky-robot" in shlex.split(capsys.readouterr().out)
+
+
+def test_a_role_outside_the_scenario_is_refused(capsys) -> None:  # type: ignore[no-untyped-def]
+    assert main(["ros", "formation", str(EXAMPLE), "--role", "R9", "--print-command"]) == 2
+    assert capsys.readouterr().err == ("dancebots ros: --role 'R9' is not one of the "
+                                       "scenario's robots (R1, R2)\n")
+
+
+def test_a_broken_scenario_is_reported_with_its_position(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    bad = tmp_path / "bad.dance"
+    bad.write_text("robots R1\nmove 1\n")
+    assert main(["ros", "simulate", str(bad), "--print-launch"]) == 2
+    assert f"{bad}:2:" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("record", ["", "run.npz"])
+def test_simulate_prints_its_launch_file(capsys, record: str) -> None:  # type: ignore[no-untyped-def]
+    arguments = ["ros", "simulate", str(EXAMPLE), "--print-launch"]
+    if record:
+        arguments += ["--record", record]
+    assert main(arguments) == 0
+    text = capsys.readouterr().out
+    assert text.count('<include file="$(find dancebots_ros)/launch/formation.launch">') == 2
+    assert ('name="record" value=""' in text) == (not record)
