@@ -1,8 +1,8 @@
 """``dancebots follow``: the queue show of the second seed (a thin shell).
 
 Loads the world (the bundled obstacle course by default), runs ``sim.queue`` with the chosen
-detector and controller, and writes metrics.json, queue.png, animation.gif and log.csv
-through a staging directory, like ``dancebots run``.
+detector and controller, and writes metrics.json, queue.png, animation.gif (and .mp4 with
+ffmpeg) and log.csv through a staging directory, like ``dancebots run``.
 """
 
 from __future__ import annotations
@@ -119,8 +119,11 @@ def _write(result: QueueResult, metrics: QueueMetrics, directory: Path,
     plt.close(figure)
     written = ["log.csv", "queue.png"]
     if animation:
-        animate_queue(result, str(directory / "animation.gif"))
-        written.append("animation.gif")
+        from dancebots.report.animation import ffmpeg_available
+
+        for kind in ["gif"] + (["mp4"] if ffmpeg_available() else []):
+            animate_queue(result, str(directory / f"animation.{kind}"))
+            written.append(f"animation.{kind}")
     (directory / "metrics.json").write_text(metrics_json(metrics), encoding="utf-8")
     return [*written, "metrics.json"]
 

@@ -99,3 +99,23 @@ def test_a_queue_follows_a_robot_that_drives_the_path(course) -> None:  # type: 
     assert metrics.intact
     assert result.leader[-1, 0] > 10.5  # the leader robot drove to the path's end
     assert np.hypot(*(result.leader[-1] - (11.0, 3.0))) < 0.2
+
+
+def test_a_short_queue_run_animates(tmp_path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from PIL import Image
+
+    from dancebots.report.follow import animate_queue, plot_queue
+
+    world, _ = parse_world(
+        "[room]\nsize = 6.0\n[[spectators]]\nname = \"leader\"\nspeed = 0.2\nradius = 0.2\n"
+        "path = [[3.0, 3.0], [4.0, 3.0]]\n", "short.toml")
+    assert world is not None
+    result = simulate_queue(world, QueueConfig(robots=2, settle=1.0))
+    frames = animate_queue(result, str(tmp_path / "queue.gif"))
+    with Image.open(tmp_path / "queue.gif") as image:
+        assert image.n_frames == frames > 5
+    figure = plot_queue(result)
+    assert len(figure.axes) == 2

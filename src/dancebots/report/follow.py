@@ -153,9 +153,10 @@ def _draw_room(axes: Any, result: QueueResult) -> None:
 
 def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
                   fps: int = 10) -> int:
-    """Write a GIF of the run (``speedup`` x real time); returns the number of frames."""
+    """Write the run as a GIF, or an MP4 when ``path`` ends in .mp4 (needs ffmpeg), at
+    ``speedup`` x real time; returns the number of frames."""
     import matplotlib.pyplot as plt
-    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
     from matplotlib.patches import Circle, Polygon
 
     from dancebots.geometry import footprint_corners
@@ -163,6 +164,9 @@ def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
     figure, axes = plt.subplots(figsize=(9, 5))
     _draw_room(axes, result)
     axes.set_aspect("equal")
+    axes.set_title(f"queue of {len(result.robots)} ({', '.join(result.robots)}, front to back)"
+                   f": detector {result.config.detector}, controller "
+                   f"{result.config.controller}; x: targets")
     colours = plt.get_cmap("tab10")
     kind = result.config.robot_type
     bodies = [Polygon(np.zeros((4, 2)), closed=True, color=colours(i))
@@ -198,7 +202,8 @@ def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
         return [*bodies, *people, targets, clock]
 
     animation = FuncAnimation(figure, draw, frames=frames, blit=True)
-    animation.save(path, writer=PillowWriter(fps=fps))
+    writer = FFMpegWriter(fps=fps) if path.endswith(".mp4") else PillowWriter(fps=fps)
+    animation.save(path, writer=writer)
     plt.close(figure)
     return len(frames)
 
