@@ -20,6 +20,7 @@ s, and only then is a new target sought near the prediction.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -77,12 +78,9 @@ def bin_scan(scan: Scan, params: ClusterParams) -> FloatArray:
     cone = max(params.cone, spacing * 1.01)
     inside = np.abs(scan.angles[None, :] - centres[:, None]) <= 0.5 * cone  # (B, N)
     ranges = np.where(inside & np.isfinite(scan.ranges)[None, :], scan.ranges[None, :], np.nan)
-    with np.errstate(all="ignore"):
-        import warnings
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # empty cones give NaN
-            median = np.nanmedian(ranges, axis=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an empty cone's median is NaN
+        median = np.nanmedian(ranges, axis=1)
     keep = np.isfinite(median)
     result: FloatArray = np.column_stack([median[keep] * np.cos(centres[keep]),
                                           median[keep] * np.sin(centres[keep])])
