@@ -33,7 +33,10 @@ from dancebots.sim.queue import LEADERS, QueueConfig, QueueResult, simulate_queu
 from dancebots.sim.setup import SetupError
 from dancebots.world import load_world
 
-__all__ = ["add_follow_parser", "run_follow"]
+__all__ = ["BUNDLED_WORLDS", "add_follow_parser", "run_follow"]
+
+BUNDLED_WORLDS = {"course": "follow_course.toml", "crossing": "follow_crossing.toml"}
+"""``--world`` names of the bundled queue worlds (src/dancebots/data/)."""
 
 
 def add_follow_parser(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -41,8 +44,9 @@ def add_follow_parser(commands: argparse._SubParsersAction) -> None:  # type: ig
         "follow", help="a queue of robots each following the object in front of it with its "
         "LIDAR alone (second seed): metrics, plot, animation, log")
     follow.add_argument("--world", metavar="W", help="world file with a spectator named "
-                        "'leader' whose path the queue follows (default: the bundled obstacle "
-                        "course; follow_crossing.toml adds a person crossing the queue)")
+                        "'leader' whose path the queue follows, or a bundled world: 'course' "
+                        "(the obstacle course, default) or 'crossing' (the course with a "
+                        "person crossing the queue)")
     follow.add_argument("--robots", type=int, default=3, help="followers (default 3)")
     follow.add_argument("--leader", choices=LEADERS, default="person",
                         help="person: the world's 'leader' walks its path (default); robot: a "
@@ -71,7 +75,9 @@ def _fail(message: str) -> int:
 
 
 def run_follow(args: argparse.Namespace) -> int:
-    world_path = args.world or _short(bundled("follow_course.toml"))
+    world_path = args.world or "course"
+    if world_path in BUNDLED_WORLDS and not Path(world_path).exists():
+        world_path = _short(bundled(BUNDLED_WORLDS[world_path]))
     try:
         world = load_world(world_path)
     except DiagnosticError as exc:

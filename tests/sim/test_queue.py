@@ -119,3 +119,9 @@ def test_a_short_queue_run_animates(tmp_path: Path) -> None:
         assert image.n_frames == frames > 5
     figure = plot_queue(result)
     assert len(figure.axes) == 2
+
+
+def test_bundled_worlds_by_name(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    assert main(["follow", "--world", "crossing", "--robots", "1", "--no-animation",
+                 "--detector", "a2-track", "--out", str(tmp_path / "o")]) == 0
+    assert "follow_crossing.toml" in capsys.readouterr().out
