@@ -106,13 +106,13 @@ def run_follow(args: argparse.Namespace) -> int:
     wall = time.perf_counter() - started
     metrics = queue_metrics(result)
     written = write_staged(target, lambda staging: _write(result, metrics, staging,
-                                                          not args.no_animation))
+                                                          not args.no_animation, console))
     _summary(result, metrics, wall, target, written, world_path)
     return EXIT_OK
 
 
 def _write(result: QueueResult, metrics: QueueMetrics, directory: Path,
-           animation: bool) -> list[str]:
+           animation: bool, console: Console) -> list[str]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -128,7 +128,9 @@ def _write(result: QueueResult, metrics: QueueMetrics, directory: Path,
         from dancebots.report.animation import ffmpeg_available
 
         for kind in ["gif"] + (["mp4"] if ffmpeg_available() else []):
-            animate_queue(result, str(directory / f"animation.{kind}"))
+            with _progress(console, f"animation.{kind} (frames)") as update:
+                animate_queue(result, str(directory / f"animation.{kind}"),
+                              progress=lambda done, total: update(done + 1, total))
             written.append(f"animation.{kind}")
     (directory / "metrics.json").write_text(metrics_json(metrics), encoding="utf-8")
     return [*written, "metrics.json"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, TextIO
 
@@ -152,9 +153,10 @@ def _draw_room(axes: Any, result: QueueResult) -> None:
 
 
 def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
-                  fps: int = 10) -> int:
+                  fps: int = 10, progress: Callable[[int, int], None] | None = None) -> int:
     """Write the run as a GIF, or an MP4 when ``path`` ends in .mp4 (needs ffmpeg), at
-    ``speedup`` x real time; returns the number of frames."""
+    ``speedup`` x real time; ``progress(frame, frames)`` after each frame. Returns the
+    number of frames."""
     import matplotlib.pyplot as plt
     from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
     from matplotlib.patches import Circle, Polygon
@@ -203,7 +205,7 @@ def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
 
     animation = FuncAnimation(figure, draw, frames=frames, blit=True)
     writer = FFMpegWriter(fps=fps) if path.endswith(".mp4") else PillowWriter(fps=fps)
-    animation.save(path, writer=writer)
+    animation.save(path, writer=writer, progress_callback=progress)
     plt.close(figure)
     return len(frames)
 
