@@ -14,8 +14,10 @@ from numpy.typing import NDArray
 
 __all__ = [
     "Pose",
+    "compose_poses",
     "footprint_corners",
     "integrate_unicycle",
+    "points_to_world",
     "wrap_angle",
     "wrap_angles",
 ]
@@ -67,6 +69,29 @@ class Pose:
         """Express the point (x, y) of this pose's frame in the parent frame."""
         c, s = math.cos(self.theta), math.sin(self.theta)
         return self.x + c * x - s * y, self.y + s * x + c * y
+
+
+def compose_poses(frames: FloatArray, poses: FloatArray) -> FloatArray:
+    """``frames ⊕ poses`` vectorised (:meth:`Pose.compose`): poses (..., 3) given in frames
+    (..., 3) (x, y, theta; the shapes broadcast), expressed in the frames' parent; theta
+    wrapped to (-pi, pi]."""
+    c, s = np.cos(frames[..., 2]), np.sin(frames[..., 2])
+    shape = np.broadcast_shapes(np.shape(frames), np.shape(poses))
+    result = np.empty(shape)
+    result[..., 0] = frames[..., 0] + c * poses[..., 0] - s * poses[..., 1]
+    result[..., 1] = frames[..., 1] + s * poses[..., 0] + c * poses[..., 1]
+    result[..., 2] = wrap_angles(frames[..., 2] + poses[..., 2])
+    return result
+
+
+def points_to_world(points: FloatArray, pose: tuple[float, float, float] | Pose) -> FloatArray:
+    """Points (M, 2) given in the frame of ``pose`` (x, y, theta), expressed in its parent
+    frame (:meth:`Pose.to_world`, vectorised). Returns (M, 2)."""
+    x, y, theta = (pose.x, pose.y, pose.theta) if isinstance(pose, Pose) else pose
+    c, s = math.cos(theta), math.sin(theta)
+    result: FloatArray = np.column_stack([x + c * points[:, 0] - s * points[:, 1],
+                                          y + s * points[:, 0] + c * points[:, 1]])
+    return result
 
 
 def integrate_unicycle(

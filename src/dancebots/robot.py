@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dancebots.control.follower import FollowerParams, FollowerState, thesis_follower_step
-from dancebots.geometry import Pose
+from dancebots.geometry import Pose, points_to_world
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.fast import perceive_columns
 from dancebots.perception.obstacles import (
@@ -154,17 +154,13 @@ class RobotBrain:
 
     def _samples(self, track: RobotTrack) -> list[_Sample]:
         own = self._to_own
-        c, s = math.cos(own.theta), math.sin(own.theta)
-        lx = own.x + c * track.leader[:, 0] - s * track.leader[:, 1]
-        ly = own.y + s * track.leader[:, 0] + c * track.leader[:, 1]
-        px = own.x + c * track.lateral[:, 0] - s * track.lateral[:, 1]
-        py = own.y + s * track.lateral[:, 0] + c * track.lateral[:, 1]
-        dx = own.x + c * track.desired[:, 0] - s * track.desired[:, 1]
-        dy = own.y + s * track.desired[:, 0] + c * track.desired[:, 1]
+        leader = points_to_world(track.leader[:, :2], own).tolist()
+        lateral = points_to_world(track.lateral[:, :2], own).tolist()
+        desired = points_to_world(track.desired[:, :2], own).tolist()
         moving = np.any(track.leader_commands != 0.0, axis=1)
-        return [_Sample((a, b), (p, q), (e, f), r, m) for a, b, p, q, e, f, r, m in zip(
-            lx.tolist(), ly.tolist(), px.tolist(), py.tolist(), dx.tolist(), dy.tolist(),
-            track.required_distance.tolist(), moving.tolist(), strict=True)]
+        return [_Sample(tuple(a), tuple(p), tuple(e), r, m) for a, p, e, r, m in zip(
+            leader, lateral, desired, track.required_distance.tolist(), moving.tolist(),
+            strict=True)]
 
     def _sample(self, show_time: float) -> _Sample:
         if show_time >= self.plan.duration:  # the plan stands still after its end

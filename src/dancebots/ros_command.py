@@ -96,12 +96,10 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                            ("vmax", vmax), ("robot_name", robot),
                            ("lidar", str(lidar).lower())):
             lines.append(f"    <arg name=\"{key}\" value={attr(value)}/>")
-        if types:
-            lines.append(f"    <arg name=\"max_speed\" value={attr(types[i][2])}/>")
+        if types:  # the simulated robot's size and speed, not this host's
+            for key, value in zip(("length", "width", "max_speed"), types[i], strict=True):
+                lines.append(f"    <arg name=\"{key}\" value={attr(value)}/>")
         lines.append("  </include>")
-        if types:  # the simulated robot's size, not this host's
-            lines.append(f"  <param name=\"{robot}/length\" value={attr(types[i][0])}/>")
-            lines.append(f"  <param name=\"{robot}/width\" value={attr(types[i][1])}/>")
     lines.append("</launch>")
     return "\n".join(lines) + "\n"
 

@@ -127,10 +127,3 @@ def wait_until(condition: object, timeout: float, what: str) -> None:
             return
         time.sleep(0.2)
     raise TimeoutError(f"{what} did not happen within {timeout:g} s")
-
-
-def spacing_change(poses: np.ndarray, first: int, second: int, desired: float) -> float:
-    """The largest change of the distance between two robots from ``desired``, m."""
-    distance = np.hypot(poses[first, :, 0] - poses[second, :, 0],
-                        poses[first, :, 1] - poses[second, :, 1])
-    return float(np.abs(distance - desired).max())

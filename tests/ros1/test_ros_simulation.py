@@ -26,9 +26,10 @@ from tests.ros1.show import (
     kill_tree,
     plan_of,
     pure_run,
-    spacing_change,
     wait_until,
 )
+
+from dancebots.report.metrics import spacing_change
 
 pytestmark = pytest.mark.ros
 
@@ -52,8 +53,8 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
     pure = pure_run(SCENARIO_7_1)
     assert len(record.contacts) == 0
     assert "stopped for good" not in output.split("are over")[0], output[-3000:]
-    ros_change = spacing_change(record.poses, 0, 1, 1.2)
-    pure_change = spacing_change(pure.poses, 0, 1, 1.2)
+    ros_change = spacing_change(record.poses[0], record.poses[1], 1.2)
+    pure_change = spacing_change(pure.poses[0], pure.poses[1], 1.2)
     assert abs(ros_change - pure_change) <= SPACING_TOLERANCE, (ros_change, pure_change)
     final_gap = np.hypot(*(record.poses[:, -1, :2] - pure.poses[:, -1, :2]).T)
     assert final_gap.max() <= FINAL_TOLERANCE, final_gap

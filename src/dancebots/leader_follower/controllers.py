@@ -34,8 +34,8 @@ from numpy.typing import NDArray
 from dancebots.leader_follower.scan import Detection, to_robot
 
 __all__ = ["CONTROLLERS", "SEED_FIRST_GAINS", "SEED_TUNED_GAINS", "PidGains", "PidParams",
-           "PidState", "VoParams", "VoState", "feedback_linearization", "pid_step",
-           "time_to_collision", "vo_step"]
+           "PidState", "VoParams", "VoState", "feedback_linearization", "leader_robot_command",
+           "pid_step", "time_to_collision", "vo_step"]
 
 FloatArray = NDArray[np.float64]
 CONTROLLERS = ("pid", "vo")
@@ -186,9 +186,7 @@ def vo_step(params: VoParams, state: VoState, pose: tuple[float, float, float],
     error = math.hypot(*to_robot(target.position, pose)) - params.standoff
     speed = min(params.max_linear, params.gain * max(error, 0.0))
     preferred = goal / distance * speed if distance > 1e-9 else np.zeros(2)
-    objects = [o for o in (detection.objects if detection else ()) if o.track != target.track
-               or target.track < 0]
-    objects = [o for o in objects if math.dist(o.position, target.position) > 1e-6]
+    objects = [o for o in (detection.objects if detection else ()) if o != target]
     # the candidate grid: speeds x headings, and standing still
     speeds = np.linspace(0.0, params.max_linear, params.speeds + 1)[1:]
     angles = np.linspace(-math.pi, math.pi, params.headings, endpoint=False)
@@ -226,3 +224,18 @@ def _smoothed(params: VoParams, state: VoState, velocity: tuple[float, float],
     w = state.command[1] + max(-step_w, min(step_w, command[1] - state.command[1]))
     u, w = _limit(u, params.max_linear), _limit(w, params.max_angular)
     return VoState(velocity, (u, w)), (u, w)
+
+
+def leader_robot_command(goal: tuple[float, float], pose: tuple[float, float, float],
+                         max_linear: float, max_angular: float) -> tuple[float, float]:
+    """The leader robot's (u, w) towards where the person would be now (a go-to-goal law:
+    u = 1.5 d cos(e), w = 2 e, e the heading error; stops within 5 cm; limits keep signs)."""
+    dx, dy = goal[0] - pose[0], goal[1] - pose[1]
+    distance = math.hypot(dx, dy)
+    if distance < 0.05:
+        return 0.0, 0.0
+    error = math.atan2(dy, dx) - pose[2]
+    error = math.atan2(math.sin(error), math.cos(error))
+    u = max(0.0, min(max_linear, 1.5 * distance * math.cos(error)))
+    w = math.copysign(min(abs(2.0 * error), max_angular), error)
+    return u, w

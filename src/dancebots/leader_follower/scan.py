@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.geometry import points_to_world
+
 __all__ = ["Detection", "Scan", "TrackedObject", "to_odom", "to_robot"]
 
 FloatArray = NDArray[np.float64]
@@ -60,11 +62,7 @@ class Detection:
 
 def to_odom(points: FloatArray, pose: tuple[float, float, float]) -> FloatArray:
     """Points (M, 2) in ``base_link`` at ``pose`` -> (M, 2) in the odometry frame."""
-    x, y, theta = pose
-    c, s = math.cos(theta), math.sin(theta)
-    result: FloatArray = np.column_stack([x + c * points[:, 0] - s * points[:, 1],
-                                          y + s * points[:, 0] + c * points[:, 1]])
-    return result
+    return points_to_world(points, pose)
 
 
 def to_robot(point: tuple[float, float], pose: tuple[float, float, float]) -> tuple[float, float]:

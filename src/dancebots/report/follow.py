@@ -20,8 +20,8 @@ from numpy.typing import NDArray
 
 from dancebots.sim.queue import LEADER, QueueResult
 
-__all__ = ["FollowerMetrics", "QueueMetrics", "animate_queue", "plot_queue", "queue_metrics",
-           "write_queue_log"]
+__all__ = ["FollowerMetrics", "QueueMetrics", "animate_queue", "metrics_json", "plot_queue",
+           "queue_metrics", "surface_gaps", "write_queue_log"]
 
 FloatArray = NDArray[np.float64]
 INTACT_GAP = 1.5
@@ -87,16 +87,18 @@ class QueueMetrics:
 def queue_metrics(result: QueueResult) -> QueueMetrics:
     """The metrics of a queue run (pure)."""
     dt = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
-    errors = surface_gaps(result) - result.config.standoff
+    gaps = surface_gaps(result)
+    errors = gaps - result.config.standoff
+    kidnapped_all, lost = result.kidnapped, result.lost
     followers = []
     for i, robot in enumerate(result.robots):
         error = errors[i]
-        kidnapped = result.kidnapped[i]
+        kidnapped = kidnapped_all[i]
         episodes = int(np.count_nonzero(kidnapped[1:] & ~kidnapped[:-1]) + int(kidnapped[0]))
-        final = float(surface_gaps(result)[i, -1])
+        final = float(gaps[i, -1])
         followers.append(FollowerMetrics(
             robot, float(np.median(error)), float(np.sqrt(np.mean(error**2))),
-            float(np.abs(error).max()), float(result.lost[i].sum() * dt), episodes,
+            float(np.abs(error).max()), float(lost[i].sum() * dt), episodes,
             float(kidnapped.sum() * dt),
             sum(1 for c in result.collisions if c.robot == robot), final, final <= INTACT_GAP))
     return QueueMetrics(result.config.detector, result.config.controller,
@@ -126,9 +128,10 @@ def plot_queue(result: QueueResult) -> Any:
     room_axes.set_title(f"queue: detector {result.config.detector}, controller "
                         f"{result.config.controller}")
     gaps = surface_gaps(result)
+    lost, kidnapped = result.lost, result.kidnapped
     for i, robot in enumerate(result.robots):
         gap_axes.plot(result.times, gaps[i], color=colours(i), label=robot)
-        for mask, colour in ((result.lost[i], "0.85"), (result.kidnapped[i], "tab:red")):
+        for mask, colour in ((lost[i], "0.85"), (kidnapped[i], "tab:red")):
             gap_axes.fill_between(result.times, 0, 1, where=mask, color=colour, alpha=0.25,
                                   transform=gap_axes.get_xaxis_transform(), lw=0)
     gap_axes.axhline(result.config.standoff, color="k", ls=":", label="stand-off")
@@ -219,7 +222,7 @@ def write_queue_log(result: QueueResult, handle: TextIO) -> None:
     """Every sample as CSV, one row per follower per tick (``pandas.read_csv`` reads it)."""
     writer = csv.writer(handle, lineterminator="\n")
     writer.writerow(LOG_COLUMNS)
-    gaps = surface_gaps(result)
+    gaps, lost, kidnapped = surface_gaps(result), result.lost, result.kidnapped
     for k, t in enumerate(result.times.tolist()):
         for i, robot in enumerate(result.robots):
             target = result.targets[i, k]
@@ -228,7 +231,7 @@ def write_queue_log(result: QueueResult, handle: TextIO) -> None:
                 *(f"{v:.4f}" for v in result.commands[i, k]),
                 *("" if math.isnan(v) else f"{v:.4f}" for v in target),
                 *(f"{v:.4f}" for v in result.ahead[i, k]), f"{gaps[i, k]:.4f}",
-                int(result.lost[i, k]), int(result.kidnapped[i, k])])
+                int(lost[i, k]), int(kidnapped[i, k])])
 
 
 def metrics_json(metrics: QueueMetrics) -> str:

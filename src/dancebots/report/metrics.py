@@ -14,10 +14,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from dancebots.sim.simulator import STATUS, RunResult
 
-__all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics"]
+__all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics", "spacing_change"]
+
+FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True, slots=True)
@@ -131,6 +134,13 @@ def run_metrics(result: RunResult) -> RunMetrics:
               for e in result.events))
 
 
+def spacing_change(first: FloatArray, second: FloatArray, spacing: float) -> float:
+    """The largest change of the distance between two robots from ``spacing``, m; their
+    positions first, second (T, 2 or 3) at the same times."""
+    distance = np.hypot(first[:, 0] - second[:, 0], first[:, 1] - second[:, 1])
+    return float(np.abs(distance - spacing).max())
+
+
 def _rows(result: RunResult) -> list[RowMetrics]:
     """Rows are robots with the same longitudinal offset, ordered left to right."""
     index = {name: i for i, name in enumerate(result.robots)}
@@ -156,10 +166,9 @@ def _rows(result: RunResult) -> list[RowMetrics]:
                     result.formation[j] == formation.index)
                 if not active.any():
                     continue
-                distance = np.hypot(result.poses[i, active, 0] - result.poses[j, active, 0],
-                                    result.poses[i, active, 1] - result.poses[j, active, 1])
                 spacings.append(spacing)
-                changes.append(float(np.abs(distance - spacing).max()))
+                changes.append(spacing_change(result.poses[i, active],
+                                              result.poses[j, active], spacing))
             if changes:
                 rows.append(RowMetrics(formation.span.line, ordered, tuple(spacings),
                                        max(changes)))

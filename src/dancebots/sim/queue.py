@@ -26,6 +26,7 @@ from dancebots.leader_follower.controllers import (
     PidState,
     VoParams,
     VoState,
+    leader_robot_command,
     pid_step,
     vo_step,
 )
@@ -41,12 +42,12 @@ from dancebots.leader_follower.scan import Detection, Scan
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig, scan_ranges
 from dancebots.sim.setup import Arena, Placement, SetupError
-from dancebots.sim.spectators import spectator_position
+from dancebots.sim.spectators import spectator_position, walk_duration
 from dancebots.sim.stage import CollisionEvent, Stage, period_due
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
 
-__all__ = ["LEADERS", "PID_GAINS", "QueueConfig", "QueueResult", "leader_robot_command",
-           "queue_placement", "simulate_queue"]
+__all__ = ["LEADERS", "PID_GAINS", "QueueConfig", "QueueResult", "queue_placement",
+           "simulate_queue"]
 
 FloatArray = NDArray[np.float64]
 LEADER = "leader"
@@ -95,9 +96,9 @@ class QueueResult:
     """A queue run sampled every tick. robots (R,) followers, front to back; times (T,) s;
     poses (R, T, 3) world; commands (R, T, 2) (u, w); targets (R, T, 2) the detector's
     target in the world (NaN: none); ahead (R, T, 2) the true position of the object in
-    front (the leader or the previous robot); kidnapped (R, T) bool; spectators (C, T, 2)
-    with names and radii; collisions; leader (T, 2) where the leader was (the person or the
-    leader robot), leader_extent: its radius or half length, m."""
+    front (the leader or the previous robot); spectators (C, T, 2) with names and radii;
+    collisions; leader (T, 2) where the leader was (the person or the leader robot),
+    leader_extent: its radius or half length, m."""
 
     config: QueueConfig
     arena: Arena
@@ -107,13 +108,30 @@ class QueueResult:
     commands: FloatArray
     targets: FloatArray
     ahead: FloatArray
-    kidnapped: NDArray[np.bool_]
     spectators: FloatArray
     spectator_names: tuple[str, ...]
     spectator_radii: FloatArray
     collisions: tuple[CollisionEvent, ...]
     leader: FloatArray
     leader_extent: float
+
+    @property
+    def kidnapped(self) -> NDArray[np.bool_]:
+        """(R, T): ticks at which a follower's target lies within KIDNAP_DISTANCE of
+        something other than the object in front (a person other than the leader, another
+        robot, or, from the second follower on, the leader) and nearer to it than to the
+        object in front. Computed on each access."""
+        people = [self.spectators[k] for k, name in enumerate(self.spectator_names)
+                  if name != LEADER]
+        result = np.zeros(self.targets.shape[:2], dtype=bool)
+        for i in range(len(self.robots)):
+            others = people + [self.poses[j, :, :2] for j in range(len(self.robots))
+                               if j not in (i, i - 1)] + ([self.leader] if i > 0 else [])
+            to_ahead = np.hypot(*(self.targets[i] - self.ahead[i]).T)
+            for other in others:
+                to_other = np.hypot(*(self.targets[i] - other).T)
+                result[i] |= (to_other < KIDNAP_DISTANCE) & (to_other < to_ahead)
+        return result
 
     @property
     def gap(self) -> FloatArray:
@@ -161,21 +179,6 @@ def queue_placement(world: World, config: QueueConfig) -> tuple[Arena, Placement
                             Pose(0.0, 0.0, 0.0))
 
 
-def leader_robot_command(goal: tuple[float, float], pose: tuple[float, float, float],
-                         max_linear: float, max_angular: float) -> tuple[float, float]:
-    """The leader robot's (u, w) towards where the person would be now (a go-to-goal law:
-    u = 1.5 d cos(e), w = 2 e, e the heading error; stops within 5 cm; limits keep signs)."""
-    dx, dy = goal[0] - pose[0], goal[1] - pose[1]
-    distance = math.hypot(dx, dy)
-    if distance < 0.05:
-        return 0.0, 0.0
-    error = math.atan2(dy, dx) - pose[2]
-    error = math.atan2(math.sin(error), math.cos(error))
-    u = max(0.0, min(max_linear, 1.5 * distance * math.cos(error)))
-    w = math.copysign(min(abs(2.0 * error), max_angular), error)
-    return u, w
-
-
 def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
                    progress: Callable[[float, float], None] | None = None) -> QueueResult:
     """Run the queue until the leader has walked (or driven) its path and ``settle`` s more."""
@@ -185,7 +188,7 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     stage = Stage(arena, placement, config.profile, config.dt, None, seed=config.seed)
     leader = next(s for s in world.spectators if s.name == LEADER)
     leader_index = None if lead else [s.name for s in arena.spectators].index(LEADER)
-    end = _walk_duration(leader) + config.settle
+    end = walk_duration(leader) + config.settle
     detect, control = _parts(config)
     detector_states: list[Any] = [None] * count
     controller_states: list[Any] = [None] * count
@@ -279,13 +282,6 @@ def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detect
     return detect, control
 
 
-def _walk_duration(spectator: Any) -> float:
-    """How long the spectator's walk lasts, s (its start, legs and pauses)."""
-    points = spectator.waypoints
-    legs = np.hypot(*np.diff(points, axis=0).T).sum() / spectator.speed
-    return float(spectator.start + legs + spectator.pauses[1:].sum())
-
-
 def _result(config: QueueConfig, arena: Arena, robots: tuple[str, ...], stage: Stage,
             records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray,
                                 FloatArray, FloatArray]], leader_extent: float) -> QueueResult:
@@ -296,21 +292,8 @@ def _result(config: QueueConfig, arena: Arena, robots: tuple[str, ...], stage: S
     ahead = np.stack([r[4] for r in records], axis=1)
     spectators = np.stack([r[5] for r in records], axis=1)  # (C, T, 2)
     leader = np.stack([r[6] for r in records])
-    # a kidnapping: the target is near something that is not the object in front
-    others = [spectators[k] for k in range(len(spectators))
-              if arena.spectators[k].name != LEADER]
-    if config.leader == "robot":
-        others.append(leader)  # the leader robot is "something else" for F2.. only
-    kidnapped = np.zeros(targets.shape[:2], dtype=bool)
-    for i in range(len(robots)):
-        candidates = [poses[j, :, :2] for j in range(len(robots)) if j not in (i, i - 1)]
-        candidates += [o for o in others if i > 0 or o is not leader]
-        to_ahead = np.hypot(*(targets[i] - ahead[i]).T)
-        for other in candidates:
-            to_other = np.hypot(*(targets[i] - other).T)
-            kidnapped[i] |= (to_other < KIDNAP_DISTANCE) & (to_other < to_ahead)
     contacts = tuple(c for c in stage.collisions if c.robot in robots)
     return QueueResult(config, arena, robots, times, poses, commands, targets, ahead,
-                       kidnapped, spectators, tuple(s.name for s in arena.spectators),
+                       spectators, tuple(s.name for s in arena.spectators),
                        np.array([s.radius for s in arena.spectators]), contacts, leader,
                        leader_extent)

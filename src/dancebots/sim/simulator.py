@@ -10,14 +10,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import astuple, dataclass, field
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
 from dancebots.control.follower import FollowerParams
-from dancebots.geometry import Pose, footprint_corners, wrap_angles
+from dancebots.geometry import Pose, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainState, RobotBrain, SensingConfig
 from dancebots.sim.kinematics import IDEAL, Profile
@@ -141,15 +141,8 @@ class RunResult:
 
 def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
     """Show-frame poses (T, 3) as robot ``robot`` believes them in the world: start ⊕ slot0⁻¹."""
-    own = slots[robot].inverse()
-    start = Pose(*(float(v) for v in starts[robot]))
-    frame = start.compose(own)
-    c, s = math.cos(frame.theta), math.sin(frame.theta)
-    result = np.empty_like(show)
-    result[:, 0] = frame.x + c * show[:, 0] - s * show[:, 1]
-    result[:, 1] = frame.y + s * show[:, 0] + c * show[:, 1]
-    result[:, 2] = wrap_angles(show[:, 2] + frame.theta)
-    return result
+    frame = Pose(*(float(v) for v in starts[robot])).compose(slots[robot].inverse())
+    return compose_poses(np.array(astuple(frame)), show)
 
 
 def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig = SimConfig(),

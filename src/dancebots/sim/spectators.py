@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from dancebots.world import Spectator
 
-__all__ = ["spectator_position"]
+__all__ = ["spectator_discs", "spectator_position", "walk_duration"]
 
 
 def spectator_position(spectator: Spectator, walked: float) -> tuple[float, float]:
@@ -24,11 +24,7 @@ def spectator_position(spectator: Spectator, walked: float) -> tuple[float, floa
     points = spectator.waypoints
     if len(points) == 1 or walked <= spectator.start:
         return float(points[0, 0]), float(points[0, 1])
-    order = list(range(len(points))) + ([0] if spectator.loop else [])
-    durations: list[float] = []
-    for a, b in itertools.pairwise(order):
-        durations.append(float(np.hypot(*(points[b] - points[a]))) / spectator.speed)
-        durations.append(float(spectator.pauses[b]))
+    order, durations = _legs(spectator)
     cycle = sum(durations)
     t = walked - spectator.start
     if spectator.loop and cycle > 0:
@@ -46,6 +42,24 @@ def spectator_position(spectator: Spectator, walked: float) -> tuple[float, floa
             return float(points[b, 0]), float(points[b, 1])
         t -= pause
     return float(points[order[-1], 0]), float(points[order[-1], 1])
+
+
+def walk_duration(spectator: Spectator) -> float:
+    """How long the spectator's walk takes, s: its start delay, legs and pauses (one round
+    for a spectator that loops)."""
+    return spectator.start + sum(_legs(spectator)[1])
+
+
+def _legs(spectator: Spectator) -> tuple[list[int], list[float]]:
+    """The waypoint order walked (back to the first for a loop) and, per leg, its walking
+    time and the pause at its end, s: [walk 1, pause 1, walk 2, pause 2, ...]."""
+    points = spectator.waypoints
+    order = list(range(len(points))) + ([0] if spectator.loop else [])
+    durations: list[float] = []
+    for a, b in itertools.pairwise(order):
+        durations.append(float(np.hypot(*(points[b] - points[a]))) / spectator.speed)
+        durations.append(float(spectator.pauses[b]))
+    return order, durations
 
 
 def spectator_discs(spectators: tuple[Spectator, ...],

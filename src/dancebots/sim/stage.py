@@ -18,7 +18,14 @@ from dataclasses import astuple, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.geometry import Pose, footprint_corners, integrate_unicycle, wrap_angles
+from dancebots.geometry import (
+    Pose,
+    compose_poses,
+    footprint_corners,
+    integrate_unicycle,
+    points_to_world,
+    wrap_angles,
+)
 from dancebots.perception.cloud import PointCloud
 from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
 from dancebots.sim.kinematics import Profile, actuate, fresh_commands
@@ -113,7 +120,7 @@ class Stage:
 
     def own_poses(self) -> FloatArray:
         """Each robot's pose (R, 3) in its own map frame (its start pose is the origin)."""
-        return _in_own_frames(self.to_own, self.pose)
+        return compose_poses(self.to_own, self.pose)
 
     def advance(self, now: float, command: FloatArray, issued: FloatArray) -> None:
         """Move everything by one ``dt`` from ``now``: commands (R, 2) (v, w) issued at
@@ -188,26 +195,10 @@ class Stage:
                                  self.widths)
 
 
-def _in_own_frames(to_own: FloatArray, poses: FloatArray) -> FloatArray:
-    """World poses (R, 3) in each robot's own map frame, to_own (R, 3) ⊕ pose (its start
-    pose's inverse composed with the pose)."""
-    c, s = np.cos(to_own[:, 2]), np.sin(to_own[:, 2])
-    result = np.empty_like(poses)
-    result[:, 0] = to_own[:, 0] + c * poses[:, 0] - s * poses[:, 1]
-    result[:, 1] = to_own[:, 1] + s * poses[:, 0] + c * poses[:, 1]
-    result[:, 2] = wrap_angles(to_own[:, 2] + poses[:, 2])
-    return result
-
-
 def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArray, ...]:
     """Each robot's hits (M, 2) in the world frame, from its cloud and its pose (R, 3)."""
-    result = []
-    for cloud, (x, y, theta) in zip(clouds, poses.tolist(), strict=True):
-        c, s = math.cos(theta), math.sin(theta)
-        local = cloud.columns[:, :2]
-        result.append(np.stack([x + c * local[:, 0] - s * local[:, 1],
-                                y + s * local[:, 0] + c * local[:, 1]], axis=1))
-    return tuple(result)
+    return tuple(points_to_world(cloud.columns[:, :2], (x, y, theta))
+                 for cloud, (x, y, theta) in zip(clouds, poses.tolist(), strict=True))
 
 
 def period_due(now: float, period: float) -> bool:
