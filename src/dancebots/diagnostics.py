@@ -8,6 +8,7 @@ end (exclusive) of the offending text for the caret line under the source snippe
 from __future__ import annotations
 
 import enum
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -19,6 +20,7 @@ __all__ = [
     "has_errors",
     "read_source_file",
     "read_text_source",
+    "source_lines",
 ]
 
 MAX_INPUT_BYTES = 2 * 1024 * 1024
@@ -107,6 +109,19 @@ def format_diagnostics(
     if ordered:
         blocks.append(f"{_plural(errors, 'error')}, {_plural(warnings, 'warning')}")
     return "\n".join(blocks)
+
+
+_LINE_BREAK = re.compile(r"\r\n|\r|\n")
+
+
+def source_lines(text: str) -> list[str]:
+    """The lines of a text input as positions count them: split at ``\\n``, ``\\r\\n`` and
+    ``\\r`` only (``str.splitlines`` also splits at form feeds, ``\\x1c``-``\\x1e``,
+    ``\\x85`` and ``\\u2028``, which would shift every later line number)."""
+    lines = _LINE_BREAK.split(text)
+    if lines and lines[-1] == "":
+        lines.pop()
+    return lines
 
 
 def _plural(n: int, word: str) -> str:
