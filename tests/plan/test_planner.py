@@ -11,7 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from dancebots.diagnostics import Diagnostic
 from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
+from dancebots.plan.planner import _step_budget
 from dancebots.scenario import parse_scenario
 
 
@@ -166,4 +168,57 @@ def test_too_long_show_is_an_error() -> None:
     assert scenario is not None
     plan, diagnostics = build_plan(scenario)
     assert plan is None
-    assert diagnostics[0].message == "the show would last longer than 24 h"
+    assert diagnostics[0].message == ("the show would last longer than 1 h: this instruction "
+                                      "starts at 2857 s")
+
+
+def _plan_error(body: str) -> Diagnostic:
+    scenario, _ = parse_scenario("robots A B\nrow A,B 0 1.2\n" + body, "hostile.dance")
+    assert scenario is not None
+    plan, diagnostics = build_plan(scenario)
+    assert plan is None
+    [diagnostic] = diagnostics
+    return diagnostic
+
+
+def test_31_long_moves_stop_at_the_line_that_passes_the_limit_before_integrating() -> None:
+    diagnostic = _plan_error("move 1000 0\n" * 31)
+    assert (diagnostic.line, diagnostic.col, diagnostic.end_col) == (4, 1, 5)
+    assert diagnostic.message == ("the show would last longer than 1 h: this instruction "
+                                  "starts at 2857 s")
+    assert diagnostic.hint == ("a move of 1000 m takes at least 2857 s at the leader's speed "
+                               "of 0.35 m/s: shorten the moves")
+
+
+def test_huge_circle_is_refused_in_closed_form() -> None:
+    diagnostic = _plan_error("circle 1000 36000 10\n")  # was a MemoryError after 38 s
+    assert (diagnostic.line, diagnostic.col) == (3, 1)
+    assert diagnostic.message == ("the show would last longer than 1 h: this instruction "
+                                  "starts at 0 s")
+    assert diagnostic.hint == ("this arc takes 2.059e+06 s: use a smaller angle or a larger "
+                               "angular speed")
+
+
+def test_slow_circle_after_a_move_is_reported_at_its_own_line() -> None:
+    diagnostic = _plan_error("move 2 0\ncircle 1 90 0.001\ncircle 1 36000 0.01\n")
+    assert diagnostic.line == 5
+    assert diagnostic.message == ("the show would last longer than 1 h: this instruction "
+                                  "starts at 1576 s")
+
+
+def test_integration_stops_at_the_longest_duration() -> None:
+    """A leader that the closed form lets through is still never integrated past the limit."""
+    scenario, _ = parse_scenario("robots A\nrow A 0 0\nmove 0.2 180\n", "short.dance")
+    assert scenario is not None  # nominally 0 s: the turn on the spot takes 2 s or more
+    plan, diagnostics = build_plan(scenario, PlanParameters(max_duration=1.0))
+    assert plan is None
+    [diagnostic] = diagnostics
+    assert diagnostic.line == 3
+    assert diagnostic.message == ("the show would last longer than 0.000277778 h: this "
+                                  "instruction starts at 0 s")
+
+
+def test_step_budget_is_finite_for_any_duration() -> None:
+    assert _step_budget(math.inf, 0.05, 100) == 100
+    assert _step_budget(math.nan, 0.05, 100) == 100
+    assert _step_budget(1.0, 0.05, 10_000) == 2441

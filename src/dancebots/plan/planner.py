@@ -26,6 +26,7 @@ from dancebots.plan.leader import (
     MIN_LINEAR,
     arc_angular_speed,
     arc_command,
+    leader_speed,
     waypoint_command,
 )
 from dancebots.scenario.model import Circle, Formation, Move, Scenario, Span
@@ -39,6 +40,7 @@ __all__ = [
     "RobotTrack",
     "build_plan",
     "desired_pose",
+    "nominal_duration",
     "virtual_leader_pose",
 ]
 
@@ -57,7 +59,9 @@ class PlanParameters:
     waypoint_tolerance: a move's waypoint counts as reached within this distance, m.
     lead: the virtual leader's distance ahead of the first row, m (ch. 6).
     new_vl_hold: after newVL the robots stop and the new leader waits this long, s.
-    max_duration: longest show that is planned, s (a guard against absurd inputs).
+    max_duration: longest show that is planned, s. Checked in closed form before the leader
+        is integrated and again while it is, so that planning costs at most
+        ``max_duration / step`` leader steps per formation whatever the numbers of the show.
     arc_recovery_distance: on a circle, a leader further than this from the arc (m) steers
         back to it by eq. 4.1 instead of eq. 4.3 (see ``_run_leader``).
     """
@@ -67,7 +71,7 @@ class PlanParameters:
     waypoint_tolerance: float = 0.1
     lead: float = DEFAULT_LEAD
     new_vl_hold: float = 1.0
-    max_duration: float = 24 * 3600.0
+    max_duration: float = 3600.0
     arc_recovery_distance: float = 0.3
 
 
@@ -339,14 +343,11 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
                 diagnostics.extend(_join_warnings(scenario, record, records, finals))
         else:
             state = _LeaderState(Pose(0.0, 0.0, 0.0), Pose(0.0, 0.0, 0.0))
+        _check_nominal_duration(scenario.path, state.ideal, record.program, start + hold,
+                                params)
         trajectory, timings, waypoints, final = _run_leader(
             scenario.path, state, record.program, start, hold, params)
         end = float(trajectory.times[-1])
-        if end > params.max_duration:
-            raise _PlanError(Diagnostic(
-                scenario.path, record.span.line, record.span.col, Severity.ERROR,
-                f"the show would last longer than {params.max_duration / 3600:g} h",
-                "is a distance or an angle much too large?"))
         finals.append(final)
         ends.append(end)
         ordered = tuple(r for r in scenario.robots if r in record.robots)
@@ -361,6 +362,55 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
     duration = max(ends)
     plan = Plan(scenario, params, tuple(formations), assignments, duration, tuple(diagnostics))
     return plan, diagnostics
+
+
+def nominal_duration(ideal: Pose, instruction: Move | Circle,
+                     params: PlanParameters) -> tuple[float, Pose]:
+    """Closed-form duration (s) of one instruction from the ideal pose ``ideal``, and the
+    ideal pose after it.
+
+    A move: its length (m) at the leader's top speed 0.7 vmax (thesis ch. 4.1), less the
+    waypoint tolerance at each end, a lower bound of what eq. 4.1 takes. A circle: its central
+    angle (rad) over the angular speed that eq. 6.1's halving rule leaves.
+    """
+    if isinstance(instruction, Move):
+        goal = ideal.compose(Pose(0.0, 0.0, instruction.angle)).compose(
+            Pose(instruction.distance, 0.0, 0.0))
+        length = max(0.0, instruction.distance - 2.0 * params.waypoint_tolerance)
+        return length / leader_speed(params.vmax), goal
+    sign = 1.0 if instruction.radius > 0 else -1.0
+    cx, cy = ideal.to_world(0.0, instruction.radius)
+    end = Pose(cx, cy, ideal.theta).compose(Pose(0.0, 0.0, sign * instruction.angle)).compose(
+        Pose(0.0, -instruction.radius, 0.0))
+    omega = arc_angular_speed(instruction.radius, instruction.omega, params.vmax)
+    return instruction.angle / omega, end
+
+
+def _check_nominal_duration(path: str, ideal: Pose, program: Sequence[Move | Circle],
+                            start: float, params: PlanParameters) -> None:
+    """Raise the "longer than" error at the first instruction whose closed-form end time
+    (s, :func:`nominal_duration`) passes ``max_duration``: before anything is integrated."""
+    now = start
+    for instruction in program:
+        duration, ideal = nominal_duration(ideal, instruction, params)
+        if not now + duration <= params.max_duration:
+            raise _PlanError(_too_long(path, instruction, now, duration, params))
+        now += duration
+
+
+def _too_long(path: str, instruction: Move | Circle, begin: float, duration: float,
+              params: PlanParameters) -> Diagnostic:
+    """The show passes ``max_duration`` during ``instruction`` (begun at ``begin`` s)."""
+    if isinstance(instruction, Move):
+        hint = (f"a move of {instruction.distance:g} m takes at least {duration:.4g} s at the "
+                f"leader's speed of {leader_speed(params.vmax):g} m/s: shorten the moves")
+    else:
+        hint = (f"this arc takes {duration:.4g} s: use a smaller angle or a larger angular "
+                "speed")
+    return Diagnostic(path, instruction.span.line, instruction.span.col, Severity.ERROR,
+                      f"the show would last longer than {params.max_duration / 3600:g} h: "
+                      f"this instruction starts at {begin:.0f} s", hint,
+                      instruction.span.end_col)
 
 
 def _new_leader_state(record: _Record, records: Sequence[_Record],
@@ -451,14 +501,16 @@ def _run_leader(
         theta = wrap_angle(theta + w * dt)
         step_count += 1
 
+    last_step = int((params.max_duration - start) / dt)  # no step after max_duration
     for _ in range(round(hold / dt)):
         advance(0.0, 0.0)
     for instruction in program:
         begin = now()
+        left = max(0, last_step - step_count)
         if isinstance(instruction, Move):
             goal = ideal.compose(Pose(0.0, 0.0, instruction.angle))
             goal = goal.compose(Pose(instruction.distance, 0.0, 0.0))
-            budget = _step_budget(math.hypot(goal.x - x, goal.y - y) / MIN_LINEAR, dt)
+            budget = _step_budget(math.hypot(goal.x - x, goal.y - y) / MIN_LINEAR, dt, left)
             for _ in range(budget):
                 here = Pose(x, y, theta)
                 gx, gy = here.to_local(goal.x, goal.y)
@@ -466,7 +518,9 @@ def _run_leader(
                     break
                 advance(*waypoint_command(gx, gy, params.vmax))  # thesis eq. 4.1
             else:
-                raise _PlanError(_unreached(path, instruction, "waypoint of this move"))
+                raise _PlanError(_unreached(path, instruction, "waypoint of this move")
+                                 if budget < left else
+                                 _too_long(path, instruction, begin, now() - begin, params))
             ideal = goal
             waypoints.append((goal.x, goal.y, goal.theta))
         else:
@@ -476,7 +530,7 @@ def _run_leader(
             phi_start = math.atan2(ideal.y - cy, ideal.x - cx)
             phi = math.atan2(y - cy, x - cx)
             progress = sign * wrap_angle(phi - phi_start)
-            budget = _step_budget(instruction.angle / omega, dt)
+            budget = _step_budget(instruction.angle / omega, dt, left)
             radius = abs(instruction.radius)
             for _ in range(budget):
                 if progress >= instruction.angle:
@@ -494,7 +548,9 @@ def _run_leader(
                 progress += sign * wrap_angle(new_phi - phi)
                 phi = new_phi
             else:
-                raise _PlanError(_unreached(path, instruction, "end of this arc"))
+                raise _PlanError(_unreached(path, instruction, "end of this arc")
+                                 if budget < left else
+                                 _too_long(path, instruction, begin, now() - begin, params))
             end_arc = Pose(cx, cy, ideal.theta).compose(
                 Pose(0.0, 0.0, sign * instruction.angle)).compose(
                 Pose(0.0, -instruction.radius, 0.0))
@@ -513,9 +569,12 @@ def _run_leader(
     return trajectory, tuple(timings), np.array(waypoints), final
 
 
-def _step_budget(nominal_duration: float, dt: float) -> int:
-    """Steps allowed for one instruction: twice its nominal duration plus two minutes."""
-    return int((2.0 * nominal_duration + 120.0) / dt) + 1
+def _step_budget(nominal_duration: float, dt: float, left: int) -> int:
+    """Steps allowed for one instruction: twice its nominal duration (s) plus two minutes, at
+    most ``left``, the steps before the show's longest duration (any float, even inf or nan,
+    gives a finite count)."""
+    steps = (2.0 * nominal_duration + 120.0) / dt
+    return int(steps) + 1 if steps < left else left
 
 
 def _unreached(path: str, instruction: Move | Circle, what: str) -> Diagnostic:

@@ -99,13 +99,14 @@ class Scenario:
     """A parsed and resolved choreography.
 
     ``groups`` keeps the order of the groups section. ``instructions`` are in file order; the
-    first one is a formation of every robot.
+    first one is a formation of every robot. ``robots_span`` is the ``robots`` line.
     """
 
     path: str
     robots: tuple[str, ...]
     groups: tuple[tuple[str, tuple[str, ...]], ...]
     instructions: tuple[Instruction, ...]
+    robots_span: Span = Span(1)
 
     def group_robots(self, name: str) -> tuple[str, ...]:
         """The robots of a group, in the order the groups section lists them."""

@@ -14,17 +14,23 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
-from dancebots.diagnostics import Diagnostic, Severity
+from dancebots.diagnostics import Diagnostic, Severity, source_lines
 from dancebots.scenario.model import Circle, Formation, Instruction, Move, Scenario, Shape, Span
 
-__all__ = ["MAX_DISTANCE", "parse_scenario"]
+__all__ = ["MAX_DISTANCE", "MAX_ROBOTS", "MIN_RADIUS", "parse_scenario"]
 
 MAX_DISTANCE = 1000.0
 """Largest accepted length in m (move distance, radius, row distance, spacing)."""
 MAX_OMEGA = 10.0
 """Largest accepted desired angular speed of a circle in rad/s."""
+MIN_OMEGA = 0.001
+"""Smallest accepted desired angular speed of a circle in rad/s (a turn in 105 min)."""
 MAX_ARC_DEGREES = 36000.0
 """Largest accepted central angle of a circle in degrees (100 turns)."""
+MIN_RADIUS = 0.01
+"""Smallest accepted circle radius in m (|r|): a tighter arc is a turn on the spot."""
+MAX_ROBOTS = 1000
+"""Most robots a show may list: the cost of checking grows with robots x show length."""
 
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
 _NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)\Z", re.IGNORECASE)
@@ -62,6 +68,7 @@ class _State:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     robots: tuple[str, ...] | None = None
     robots_known: bool = False  # False after a broken robots line: no unknown-robot errors
+    robots_span: Span = field(default_factory=lambda: Span(1))
     groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
     instructions: list[Instruction] = field(default_factory=list)
     formations: list[frozenset[str]] = field(default_factory=list)  # active formations
@@ -84,7 +91,7 @@ def parse_scenario(text: str, path: str = "<scenario>") -> tuple[Scenario | None
     """Parse choreography text. Returns (scenario or None if any error, all diagnostics)."""
     state = _State(path)
     section = "header"
-    lines = text.splitlines()
+    lines = source_lines(text)
     last_line = len(lines)
     for number, raw in enumerate(lines, start=1):
         tokens = _tokenize(raw)
@@ -152,7 +159,7 @@ def parse_scenario(text: str, path: str = "<scenario>") -> tuple[Scenario | None
     if any(d.is_error for d in state.diagnostics) or state.robots is None:
         return None, state.diagnostics
     scenario = Scenario(path, state.robots, tuple(state.groups.items()),
-                        tuple(state.instructions))
+                        tuple(state.instructions), state.robots_span)
     return scenario, state.diagnostics
 
 
@@ -176,8 +183,15 @@ def _check_identifier(state: _State, line: int, token: _Token, what: str) -> boo
 
 
 def _parse_robots(state: _State, line: int, tokens: Sequence[_Token]) -> None:
-    roles: list[str] = []
+    roles: dict[str, None] = {}
     ok = True
+    state.robots_span = Span(line, tokens[0].col, tokens[0].end)
+    if len(tokens) - 1 > MAX_ROBOTS:
+        extra = tokens[MAX_ROBOTS + 1]
+        state.error(line, extra.col, f"a show has at most {MAX_ROBOTS} robots, this line lists "
+                    f"{len(tokens) - 1}", "split the show into several shows", tokens[-1].end)
+        tokens = tokens[:MAX_ROBOTS + 1]
+        ok = False
     for token in tokens[1:]:
         if not _check_identifier(state, line, token, "robot"):
             ok = False
@@ -187,7 +201,7 @@ def _parse_robots(state: _State, line: int, tokens: Sequence[_Token]) -> None:
                         "every robot role must be unique", token.end)
             ok = False
             continue
-        roles.append(token.text)
+        roles[token.text] = None
     if len(tokens) == 1:
         state.error(line, tokens[0].end, "the robots line lists no robots",
                     "name the robots: `robots R1 R2 R3 R4`")
@@ -605,6 +619,11 @@ def _parse_circle(state: _State, line: int, tokens: Sequence[_Token]) -> None:
                     "a positive radius puts the centre on the left, a negative one on the right",
                     tokens[1].end)
         radius = None
+    elif radius is not None and abs(radius) < MIN_RADIUS:
+        state.error(line, tokens[1].col, f"the circle radius must be at least {_fmt(MIN_RADIUS)} m "
+                    f"in size, not {tokens[1].text}",
+                    "for a turn on the spot use `move 0 ANGLE`", tokens[1].end)
+        radius = None
     angle = _number(state, line, tokens[2].text, tokens[2].col, "the central angle",
                     positive=True, high=MAX_ARC_DEGREES)
     if angle is None and _NUMBER.match(tokens[2].text) and float(tokens[2].text) <= 0:
@@ -612,7 +631,7 @@ def _parse_circle(state: _State, line: int, tokens: Sequence[_Token]) -> None:
             state.diagnostics[-1],
             hint="the central angle is positive; the sign of the radius sets the direction")
     omega = _number(state, line, tokens[3].text, tokens[3].col, "the angular speed",
-                    positive=True, high=MAX_OMEGA)
+                    positive=True, low=MIN_OMEGA, high=MAX_OMEGA)
     target = _resolve_group(state, line, tokens[4] if len(tokens) == 5 else None, usage)
     if radius is None or angle is None or omega is None or target is None:
         return
