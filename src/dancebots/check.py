@@ -24,16 +24,18 @@ from dancebots.perception.obstacles import DetectorParams
 from dancebots.plan.planner import Plan, PlannedFormation, PlanParameters, build_plan
 from dancebots.scenario.model import Circle, Scenario
 from dancebots.scenario.parser import parse_scenario
-from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
+from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World, start_conflicts
 
 __all__ = [
     "CheckOptions",
     "CheckReport",
     "RobotSummary",
+    "ShowPlacement",
     "WorldViolation",
     "check_plan",
     "compile_scenario",
     "place_plan_in_world",
+    "place_show",
     "robot_types",
     "world_violations",
 ]
@@ -127,17 +129,16 @@ def check_plan(plan: Plan, world: World | None = None,
     scenario = plan.scenario
     diagnostics: list[Diagnostic] = []
     types = robot_types(plan, world, options.robot_type)
-    times = _sample_times(plan, options.sample_period)
+    period = _sample_period(plan, options.sample_period, diagnostics)
+    times = _sample_times(plan, period)
     poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
     which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
     summaries = _summaries(plan, types, diagnostics)
     min_gap = _check_clearance(plan, types, times, poses, which, options, diagnostics)
     _check_circles(plan, diagnostics)
-    transform = None
-    if world is not None:
-        transform = place_plan_in_world(plan, world, diagnostics, options.start_tolerance)
-        if transform is not None:
-            _check_world(plan, world, transform, types, times, poses, which, diagnostics)
+    placed = _place_show(plan, world, types, (times, poses, which), options.start_tolerance)
+    diagnostics.extend(placed.diagnostics)
+    transform = placed.transform if world is not None else None
     return CheckReport(scenario.path, scenario.robots, scenario.groups, plan.duration,
                        tuple(summaries), min_gap, transform, tuple(diagnostics))
 
@@ -157,6 +158,27 @@ def robot_types(plan: Plan, world: World | None,
         else:
             types.append(default)
     return types
+
+
+MAX_ROBOT_SAMPLES = 2_000_000
+"""Most desired poses (robots x sample times) that one check holds (48 MB per array)."""
+
+
+def _sample_period(plan: Plan, period: float, diagnostics: list[Diagnostic]) -> float:
+    """The sample period (s): ``period``, or longer when the show's robots x samples would
+    pass :data:`MAX_ROBOT_SAMPLES` (then with a warning at the scenario's robots line)."""
+    samples = len(plan.robots) * (plan.duration / period + 1.0 + len(plan.formations))
+    if samples <= MAX_ROBOT_SAMPLES:
+        return period
+    coarse = float(f"{period * samples / MAX_ROBOT_SAMPLES:.2g}") * 1.5
+    where = plan.scenario.robots_span
+    diagnostics.append(Diagnostic(
+        plan.scenario.path, where.line, where.col, Severity.WARNING,
+        f"{len(plan.robots)} robots over {plan.duration:.0f} s: check samples their places "
+        f"every {coarse:g} s instead of every {period:g} s",
+        "a brief contact between samples may go unreported: shorten the show or check parts "
+        "of it with fewer robots", where.end_col))
+    return coarse
 
 
 def _sample_times(plan: Plan, period: float) -> FloatArray:
@@ -188,6 +210,10 @@ def _warn(plan: Plan, position: tuple[int, int], message: str, hint: str | None,
 
 # --- speeds ----------------------------------------------------------------------------------
 
+_SPEED_CHUNK = 1_000_000
+"""Robot speeds (robots x leader steps) computed at once by the summaries (8 MB)."""
+
+
 def _summaries(plan: Plan, types: Sequence[RobotType],
                diagnostics: list[Diagnostic]) -> list[RobotSummary]:
     """Path lengths and peak speeds from the leaders' exact commands; speed warnings.
@@ -207,25 +233,33 @@ def _summaries(plan: Plan, types: Sequence[RobotType],
         dt = np.diff(leader.times, append=leader.times[-1])
         members = list(formation.robots)
         offsets = np.array([formation.offsets[r] for r in members])  # (M, 2)
-        speeds = np.abs(v[None, :] - w[None, :] * offsets[:, 1:2])  # (M, N)
         turn = float(np.abs(w).max())
-        for k, robot in enumerate(members):
-            i = index[robot]
-            length[i] += float(speeds[k] @ dt)
-            peak[i] = max(peak[i], float(speeds[k].max()))
-            peak_turn[i] = max(peak_turn[i], turn)
+        windows = [(timing, int(a), int(b)) for timing in formation.timings
+                   for a, b in [np.searchsorted(leader.times, [timing.start, timing.end])]
+                   if b > a]
+        robot_max = np.zeros((len(windows), len(members)))  # per window and robot, m/s
+        time_max = [np.zeros(b - a) for _, a, b in windows]  # per window and step, m/s
+        rows = max(1, _SPEED_CHUNK // len(v))  # robots per block: bounded memory
+        for first in range(0, len(members), rows):
+            block = slice(first, first + rows)
+            speeds = np.abs(v[None, :] - w[None, :] * offsets[block, 1:2])  # (rows, N)
+            for k, robot in enumerate(members[block]):
+                i = index[robot]
+                length[i] += float(speeds[k] @ dt)
+                peak[i] = max(peak[i], float(speeds[k].max()))
+                peak_turn[i] = max(peak_turn[i], turn)
+            for n, (_, a, b) in enumerate(windows):
+                window = speeds[:, a:b]
+                robot_max[n, block] = window.max(axis=1)
+                np.maximum(time_max[n], window.max(axis=0), out=time_max[n])
         limits = np.array([types[index[r]].max_speed for r in members])
-        for timing in formation.timings:
-            a, b = np.searchsorted(leader.times, [timing.start, timing.end])
-            if b <= a:
-                continue
-            window = speeds[:, a:b]
-            over = window.max(axis=1) > limits + 1e-9
+        for n, (timing, a, _) in enumerate(windows):
+            over = robot_max[n] > limits + 1e-9
             if not over.any():
                 continue
-            worst = [f"{members[k]} {window[k].max():.2f} m/s (max {limits[k]:g})"
+            worst = [f"{members[k]} {robot_max[n, k]:.2f} m/s (max {limits[k]:g})"
                      for k in np.flatnonzero(over)]
-            when = float(leader.times[a + int(np.argmax(window.max(axis=0)))])
+            when = float(leader.times[a + int(np.argmax(time_max[n]))])
             _warn(plan, (timing.span.line, timing.span.col),
                   f"desired speed above the robot's maximum: {', '.join(worst)}, "
                   f"around t = {when:.1f} s",
@@ -263,29 +297,40 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                      poses: FloatArray, which: NDArray[np.int64], options: CheckOptions,
                      diagnostics: list[Diagnostic]) -> float | None:
     """Footprint gaps: once per formation for robots of the same formation (their relative
-    pose is fixed), at every sample for robots that follow different leaders."""
+    pose is fixed), at every sample for robots that follow different leaders.
+
+    Both find near pairs first (a spatial index, shapely's STRtree, in a formation; a sort and
+    sweep per sample across formations), so the cost grows with the robots and their near
+    neighbours, not with the robots squared.
+    """
     gaps: list[float] = []
     robots = plan.robots
     index = {r: k for k, r in enumerate(robots)}
-    checked: set[tuple[int, str, str]] = set()
+    checked: dict[int, set[str]] = {}  # formation line -> robots whose pairs were checked
+    reach = max(options.clearance,
+                options.detection.stop_distance + options.detection.corridor_margin)
     for formation in plan.formations:
         members = formation.robots
         if len(members) < 2:
             continue
-        pairs = [(a, b) for a, b in itertools.combinations(range(len(members)), 2)
-                 if (formation.span.line, members[a], members[b]) not in checked]
-        if not pairs:  # what remains of a split formation keeps its offsets: checked already
+        done = checked.setdefault(formation.span.line, set())
+        if done.issuperset(members):  # what remains of a split formation keeps its offsets
             continue
-        checked.update((formation.span.line, members[a], members[b]) for a, b in pairs)
+        done.update(members)
         offsets = np.array([formation.offsets[r] for r in members])
         sizes = np.array([(types[index[r]].length, types[index[r]].width) for r in members])
         shapes = _footprints(footprint_corners(offsets[:, 0], offsets[:, 1],
                                                np.zeros(len(offsets)), sizes[:, 0],
                                                sizes[:, 1]))
-        first, second = np.array(pairs).T
+        tree = shapely.STRtree(shapes)
+        first, second = _pairs_within(tree, shapes, reach)
         pair_gaps = shapely.distance(shapes[first], shapes[second])
-        gaps.append(float(pair_gaps.min()))
-        for (a, b), gap in zip(pairs, pair_gaps.tolist(), strict=True):
+        if len(first):  # every pair further apart than these is further than ``reach``
+            gaps.append(float(pair_gaps.min()))
+        else:
+            _, nearest = tree.query_nearest(shapes, exclusive=True, return_distance=True)
+            gaps.append(float(nearest.min()))
+        for a, b, gap in zip(first.tolist(), second.tolist(), pair_gaps.tolist(), strict=True):
             if gap < options.clearance:
                 _warn(plan, (formation.span.line, formation.span.col),
                       f"{members[a]} and {members[b]} are {gap:.2f} m apart in this formation "
@@ -303,12 +348,7 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                       "increase the row distance", diagnostics)
     radius = np.array([math.hypot(t.length, t.width) / 2 for t in types])
     margin = max(options.clearance, 1.0)
-    for i, j in itertools.combinations(range(len(robots)), 2):
-        apart = which[i] != which[j]
-        centre = np.hypot(poses[i, :, 0] - poses[j, :, 0], poses[i, :, 1] - poses[j, :, 1])
-        candidates = np.flatnonzero(apart & (centre < radius[i] + radius[j] + margin))
-        if candidates.size == 0:
-            continue
+    for i, j, candidates in _apart_candidates(poses, which, radius, margin):
         at_i, at_j = poses[i, candidates], poses[j, candidates]
         shape_i = _footprints(footprint_corners(at_i[:, 0], at_i[:, 1], at_i[:, 2],
                                                 types[i].length, types[i].width))
@@ -329,6 +369,75 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                   "their paths cross: move the formations further apart or let one wait",
                   diagnostics)
     return min(gaps) if gaps else None
+
+
+def _pairs_within(tree: shapely.STRtree, shapes: NDArray[np.object_],
+                  distance: float) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Index pairs (a < b), in lexicographic order, of the shapes (indexed by ``tree``) that
+    are at most ``distance`` (m) apart."""
+    found = tree.query(shapes, predicate="dwithin", distance=distance)
+    a, b = found[0], found[1]
+    keep = a < b
+    a, b = a[keep], b[keep]
+    order = np.lexsort((b, a))
+    return a[order].astype(np.int64), b[order].astype(np.int64)
+
+
+_PAIR_LOOP_LIMIT = 2000
+"""Up to this many pairs of robots that ever follow different leaders, they are compared at
+every sample directly; above it, a sweep along each sample's sorted positions finds the near
+ones."""
+
+
+def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: FloatArray,
+                      margin: float) -> Iterator[tuple[int, int, NDArray[np.int64]]]:
+    """Pairs of robots (i < j, lexicographic order) with the sample indices at which they
+    follow different leaders and their centres are nearer than their radii (m) plus
+    ``margin``; poses (R, T, 3), which (R, T)."""
+    count = which.shape[0]
+    _, group = np.unique(which, axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    sizes = np.bincount(group)
+    cross = (count * count - int((sizes * sizes).sum())) // 2
+    if cross == 0:
+        return
+    if cross <= _PAIR_LOOP_LIMIT:
+        for i, j in itertools.combinations(range(count), 2):
+            if group[i] == group[j]:
+                continue
+            apart = which[i] != which[j]
+            centre = np.hypot(poses[i, :, 0] - poses[j, :, 0], poses[i, :, 1] - poses[j, :, 1])
+            candidates = np.flatnonzero(apart & (centre < radius[i] + radius[j] + margin))
+            if candidates.size:
+                yield i, j, candidates
+        return
+    found = [np.zeros((0, 3), dtype=np.int64)]
+    reach = 2.0 * float(radius.max()) + margin
+    x, y = poses[:, :, 0].T, poses[:, :, 1].T  # (T, R)
+    # sweep and prune: per sample, robots sorted along the axis on which they spread most;
+    # robots d places apart in that order are compared while any of them are within reach
+    spread_x = x.max(axis=1) - x.min(axis=1)
+    spread_y = y.max(axis=1) - y.min(axis=1)
+    u = np.where((spread_x >= spread_y)[:, None], x, y)
+    order = np.argsort(u, axis=1, kind="stable")
+    u = np.take_along_axis(u, order, axis=1)
+    for d in range(1, count):
+        k, at = np.nonzero(u[:, d:] - u[:, :-d] < reach)
+        if not k.size:
+            break
+        a, b = order[k, at], order[k, at + d]
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        keep = which[lo, k] != which[hi, k]
+        lo, hi, k = lo[keep], hi[keep], k[keep]
+        keep = np.hypot(x[k, lo] - x[k, hi], y[k, lo] - y[k, hi]) < radius[lo] + radius[hi] + margin
+        found.append(np.stack([lo[keep], hi[keep], k[keep]], axis=1).astype(np.int64))
+    table = np.concatenate(found)
+    table = table[np.lexsort((table[:, 2], table[:, 1], table[:, 0]))]
+    if not len(table):
+        return
+    starts = np.flatnonzero(np.any(np.diff(table[:, :2], axis=0) != 0, axis=1)) + 1
+    for rows in np.split(table, starts):
+        yield int(rows[0, 0]), int(rows[0, 1]), rows[:, 2]
 
 
 def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
@@ -363,11 +472,13 @@ def place_plan_in_world(plan: Plan, world: World, diagnostics: list[Diagnostic],
     missing = [r for r in plan.robots if r not in named]
     path = plan.scenario.path
     if present and missing:
+        where = plan.scenario.robots_span
         diagnostics.append(Diagnostic(
-            world.path, 0, 0, Severity.ERROR,
-            f"the world places {' '.join(present)} but not {' '.join(missing)}",
-            "give every robot of the scenario a [[robots]] entry, or none to let the show be "
-            "centred in the room"))
+            path, where.line, where.col, Severity.ERROR,
+            f"the world places {' '.join(present)} but not {' '.join(missing)} "
+            f"({world.path}:{world.robots[0].line})",
+            f"give every robot of the scenario a [[robots]] entry in {world.path}, or none to "
+            "let the show be centred in the room"))
         return None
     if not present:
         every = np.concatenate([plan.desired_poses(r, _sample_times(plan, 1.0))[:, :2]
@@ -400,6 +511,121 @@ def place_plan_in_world(plan: Plan, world: World, diagnostics: list[Diagnostic],
     return transform
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class ShowPlacement:
+    """Where a show stands, and every reason it cannot be simulated there.
+
+    transform: the show frame's pose in the world frame (the identity without a world);
+    starts (R, 3): each robot's start pose (x, y in m, yaw in rad) in the world frame, in the
+    plan's robot order; both None when the show cannot be placed at all. diagnostics: errors
+    for everything the simulator refuses or would be stuck on, warnings for the rest.
+    """
+
+    transform: Pose | None
+    starts: FloatArray | None
+    diagnostics: tuple[Diagnostic, ...]
+
+    @property
+    def errors(self) -> tuple[Diagnostic, ...]:
+        return tuple(d for d in self.diagnostics if d.is_error)
+
+
+Samples = tuple[FloatArray, FloatArray, NDArray[np.int64]]
+"""Sample times (T,), desired poses (R, T, 3) in the show frame, formation indices (R, T)."""
+
+
+def place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
+               period: float = 0.1, start_tolerance: float = 0.25) -> ShowPlacement:
+    """Place a plan in a world (or in an open arena without one) and find what makes the
+    show impossible to simulate: the one function that ``check`` and the simulator's setup
+    both use. Desired poses are sampled every ``period`` s; ``start_tolerance`` (m) as in
+    :class:`CheckOptions`."""
+    return _place_show(plan, world, types, None, start_tolerance, period)
+
+
+def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
+                samples: Samples | None, start_tolerance: float,
+                period: float = 0.1) -> ShowPlacement:
+    diagnostics: list[Diagnostic] = []
+    if world is None:
+        transform = Pose(0.0, 0.0, 0.0)
+        starts = _slot_starts(plan, transform)
+        _check_starts(plan, None, types, starts, diagnostics)
+        return ShowPlacement(transform, starts, tuple(diagnostics))
+    placed = place_plan_in_world(plan, world, diagnostics, start_tolerance)
+    if placed is None:
+        return ShowPlacement(None, None, tuple(diagnostics))
+    if world.robots:
+        starts = np.array([[r.start.x, r.start.y, r.start.theta] for r in (
+            world.robots[[w.name for w in world.robots].index(name)] for name in plan.robots)])
+    else:
+        starts = _slot_starts(plan, placed)
+    outside = _check_starts(plan, world, types, starts, diagnostics)
+    if samples is None:
+        times = _sample_times(plan, period)
+        samples = (times, np.stack([plan.desired_poses(r, times) for r in plan.robots]),
+                   np.stack([plan.formation_indices(r, times) for r in plan.robots]))
+    _check_world(plan, world, placed, types, *samples, diagnostics, outside)
+    return ShowPlacement(placed, starts, tuple(diagnostics))
+
+
+def _slot_starts(plan: Plan, transform: Pose) -> FloatArray:
+    """Each robot's slot of the first formation (R, 3), placed in the world by ``transform``."""
+    slots = np.stack([plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots])
+    c, s = math.cos(transform.theta), math.sin(transform.theta)
+    return np.stack([transform.x + c * slots[:, 0] - s * slots[:, 1],
+                     transform.y + s * slots[:, 0] + c * slots[:, 1],
+                     slots[:, 2] + transform.theta], axis=1)
+
+
+def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType],
+                  starts: FloatArray, diagnostics: list[Diagnostic]) -> frozenset[str]:
+    """Errors for robots that cannot start where they stand (:func:`start_conflicts`); returns
+    the robots that start outside the room. Start poses from the world are reported at their
+    [[robots]] entry, slots of the first formation at that formation."""
+    robots = plan.robots
+    from_world = world is not None and bool(world.robots)
+    first = plan.formations[0].span
+    outside: set[str] = set()
+
+    def error(robot: int, message: str, hint: str) -> None:
+        if world is not None and from_world:
+            entry = world.robot(robots[robot])
+            line = entry.line if entry is not None else 0
+            diagnostics.append(Diagnostic(world.path, line, 1 if line else 0, Severity.ERROR,
+                                          message, hint))
+        else:
+            diagnostics.append(Diagnostic(plan.scenario.path, first.line, first.col,
+                                          Severity.ERROR, message, hint))
+
+    room = world.room if world is not None else None
+    obstacles = world.obstacles if world is not None else ()
+    spectators = world.spectators if world is not None else ()
+    source = f" ({world.path}:{{}})" if world is not None else ""
+    for conflict in start_conflicts(types, starts, room, obstacles, spectators):
+        name = robots[conflict.robot]
+        if conflict.kind == "room" and world is not None:
+            outside.add(name)
+            error(conflict.robot, f"{name} starts outside the room of {world.path}",
+                  "its footprint must lie inside the room at the start: move the start poses "
+                  "or use a bigger room")
+        elif conflict.kind == "robot":
+            error(conflict.other, f"{name} and {robots[conflict.other]} overlap at their "
+                  "start poses", "place them further apart (in the first formation or "
+                  "the world): the simulator would hold both where they stand")
+        elif conflict.kind == "obstacle":
+            obstacle = obstacles[conflict.other]
+            error(conflict.robot, f"{name} starts in obstacle '{obstacle.name}'"
+                  + source.format(obstacle.line), "move the show's start off the obstacle, "
+                  "or give the robots start poses in the world")
+        elif conflict.kind == "spectator":
+            spectator = spectators[conflict.other]
+            error(conflict.robot, f"{name} starts where spectator '{spectator.name}' stands"
+                  + source.format(spectator.line), "move the show's start or the spectator's "
+                  "first waypoint")
+    return frozenset(outside)
+
+
 @dataclass(frozen=True, slots=True)
 class WorldViolation:
     """A robot's desired footprint outside the room (``obstacle`` None) or in an obstacle,
@@ -425,12 +651,18 @@ def world_violations(plan: Plan, world: World, transform: Pose,
 
 def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
                  times: FloatArray, poses: FloatArray, which: NDArray[np.int64],
-                 diagnostics: list[Diagnostic]) -> None:
+                 diagnostics: list[Diagnostic], outside: frozenset[str] = frozenset()) -> None:
+    """Leaving the room is an error (the simulator refuses the show); entering an obstacle
+    is a warning. ``outside``: robots already reported as starting outside the room, whose
+    violation from the first sample on is not repeated."""
     for v in _world_violations(plan, world, transform, types, times, poses, which):
         if v.obstacle is None:
-            _warn(plan, (v.line, v.col), f"{v.robot} leaves the room from t = {v.start:.1f} s "
-                  f"to {v.end:.1f} s", "move the show's start poses, or shorten the moves",
-                  diagnostics)
+            if v.robot in outside and v.start == float(times[0]):
+                continue
+            diagnostics.append(Diagnostic(
+                plan.scenario.path, v.line, v.col, Severity.ERROR,
+                f"{v.robot} leaves the room from t = {v.start:.1f} s to {v.end:.1f} s",
+                "move the show's start poses, use a bigger room, or shorten the moves"))
         else:
             _warn(plan, (v.line, v.col), f"{v.robot} enters {v.obstacle} from t = "
                   f"{v.start:.1f} s to {v.end:.1f} s", "steer the formation around the obstacle",

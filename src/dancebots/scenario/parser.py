@@ -501,9 +501,10 @@ def _parse_spacings(state: _State, line: int, token: _Token,
             continue
         floats = [n for n in numbers if n is not None]
         if gaps == 0:
-            if floats[0] != 0.0 and (per_row_given or all_single):
+            if floats[0] != 0.0 and (per_row_given or all_single) and col not in reported:
                 state.warning(line, col, f"a row of one robot has no spacing; {text} is ignored",
                               "write 0", col + len(text))
+                reported.add(col)
             result.append(())
         else:
             result.append(tuple(floats) if len(floats) == gaps else tuple(floats * gaps))
