@@ -10,7 +10,7 @@ front). Deterministic (ideal profile, seed 0). Results: docs/leader-follower.md.
 
 from __future__ import annotations
 
-from dancebots.cli import bundled
+from dancebots.cli.common import bundled
 from dancebots.report.follow import queue_metrics
 from dancebots.sim.queue import QueueConfig, simulate_queue
 from dancebots.world import load_world

@@ -15,10 +15,11 @@ for name in ("rospy", "roslaunch", "tf2_ros", "genpy", "std_msgs", "sensor_msgs"
              "geometry_msgs", "rosgraph"):
     sys.modules[name] = None  # any import of them raises ImportError
 from dancebots.cli import main
-import dancebots.ros1, dancebots.ros1.naming, dancebots.sync, dancebots.ros_command
+import dancebots.ros1, dancebots.ros1.naming, dancebots.sync, dancebots.ros1.launching
+import dancebots.cli.ros
 assert main(["check", "examples/thesis_7_1.dance"]) == 0
 assert main(["run", "examples/thesis_7_1.dance", "--no-animation", "--out", sys.argv[1]]) == 0
-assert main(["ros", "simulate", "examples/thesis_7_1.dance", "--print-launch"]) == 0
+assert main(["ros", "simulate", "examples/thesis_7_1.dance", "--print-command"]) == 0
 print("fine without ROS")
 """
 

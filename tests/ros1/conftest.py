@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from dancebots.ros_command import ros_environment
+from dancebots.ros1.launching import ros_environment
 
 
 def ros_missing() -> str | None:

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from tests.ros1.conftest import Master, stop
 
-from dancebots.ros_command import PACKAGE_DIR
+from dancebots.ros1.launching import PACKAGE_DIR
 
 pytestmark = pytest.mark.ros
 PROBE = Path(__file__).with_name("probe_obstacle_detection.py")

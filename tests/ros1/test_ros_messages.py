@@ -8,7 +8,7 @@ import pytest
 from tests.ros1.conftest import require_ros
 
 from dancebots.perception.obstacles import DetectorParams, obstacle_points_from_columns
-from dancebots.ros_command import PACKAGE_DIR, simulation_launch
+from dancebots.ros1.launching import PACKAGE_DIR, simulation_launch
 from dancebots.world import BUILTIN_ROBOT_TYPES
 
 LAUNCH = PACKAGE_DIR / "dancebots_ros" / "launch"
@@ -118,7 +118,7 @@ def test_a_robot_name_puts_its_nodes_and_parameters_under_it() -> None:
 
 
 def test_the_generated_simulation_launch_loads(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    from dancebots.ros_command import ros_environment
+    from dancebots.ros1.launching import ros_environment
 
     for key, value in ros_environment().items():
         monkeypatch.setenv(key, value)

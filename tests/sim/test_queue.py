@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dancebots.cli import bundled, main
+from dancebots.cli import main
+from dancebots.cli.common import bundled
 from dancebots.report.follow import queue_metrics, surface_gaps
 from dancebots.sim.queue import QueueConfig, simulate_queue
 from dancebots.world import load_world, parse_world
@@ -61,7 +62,8 @@ def test_follow_command_writes_its_outputs(tmp_path: Path, capsys) -> None:  # t
     out = tmp_path / "queue"
     assert main(["follow", "--robots", "2", "--detector", "a2-track", "--controller", "pid",
                  "--no-animation", "--out", str(out)]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["log.csv", "metrics.json", "queue.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["dancebots-manifest.json", "log.csv",
+                                                     "metrics.json", "queue.png"]
     metrics = json.loads((out / "metrics.json").read_text())
     assert [f["robot"] for f in metrics["followers"]] == ["F1", "F2"]
     assert metrics["queue_intact"] is True

@@ -28,7 +28,8 @@ class RobotMetrics:
     """One robot: RMS and max position error to its desired pose, m; RMS and max of
     |d_act - d_req|, m; while the show runs (0 <= t <= show duration). stops: how often a stop
     flag held it (thesis 5.2, each spoken once); stopped_time: s held; error: why it went
-    into the error state, if it did."""
+    into the error state, if it did; final_error: distance from its final slot (its desired
+    pose at the end of the run) at the end of the run, m."""
 
     robot: str
     rms_error: float
@@ -38,6 +39,7 @@ class RobotMetrics:
     stops: int = 0
     stopped_time: float = 0.0
     error: str | None = None
+    final_error: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,6 +96,7 @@ class RunMetrics:
                     "stops": m.stops,
                     "stopped_s": r3(m.stopped_time),
                     "error": m.error,
+                    "final_error_m": r3(m.final_error),
                 } for m in self.robots
             },
             "stops": sum(m.stops for m in self.robots),
@@ -114,6 +117,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
     error = np.hypot(result.poses[..., 0] - result.desired[..., 0],
                      result.poses[..., 1] - result.desired[..., 1])[:, during]
     deviation = np.abs(result.leader_distance - result.required_distance)[:, during]
+    final = np.hypot(result.poses[:, -1, 0] - result.desired[:, -1, 0],
+                     result.poses[:, -1, 1] - result.desired[:, -1, 1])  # (R,)
     period = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     stopped = result.status == STATUS.index("stopped")
     robots = tuple(
@@ -122,7 +127,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      sum(1 for e in result.events if e.robot == name and e.kind == "speech"),
                      float(stopped[i].sum() * period),
                      next((e.text for e in result.events
-                           if e.robot == name and e.kind == "error"), None))
+                           if e.robot == name and e.kind == "error"), None),
+                     float(final[i]))
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,

@@ -3,7 +3,6 @@ wrapper that injects delay and loss in-process (the test kernel has no netem).""
 
 from __future__ import annotations
 
-import argparse
 import sys
 import threading
 import zlib
@@ -11,8 +10,6 @@ from typing import Any
 
 import numpy as np
 
-from dancebots.cli import compile_files, print_diagnostics
-from dancebots.diagnostics import has_errors
 from dancebots.plan.planner import Plan
 from dancebots.sync import EchoMessage, StartProposal, SyncMessageError, parse_message
 from dancebots.world import World
@@ -24,13 +21,14 @@ def load_show(scenario: str, world: str | None = None, vmax: float | None = None
               ) -> tuple[Plan, World | None]:
     """The plan every robot computes identically (same scenario, world and vmax), or exit
     with the scenario's positioned diagnostics on stderr (exit status 2)."""
-    sources: dict[str, list[str]] = {}
-    plan, loaded, diagnostics = compile_files(
-        argparse.Namespace(scenario=scenario, world=world or None, vmax=vmax or None), sources)
-    if plan is None or has_errors(diagnostics):
-        print_diagnostics(diagnostics, sources)
+    from dancebots.cli.common import print_diagnostics
+    from dancebots.loading import load_show as load
+
+    show = load(scenario, world or None, vmax or None)
+    if show.plan is None or not show.valid:
+        print_diagnostics(show.diagnostics, show.sources)
         sys.exit(2)
-    return plan, loaded
+    return show.plan, show.world
 
 
 def required_param(name: str) -> Any:

@@ -105,7 +105,8 @@ def test_plan_unwritable_directory(capsys: Capture, examples: Path, tmp_path: Pa
     status, _, err = run(capsys, "plan", str(examples / "thesis_7_1.dance"), "--png",
                          str(target))
     assert status == 2
-    assert err.startswith(f"{target}: error: cannot write here:")
+    assert err == (f"dancebots plan: error: cannot write {target}: the directory "
+                   f"{target.parent} does not exist\n")
     assert not target.parent.exists()
 
 

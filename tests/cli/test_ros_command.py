@@ -10,7 +10,7 @@ import pytest
 
 from dancebots.cli import main
 
-EXAMPLE = Path(__file__).parents[1] / "examples" / "thesis_7_1.dance"
+EXAMPLE = Path(__file__).parents[2] / "examples" / "thesis_7_1.dance"
 
 
 def test_formation_runs_formation_launch_for_the_role(capsys, monkeypatch) -> None:  # type: ignore[no-untyped-def]
@@ -27,21 +27,25 @@ def test_formation_runs_formation_launch_for_the_role(capsys, monkeypatch) -> No
 
 
 def test_a_role_outside_the_scenario_is_refused(capsys) -> None:  # type: ignore[no-untyped-def]
-    assert main(["ros", "formation", str(EXAMPLE), "--role", "R9", "--print-command"]) == 2
-    assert capsys.readouterr().err == ("dancebots ros: --role 'R9' is not one of the "
-                                       "scenario's robots (R1, R2)\n")
+    with pytest.raises(SystemExit) as exit_info:
+        main(["ros", "formation", str(EXAMPLE), "--role", "R9", "--print-command"])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: dancebots ros formation ")  # the sub-command's own usage
+    assert err.endswith("dancebots ros formation: error: --role 'R9' is not one of the "
+                        "scenario's robots (R1, R2)\n")
 
 
 def test_a_broken_scenario_is_reported_with_its_position(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     bad = tmp_path / "bad.dance"
     bad.write_text("robots R1\nmove 1\n")
-    assert main(["ros", "simulate", str(bad), "--print-launch"]) == 2
+    assert main(["ros", "simulate", str(bad), "--print-command"]) == 2
     assert f"{bad}:2:" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("record", ["", "run.npz"])
 def test_simulate_prints_its_launch_file(capsys, record: str) -> None:  # type: ignore[no-untyped-def]
-    arguments = ["ros", "simulate", str(EXAMPLE), "--print-launch"]
+    arguments = ["ros", "simulate", str(EXAMPLE), "--print-command"]
     if record:
         arguments += ["--record", record]
     assert main(arguments) == 0

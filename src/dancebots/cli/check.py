@@ -1,0 +1,88 @@
+"""``dancebots check``: compile a choreography (and place it in a world) and report."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from typing import TYPE_CHECKING
+
+from dancebots.cli.common import (
+    EXIT_INVALID,
+    EXIT_OK,
+    EXIT_WARNINGS,
+    add_show_arguments,
+    positive,
+    print_diagnostics,
+)
+
+if TYPE_CHECKING:
+    from dancebots.check import CheckReport
+    from dancebots.plan.planner import Plan
+
+NAME = "check"
+HELP = "check a choreography and summarise its plan"
+DESCRIPTION = ("Check a choreography like a compiler checks code: every problem with its "
+               "file:line:col and a hint, and a summary of the plan. Exit 0 when valid, 2 "
+               "when not, 1 with --strict when there are warnings.")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_show_arguments(parser)
+    parser.add_argument("--json", action="store_true", help="print the report as JSON")
+    parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
+    parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
+                        help="smallest allowed gap between robot footprints, m (default 0.2)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from dancebots.check import CheckOptions
+    from dancebots.diagnostics import has_errors
+    from dancebots.loading import load_show
+
+    show = load_show(args.scenario, args.world, args.vmax,
+                     check=CheckOptions(clearance=args.clearance))
+    diagnostics = show.diagnostics
+    invalid = has_errors(diagnostics)
+    report = show.report if not invalid else None
+    if args.json:
+        print(json.dumps({
+            "valid": not invalid,
+            "diagnostics": [d.to_json() for d in sorted(
+                diagnostics, key=lambda d: (d.path, d.line, d.col))],
+            "report": report.to_json() if report is not None else None,
+        }, indent=2))
+    else:
+        if report is not None:
+            print(summary_text(report, show.plan))
+        print_diagnostics(diagnostics, show.sources)
+        if not invalid:
+            count = len(diagnostics)
+            print(f"{args.scenario}: ok" + (
+                f" ({count} warning{'s' if count > 1 else ''})" if count else ""))
+    if invalid:
+        return EXIT_INVALID
+    return EXIT_WARNINGS if args.strict and diagnostics else EXIT_OK
+
+
+def summary_text(report: CheckReport, plan: Plan | None) -> str:
+    """The plan's summary: robots, groups, duration, gaps, placement, per-robot figures."""
+    lines = [f"{report.path}: {len(report.robots)} robots ({' '.join(report.robots)})"]
+    if report.groups:
+        groups = ", ".join(f"{name}: {' '.join(members)}" for name, members in report.groups)
+        lines.append(f"groups: {groups}")
+    formations = len(plan.formations) if plan else 0
+    gap = "n/a" if report.min_clearance is None else f"{report.min_clearance:.2f} m"
+    lines.append(f"show duration {report.duration:.1f} s, {formations} formation"
+                 f"{'' if formations == 1 else 's'}, "
+                 f"smallest gap between footprints {gap}")
+    if report.world_transform is not None:
+        t = report.world_transform
+        lines.append(f"show frame in the world: x {t.x:.2f} m, y {t.y:.2f} m, "
+                     f"yaw {math.degrees(t.theta):.1f} deg")
+    header = f"{'robot':<10} {'type':<6} {'path m':>8} {'max |v| m/s':>12} {'max |w| rad/s':>14}"
+    lines.append(header)
+    for s in report.summaries:
+        lines.append(f"{s.name:<10} {s.robot_type.name:<6} {s.path_length:>8.2f} "
+                     f"{s.max_speed:>12.2f} {s.max_angular_speed:>14.2f}")
+    return "\n".join(lines)

@@ -1,0 +1,367 @@
+"""What every ``dancebots`` command shares: exit statuses, argument types, printing of
+diagnostics and progress, and the output writer that never destroys a user's files.
+
+Light on purpose: importing this module imports nothing beyond the standard library, so that
+``dancebots --help`` starts at once. Commands import the core inside their ``run``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import hashlib
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from dancebots.diagnostics import Diagnostic
+
+__all__ = [
+    "EXIT_FAILED",
+    "EXIT_INTERRUPTED",
+    "EXIT_INVALID",
+    "EXIT_OK",
+    "EXIT_WARNINGS",
+    "MANIFEST",
+    "OutputError",
+    "StagedOutput",
+    "add_show_arguments",
+    "bundled",
+    "fail",
+    "in_range",
+    "positive",
+    "print_diagnostics",
+    "progress",
+    "short_path",
+    "stage_output",
+    "write_file",
+]
+
+EXIT_OK = 0
+"""The input is valid; a show ran clean."""
+EXIT_WARNINGS = 1
+"""``check --strict``: the input has warnings."""
+EXIT_FAILED = 1
+"""``run``/``follow``: the show ran but not clean (a collision, a contact with a person, a
+robot in its error state, a robot far from its final slot, a broken queue)."""
+EXIT_INVALID = 2
+"""Invalid input or unusable arguments; nothing was simulated or written."""
+EXIT_INTERRUPTED = 130
+"""Ctrl-C (128 + SIGINT), as shells report it."""
+
+MANIFEST = "dancebots-manifest.json"
+"""Written into every output directory: the files dancebots wrote there (name -> SHA-256).
+Only these files are ever replaced or removed by a later run into the same directory."""
+
+
+def bundled(name: str) -> str:
+    """Path of a file shipped inside the package (``dancebots/data``)."""
+    return str(resources.files("dancebots") / "data" / name)
+
+
+def short_path(path: str) -> str:
+    """The path relative to the working directory when that is shorter (for titles)."""
+    relative = os.path.relpath(path)
+    return relative if len(relative) < len(path) else path
+
+
+def positive(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a finite number > 0")
+    return value
+
+
+def in_range(low: float, high: float, integer: bool = False) -> Callable[[str], float]:
+    """argparse type: a number in [low, high] (an integer if ``integer``)."""
+    def parse(text: str) -> float:
+        try:
+            value: float = int(text) if integer else float(text)
+        except ValueError:
+            kind = "an integer" if integer else "a number"
+            raise argparse.ArgumentTypeError(f"{text!r} is not {kind}") from None
+        if not (math.isfinite(value) and low <= value <= high):
+            raise argparse.ArgumentTypeError(f"{text} is outside {low:g} to {high:g}")
+        return value
+
+    parse.__name__ = "integer" if integer else "number"  # argparse names it in errors
+    return parse
+
+
+def fail(command: str, message: str) -> int:
+    """Print ``dancebots COMMAND: error: MESSAGE`` on stderr; returns EXIT_INVALID."""
+    print(f"dancebots {command}: error: {message}", file=sys.stderr)
+    return EXIT_INVALID
+
+
+def print_diagnostics(diagnostics: Sequence[Diagnostic],
+                      sources: Mapping[str, list[str]]) -> None:
+    """Diagnostics on stderr with their source lines (after anything printed on stdout)."""
+    if diagnostics:
+        from dancebots.diagnostics import format_diagnostics
+
+        sys.stdout.flush()
+        print(format_diagnostics(diagnostics, dict(sources)), file=sys.stderr)
+        sys.stderr.flush()
+
+
+@contextlib.contextmanager
+def progress(console: Console, label: str) -> Iterator[Callable[[float, float], None]]:
+    """A rich progress bar on a terminal; nothing when output is redirected."""
+    if not console.is_terminal:
+        yield lambda done, total: None
+        return
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn(
+            "{task.completed:.0f}/{task.total:.0f}"), TimeRemainingColumn(),
+            console=console, transient=True) as bar:
+        task = bar.add_task(label, total=1.0)
+
+        def update(done: float, total: float) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update
+
+
+# --- the output writer -------------------------------------------------------------------
+
+
+class OutputError(Exception):
+    """The output cannot be written where asked; ``str(error)`` says why and what to do."""
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _is_working_directory_or_above(target: Path) -> bool:
+    here = Path.cwd().resolve()
+    there = target.resolve()
+    return there == here or there in here.parents
+
+
+def _read_manifest(directory: Path) -> dict[str, list[str]]:
+    """The files of an earlier run in ``directory`` (name -> accepted SHA-256s)."""
+    path = directory / MANIFEST
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        files = data["files"]
+        if not isinstance(files, dict):
+            raise TypeError
+        result: dict[str, list[str]] = {}
+        for name, digests in files.items():
+            if (not isinstance(name, str) or Path(name).name != name or name in (".", "..")
+                    or not isinstance(digests, list)
+                    or not all(isinstance(d, str) for d in digests)):
+                raise TypeError
+            result[name] = list(digests)
+        return result
+    except (OSError, ValueError, KeyError, TypeError):
+        raise OutputError(f"{path} is not a manifest dancebots can read, so dancebots does "
+                          "not know which files there are its own; choose another --out") \
+            from None
+
+
+def _previous_files(target: Path) -> dict[str, list[str]]:
+    """Check that the earlier run's files in ``target`` are as dancebots left them."""
+    previous = _read_manifest(target)
+    for name, digests in previous.items():
+        path = target / name
+        if not os.path.lexists(path):
+            continue
+        if path.is_symlink() or not path.is_file() or _sha256(path) not in digests:
+            raise OutputError(f"{path} was changed since dancebots wrote it; move it away "
+                              "(dancebots replaces only its own unchanged files) or choose "
+                              "another --out")
+    return previous
+
+
+@dataclass(frozen=True, slots=True)
+class StagedOutput:
+    """An output directory being written: the files go into ``staging`` (made by
+    :func:`stage_output`, so the target is known to be writable before any work) and
+    :meth:`commit` moves them into ``target``."""
+
+    target: Path
+    staging: Path
+    command: str
+    previous: Mapping[str, list[str]] | None
+    created: tuple[Path, ...]
+
+    def commit(self, written: Sequence[str], version: str) -> None:
+        """Move the staged files into the target. A target that did not exist is renamed
+        into place at once; in an earlier run's directory each file replaces its namesake
+        (the earlier run's files stay intact until the new run is complete) and files of
+        the earlier run that this one did not write are removed. Nothing else is touched."""
+        new = {name: [_sha256(self.staging / name)] for name in written}
+        manifest = {"dancebots": version, "command": self.command, "files": new}
+        if self.previous is None:
+            _write_json(self.staging / MANIFEST, manifest)
+            self.staging.rename(self.target)
+            return
+        # a crash from here on leaves files that the manifest still calls ours
+        interim = {name: sorted({*self.previous.get(name, []), *new.get(name, [])})
+                   for name in {*self.previous, *new}}
+        _write_json(self.target / MANIFEST, {**manifest, "files": interim})
+        for name in written:
+            os.replace(self.staging / name, self.target / name)
+        for name, digests in self.previous.items():
+            old = self.target / name
+            if name not in new and old.is_file() and not old.is_symlink() and \
+                    _sha256(old) in digests:
+                old.unlink()
+        _write_json(self.target / MANIFEST, manifest)
+        shutil.rmtree(self.staging)
+
+    def abandon(self) -> None:
+        """Remove the staging directory and the parents :func:`stage_output` created."""
+        shutil.rmtree(self.staging, ignore_errors=True)
+        for directory in self.created:  # innermost first
+            with contextlib.suppress(OSError):
+                directory.rmdir()  # only if still empty
+
+
+def _write_json(path: Path, data: Any) -> None:
+    temporary = path.with_name(f".{path.name}.tmp")
+    temporary.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+    os.replace(temporary, path)
+
+
+def stage_output(target: Path, command: str) -> StagedOutput:
+    """Check that ``target`` may receive a run's outputs and make the staging directory.
+
+    Refused with an :class:`OutputError`: the working directory or one above it, a symbolic
+    link, something that is not a directory, a non-empty directory without a dancebots
+    manifest, an earlier run whose files were changed since, and a place that cannot be
+    written. Missing parents are created (and removed again by :meth:`StagedOutput.abandon`).
+    """
+    shown = str(target)
+    if _is_working_directory_or_above(target):
+        raise OutputError(f"--out {shown} is the working directory or one above it; give a "
+                          "directory of its own, e.g. out/NAME")
+    if target.is_symlink():
+        raise OutputError(f"--out {shown} is a symbolic link; give a real directory "
+                          "(dancebots does not write through links)")
+    previous: dict[str, list[str]] | None = None
+    if target.exists():
+        if not target.is_dir():
+            raise OutputError(f"--out {shown} exists and is not a directory; choose another "
+                              "--out")
+        if (target / MANIFEST).exists():
+            previous = _previous_files(target)
+        elif any(target.iterdir()):
+            hint = (" (it looks like a run of an older dancebots: delete it if you no longer "
+                    "need it)" if (target / "metrics.json").exists() else "")
+            raise OutputError(f"--out {shown} holds files that dancebots did not write (no "
+                              f"{MANIFEST}){hint}; choose a new or empty directory")
+        else:
+            previous = {}
+    created: list[Path] = []
+    try:
+        missing = []
+        probe = target.parent
+        while not probe.exists():
+            missing.append(probe)
+            probe = probe.parent
+        if not probe.is_dir():
+            raise OutputError(f"cannot create {shown}: {probe} is not a directory; choose "
+                              "another --out")
+        for directory in reversed(missing):
+            directory.mkdir()
+            created.insert(0, directory)
+        home = target if previous is not None else target.parent
+        prefix = ".dancebots-partial-" if previous is not None else f".{target.name}.partial-"
+        staging = Path(tempfile.mkdtemp(prefix=prefix, dir=home))
+        umask = os.umask(0)
+        os.umask(umask)
+        staging.chmod(0o777 & ~umask)  # mkdtemp makes it private; a run's outputs are not
+    except OSError as exc:
+        for directory in created:
+            with contextlib.suppress(OSError):
+                directory.rmdir()
+        raise OutputError(f"cannot write {shown}: {exc.strerror or exc}; choose a writable "
+                          "--out") from None
+    return StagedOutput(target, staging, command, previous, tuple(created))
+
+
+def write_file(path: Path, write: Callable[[Path], None], marker: bytes) -> None:
+    """Write one file through a temporary file beside it, replaced into place when complete.
+
+    An existing file is replaced only if dancebots wrote it (its content holds ``marker``);
+    directories, symbolic links and other people's files are refused with an
+    :class:`OutputError`.
+    """
+    shown = str(path)
+    if path.is_symlink():
+        raise OutputError(f"{shown} is a symbolic link; give the path of a file")
+    if path.is_dir():
+        raise OutputError(f"{shown} is a directory; give a file name, e.g. {path / 'plan.png'}")
+    if path.exists():
+        try:
+            with open(path, "rb") as handle:
+                ours = marker in handle.read(64 * 1024 * 1024)
+        except OSError as exc:
+            raise OutputError(f"cannot read {shown}: {exc.strerror or exc}") from None
+        if not ours:
+            raise OutputError(f"{shown} exists and was not written by dancebots; remove it or "
+                              "choose another name")
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise OutputError(f"cannot write {shown}: the directory {directory} does not exist")
+    try:
+        handle_number, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
+                                               dir=directory)
+    except OSError as exc:
+        raise OutputError(f"cannot write {shown}: {exc.strerror or exc}") from None
+    os.close(handle_number)
+    temporary = Path(name)
+    try:
+        write(temporary)
+        temporary.chmod(0o666 & ~_umask())
+        os.replace(temporary, path)
+    except OSError as exc:
+        raise OutputError(f"cannot write {shown}: {exc.strerror or exc}") from None
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            temporary.unlink()
+
+
+def _umask() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
+
+
+def add_show_arguments(parser: argparse.ArgumentParser, scenario_help: str | None = None,
+                       world_help: str | None = None) -> None:
+    """The arguments that name a show: SCENARIO, --world, --vmax."""
+    if scenario_help is None:
+        parser.add_argument("scenario", metavar="SCENARIO",
+                            help="choreography file (.dance; `dancebots demo` prints one)")
+    else:
+        parser.add_argument("scenario", metavar="SCENARIO", nargs="?", help=scenario_help)
+    parser.add_argument("--world", metavar="W", help=world_help or "world file (TOML, "
+                        "docs/worlds.md): the room, obstacles, robots and spectators")
+    parser.add_argument("--vmax", type=positive, metavar="V",
+                        help="max speed of the slowest robot, m/s (default: from the world's "
+                        "robot types, else 0.5); the virtual leader moves at 0.7 V")

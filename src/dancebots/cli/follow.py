@@ -1,0 +1,203 @@
+"""``dancebots follow``: the queue show of the second seed (a thin shell).
+
+Loads the world (the bundled obstacle course by default), runs ``sim.queue`` with the chosen
+detector and controller, and writes metrics.json, queue.png, animation.gif (and .mp4 with
+ffmpeg) and log.csv through the output writer, like ``dancebots run``. Exit 0 when the queue
+ran clean, 1 when not (a contact, a broken queue).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from dancebots.cli.common import (
+    EXIT_FAILED,
+    EXIT_INVALID,
+    EXIT_OK,
+    OutputError,
+    bundled,
+    fail,
+    in_range,
+    print_diagnostics,
+    progress,
+    short_path,
+    stage_output,
+)
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from dancebots.report.follow import QueueMetrics
+    from dancebots.report.verdict import Verdict
+    from dancebots.sim.queue import QueueResult
+
+__all__ = ["BUNDLED_WORLDS"]
+
+NAME = "follow"
+HELP = ("a queue of robots each following the object in front of it with its LIDAR alone "
+        "(second seed): metrics, plot, animation, log")
+DESCRIPTION = ("Simulate a queue of robots that each follow the object in front of them with "
+               "their LIDAR alone (the workshop paper's leader-follower strategy). Exit 0 when "
+               "the queue ran clean, 1 when a robot touched something or the queue broke, 2 "
+               "on invalid input.")
+
+BUNDLED_WORLDS = {"course": "follow_course.toml", "crossing": "follow_crossing.toml"}
+"""``--world`` names of the bundled queue worlds (src/dancebots/data/)."""
+DETECTORS = ("a1", "a2", "a2-track")
+"""``leader_follower.detectors.DETECTORS`` (a test keeps them equal)."""
+CONTROLLERS = ("pid", "vo")
+"""``leader_follower.controllers.CONTROLLERS``."""
+LEADERS = ("person", "robot")
+"""``sim.queue.LEADERS``."""
+PROFILES = ("ideal", "realistic")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--world", metavar="W", help="world file with a spectator named "
+                        "'leader' whose path the queue follows, or a bundled world: 'course' "
+                        "(the obstacle course, default) or 'crossing' (the course with a "
+                        "person crossing the queue)")
+    parser.add_argument("--robots", type=in_range(1, 20, integer=True), default=3,
+                        help="followers, 1 to 20 (default 3)")
+    parser.add_argument("--leader", choices=LEADERS, default="person",
+                        help="person: the world's 'leader' walks its path (default); robot: a "
+                        "robot drives that path, timed as the person walks it")
+    parser.add_argument("--detector", choices=DETECTORS, default="a1",
+                        help="a1: DBSCAN clusters; a2: Kalman tracks, the seed's target rule; "
+                        "a2-track: Kalman tracks, the target is its track (default a1)")
+    parser.add_argument("--controller", choices=CONTROLLERS, default="pid",
+                        help="pid: go-to-goal PID (B1); vo: velocity obstacles (B2)")
+    parser.add_argument("--rvo", action="store_true", help="reciprocal velocity obstacles")
+    parser.add_argument("--gains", choices=("first", "tuned"), default="first",
+                        help="the pid controller's seed gains: first (Kp_u 1.2, Kp_w 0.5, "
+                        "default) or tuned (Kp_u 0.6, Kp_w 0.1, Ki_w 0.01)")
+    parser.add_argument("--standoff", type=in_range(0.2, 3.0), default=0.5, metavar="M",
+                        help="distance kept to the object in front, 0.2 to 3 m (default 0.5)")
+    parser.add_argument("--profile", choices=PROFILES, default="ideal",
+                        help="ideal: commands act at once; realistic: inertia, lag and noise "
+                        "(default: ideal)")
+    parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
+                        help="seed of the noise of the realistic profile (default 0)")
+    parser.add_argument("--out", metavar="DIR", help="output directory (default "
+                        "out/follow-DETECTOR-CONTROLLER); same rules as `dancebots run --out`")
+    parser.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
+    parser.add_argument("--json", action="store_true",
+                        help="print the summary and the verdict as JSON on stdout")
+
+
+def run(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    from dancebots import __version__
+    from dancebots.diagnostics import DiagnosticError, read_source_file, source_lines
+    from dancebots.report.follow import queue_metrics
+    from dancebots.report.verdict import queue_verdict
+    from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
+    from dancebots.sim.queue import QueueConfig, simulate_queue
+    from dancebots.sim.setup import SetupError
+    from dancebots.world import load_world
+
+    world_path = args.world or "course"
+    if world_path in BUNDLED_WORLDS and not Path(world_path).exists():
+        world_path = short_path(bundled(BUNDLED_WORLDS[world_path]))
+    try:
+        world = load_world(world_path)
+    except DiagnosticError as exc:
+        text, _ = read_source_file(world_path)
+        print_diagnostics(exc.diagnostics, {world_path: source_lines(text or "")})
+        return EXIT_INVALID
+    config = QueueConfig(robots=int(args.robots), detector=args.detector,
+                         controller=args.controller, standoff=args.standoff,
+                         profile=CORE_PROFILES[args.profile], seed=int(args.seed),
+                         reciprocal=args.rvo, gains=args.gains, leader=args.leader)
+    target = Path(args.out or f"out/follow-{args.detector}-{args.controller}")
+    try:
+        staged = stage_output(target, NAME)
+    except OutputError as exc:
+        return fail(NAME, str(exc))
+    console = Console(stderr=True)
+    try:
+        started = time.perf_counter()
+        try:
+            with progress(console, "simulating  (s)") as update:
+                result = simulate_queue(world, config, update)
+        except SetupError as exc:
+            staged.abandon()
+            return fail(NAME, str(exc))
+        wall = time.perf_counter() - started
+        metrics = queue_metrics(result)
+        verdict = queue_verdict(metrics)
+        written = _write(result, metrics, verdict, staged.staging, not args.no_animation,
+                         console)
+        staged.commit(written, __version__)
+    except BaseException:
+        staged.abandon()
+        raise
+    if args.json:
+        print(json.dumps({"output": str(target), "files": written, "wall_s": round(wall, 3),
+                          "verdict": verdict.to_json(), "metrics": metrics.to_json()},
+                         indent=2))
+    else:
+        _summary(metrics, verdict, wall, target, written, world_path)
+    return EXIT_OK if verdict.clean else EXIT_FAILED
+
+
+def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directory: Path,
+           animation: bool, console: Console) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from dancebots.report.follow import animate_queue, plot_queue, write_queue_log
+
+    with open(directory / "log.csv", "w", encoding="utf-8") as handle:
+        write_queue_log(result, handle)
+    figure = plot_queue(result)
+    figure.savefig(directory / "queue.png", dpi=110)
+    plt.close(figure)
+    written = ["log.csv", "queue.png"]
+    if animation:
+        from dancebots.report.animation import ffmpeg_available
+
+        for kind in ["gif"] + (["mp4"] if ffmpeg_available() else []):
+            with progress(console, f"animation.{kind} (frames)") as update:
+                animate_queue(result, str(directory / f"animation.{kind}"),
+                              progress=lambda done, total: update(done + 1, total))
+            written.append(f"animation.{kind}")
+    (directory / "metrics.json").write_text(json.dumps(
+        {**metrics.to_json(), "verdict": verdict.to_json()}, indent=2) + "\n", encoding="utf-8")
+    return [*written, "metrics.json"]
+
+
+def _summary(metrics: QueueMetrics, verdict: Verdict, wall: float, target: Path,
+             written: list[str], world: str) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    out = Console()
+    table = Table(title=f"{world}: detector {metrics.detector}, controller "
+                  f"{metrics.controller}, stand-off {metrics.standoff:g} m",
+                  title_justify="left")
+    for column in ("robot", "median error m", "max |error| m", "lost s", "kidnappings",
+                   "kidnapped s", "collisions", "final gap m"):
+        table.add_column(column, justify="left" if column == "robot" else "right")
+    for f in metrics.followers:
+        table.add_row(f.robot, f"{f.median_error:.3f}", f"{f.max_error:.3f}",
+                      f"{f.lost_time:.1f}", str(f.kidnappings), f"{f.kidnapped_time:.1f}",
+                      str(f.collisions), f"{f.final_gap:.2f}")
+    out.print(table)
+    out.print(f"simulated {metrics.duration:.1f} s in {wall:.2f} s; queue "
+              + ("intact" if metrics.intact else "BROKEN"),
+              style="green" if metrics.intact else "bold red", highlight=False)
+    out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
+    if verdict.clean:
+        out.print("verdict: the queue ran clean", style="bold green", highlight=False)
+    else:
+        out.print("verdict: NOT CLEAN", style="bold red", highlight=False)
+        for failure in verdict.failures:
+            out.print(f"  - {failure}", style="red", highlight=False)

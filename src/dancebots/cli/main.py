@@ -1,0 +1,59 @@
+"""The ``dancebots`` parser and entry point: one sub-command per module of this package."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Sequence
+
+import dancebots.cli.check as check_command
+import dancebots.cli.demo as demo_command
+import dancebots.cli.follow as follow_command
+import dancebots.cli.plan as plan_command
+import dancebots.cli.ros as ros_command
+import dancebots.cli.run as run_command
+from dancebots import __version__
+from dancebots.cli.common import EXIT_INTERRUPTED
+
+__all__ = ["build_parser", "main"]
+
+COMMANDS = (check_command, plan_command, demo_command, run_command, follow_command,
+            ros_command)
+"""Each has NAME, HELP, DESCRIPTION, add_arguments(parser) and run(args) -> exit status."""
+
+EPILOG = """exit status: 0 valid input, or a show that ran clean; 1 check --strict found warnings,
+or run/follow ran a show that was not clean (a collision, a contact with a person, a robot in
+its error state, a robot far from its final slot, a broken queue); 2 invalid input or
+arguments (nothing was simulated or written); 130 interrupted (Ctrl-C)."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The whole command line; builds fast (no core module is imported)."""
+    parser = argparse.ArgumentParser(
+        prog="dancebots", description="Choreograph formations of ground robots: check a "
+        "choreography, plan it, preview it in the simulator, run it through ROS.",
+        epilog=EPILOG)
+    parser.add_argument("--version", action="version", version=f"dancebots {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in COMMANDS:
+        sub = commands.add_parser(module.NAME, help=module.HELP,
+                                  description=module.DESCRIPTION)
+        module.add_arguments(sub)
+        sub.set_defaults(handler=module.run, parser=sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``dancebots ARGS``; returns the exit status (argparse exits 2 on bad arguments)."""
+    try:
+        args = build_parser().parse_args(argv)
+        status: int = args.handler(args)
+        return status
+    except KeyboardInterrupt:
+        print("dancebots: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:  # e.g. `dancebots demo | head`: the reader is gone
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141

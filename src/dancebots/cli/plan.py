@@ -1,0 +1,76 @@
+"""``dancebots plan``: draw the virtual leaders' and the robots' desired paths."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+from dancebots.cli.common import (
+    EXIT_INVALID,
+    EXIT_OK,
+    OutputError,
+    add_show_arguments,
+    fail,
+    print_diagnostics,
+    write_file,
+)
+
+NAME = "plan"
+HELP = "draw the virtual leaders' and robots' paths"
+DESCRIPTION = ("Draw the plan of a choreography: the virtual leaders' paths, every robot's "
+               "desired path and its slots, in the world when one is given.")
+
+CREATOR = "dancebots plan"
+"""Written into the image's metadata; an existing image is replaced only if it holds this."""
+FORMATS = ("png", "svg", "pdf")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_show_arguments(parser)
+    parser.add_argument("--png", required=True, metavar="OUT",
+                        help="image file to write (.png; .svg and .pdf by their extension); "
+                        "an existing file is replaced only if dancebots plan wrote it")
+
+
+def run(args: argparse.Namespace) -> int:
+    from dancebots.diagnostics import Diagnostic, has_errors
+    from dancebots.loading import load_show
+
+    show = load_show(args.scenario, args.world, args.vmax)
+    print_diagnostics(show.diagnostics, show.sources)
+    if show.plan is None or not show.valid:
+        return EXIT_INVALID
+    plan, world = show.plan, show.world
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from dancebots.check import place_plan_in_world
+    from dancebots.report.plan_plot import plot_plan
+
+    transform = None
+    if world is not None:
+        placement: list[Diagnostic] = []
+        transform = place_plan_in_world(plan, world, placement)
+        print_diagnostics(placement, show.sources)
+        if has_errors(placement):
+            return EXIT_INVALID
+    kind = _image_format(args.png)
+    metadata = {"Software" if kind == "png" else "Creator": CREATOR}
+    figure = plot_plan(plan, world, transform)
+    try:
+        write_file(Path(args.png), lambda path: figure.savefig(
+            path, dpi=120, format=kind, metadata=metadata), CREATOR.encode())
+    except OutputError as exc:
+        return fail(NAME, str(exc))
+    finally:
+        plt.close(figure)
+    print(f"wrote {args.png}")
+    return EXIT_OK
+
+
+def _image_format(path: str) -> str:
+    extension = os.path.splitext(path)[1].lower().lstrip(".")
+    return extension if extension in FORMATS else "png"

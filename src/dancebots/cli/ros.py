@@ -1,0 +1,134 @@
+"""``dancebots ros``: run the ROS 1 nodes with roslaunch (a thin shell).
+
+``dancebots ros formation SCENARIO --role R1`` runs one robot (formation.launch), on each
+robot of a show; ``dancebots ros simulate SCENARIO`` runs the simulator bridge and every
+robot's nodes on this machine under one master (started by roslaunch when none runs). Both
+put the ``dancebots_ros`` package on ROS_PACKAGE_PATH and this Python first on PATH, so the
+nodes run with this installation of dancebots.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+import shutil
+import socket
+import sys
+import tempfile
+from pathlib import Path
+
+from dancebots.cli.common import (
+    EXIT_INVALID,
+    EXIT_OK,
+    add_show_arguments,
+    fail,
+    print_diagnostics,
+)
+
+NAME = "ros"
+HELP = "run the show through ROS 1 (real robots or the ROS simulation)"
+DESCRIPTION = ("Run a show through ROS 1: `formation` on each real robot (one per robot, the "
+               "same files everywhere), `simulate` for every robot's nodes and the simulator "
+               "bridge on this machine.")
+START_STRATEGIES = ("agreed", "thesis")
+"""``sync.start.START_STRATEGIES`` (a test keeps them equal); the first is the default."""
+PROFILES = ("ideal", "realistic")
+
+_INSTALL = ("roslaunch is not installed; install Debian's ROS 1 packages: apt-get install "
+            "ros-core python3-rospy python3-roslaunch python3-tf2-ros python3-sensor-msgs "
+            "python3-geometry-msgs python3-std-msgs")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest="ros_command", metavar="WHAT", required=True)
+    formation = sub.add_parser("formation", help="this robot's nodes (formation.launch)",
+                               description="Run this robot's nodes (network test, formation "
+                               "member, obstacle detection) with roslaunch.")
+    add_show_arguments(formation, world_help="world file (the same on every robot)")
+    formation.add_argument("--role", required=True,
+                           help="this robot's name in the scenario, e.g. R1")
+    formation.add_argument("--robot-name", default="", metavar="PREFIX",
+                           help="topic/frame prefix when robots share one master")
+    formation.add_argument("--start-strategy", choices=START_STRATEGIES, default="agreed",
+                           help="agreed (default): one start every robot agrees on whatever "
+                           "the network does; thesis: as thesis 4.2 wrote it (docs/ros.md)")
+    formation.add_argument("--no-lidar", action="store_true",
+                           help="run without obstacle detection (no stops, no force field)")
+    formation.add_argument("--print-command", action="store_true",
+                           help="print what would run (the roslaunch command) and exit")
+    formation.set_defaults(subparser=formation)
+    simulate = sub.add_parser("simulate", help="the simulator bridge and every robot's nodes "
+                              "on this machine", description="Run every robot's nodes and the "
+                              "simulator bridge on this machine under one ROS master.")
+    add_show_arguments(simulate)
+    simulate.add_argument("--profile", choices=PROFILES, default="ideal",
+                          help="the simulated robots' dynamics (default: ideal)")
+    simulate.add_argument("--no-lidar", action="store_true",
+                          help="robots without LIDAR (no stops, no force field)")
+    simulate.add_argument("--record", default="", metavar="FILE.npz",
+                          help="write the run's poses and commands here")
+    simulate.add_argument("--print-command", "--print-launch", dest="print_command",
+                          action="store_true", help="print what would run (the generated "
+                          "launch file) and exit")
+    simulate.set_defaults(subparser=simulate)
+
+
+def _roslaunch() -> str | None:
+    found = shutil.which("roslaunch")
+    if found is None:
+        fail(NAME, _INSTALL)
+    return found
+
+
+def run(args: argparse.Namespace) -> int:
+    from dancebots.loading import load_show
+    from dancebots.ros1.launching import START_ALLOWANCE, ros_environment, simulation_launch
+    from dancebots.sim.setup import SetupError, prepare_show
+
+    show = load_show(args.scenario, args.world, args.vmax)
+    if show.plan is None or not show.valid:
+        print_diagnostics(show.diagnostics, show.sources)
+        return EXIT_INVALID
+    plan = show.plan
+    vmax = args.vmax or 0.0
+    scenario = str(Path(args.scenario).resolve())
+    world_file = str(Path(args.world).resolve()) if args.world else ""
+    if args.ros_command == "formation":
+        if args.role not in plan.robots:
+            args.subparser.error(f"--role {args.role!r} is not one of the scenario's robots "
+                                 f"({', '.join(plan.robots)})")
+        roslaunch = "roslaunch" if args.print_command else _roslaunch()
+        if roslaunch is None:
+            return EXIT_INVALID
+        command = [roslaunch, "dancebots_ros", "formation.launch", f"scenario:={scenario}",
+                   f"role:={args.role}", f"world:={world_file}", f"vmax:={vmax}",
+                   f"robot_name:={args.robot_name}", f"start_strategy:={args.start_strategy}",
+                   f"lidar:={str(not args.no_lidar).lower()}",
+                   # bash does not export HOSTNAME: pass the host's name when it is unset
+                   f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
+        if args.print_command:
+            print(shlex.join(command))
+            return EXIT_OK
+        os.execve(roslaunch, command, ros_environment())
+    try:
+        _, placement = prepare_show(plan, show.world)
+    except SetupError as exc:
+        return fail(NAME, str(exc))
+    text = simulation_launch(
+        scenario, plan.robots, world_file, vmax, args.profile, not args.no_lidar,
+        str(Path(args.record).resolve()) if args.record else "",
+        plan.duration + START_ALLOWANCE,
+        tuple((t.length, t.width, t.max_speed) for t in placement.types))
+    if args.print_command:
+        print(text, end="")
+        return EXIT_OK
+    roslaunch = _roslaunch()
+    if roslaunch is None:
+        return EXIT_INVALID
+    folder = Path(tempfile.mkdtemp(prefix="dancebots-ros-"))
+    launch = folder / "simulation.launch"
+    launch.write_text(text)
+    sys.stdout.flush()
+    os.execve(roslaunch, [roslaunch, str(launch)], ros_environment())
+    return EXIT_OK  # not reached

@@ -1,0 +1,251 @@
+"""``dancebots run``: simulate a show and write its metrics, plots, animation and log.
+
+A thin shell: it loads and checks the show (refusing what ``check`` calls an error), makes
+sure the output directory can be written, simulates, computes the metrics and the verdict,
+writes everything through the output writer of ``cli.common`` and exits 0 when the show ran
+clean, 1 when it did not.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from dancebots.cli.common import (
+    EXIT_FAILED,
+    EXIT_INVALID,
+    EXIT_OK,
+    OutputError,
+    StagedOutput,
+    add_show_arguments,
+    bundled,
+    fail,
+    in_range,
+    positive,
+    print_diagnostics,
+    progress,
+    short_path,
+    stage_output,
+)
+
+if TYPE_CHECKING:
+    from rich.console import Console
+
+    from dancebots.loading import LoadedShow
+    from dancebots.report.metrics import RunMetrics
+    from dancebots.report.verdict import Verdict
+    from dancebots.sim.setup import Arena, Placement
+    from dancebots.sim.simulator import RunResult
+
+NAME = "run"
+HELP = "simulate a show and write metrics, plots, an animation and a log"
+DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops and the force "
+               "field) and write metrics.json, plots, an animation and a CSV log. Exit 0 when "
+               "the show ran clean; 1 when it did not (a collision, a contact with a person, a "
+               "robot in its error state, a robot far from its final slot); 2 when the input "
+               "is invalid.")
+
+PROFILES = ("ideal", "realistic")
+"""The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
+DETECTORS = ("compensated", "thesis")
+FORCE_STEERINGS = ("blend", "thesis")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_show_arguments(parser, scenario_help="choreography file (default: the bundled "
+                       "open-day show, thesis listing 6.3, in its hall with two HUSKY and two "
+                       "TRADR robots)", world_help="world file (TOML, docs/worlds.md); "
+                       "default: an open arena around the show")
+    parser.add_argument("--out", metavar="DIR", help="output directory (default: out/NAME); "
+                        "a new or empty directory, or one of an earlier run, whose files "
+                        "dancebots replaces (other files there are never touched)")
+    parser.add_argument("--profile", choices=PROFILES, default="ideal",
+                        help="ideal: commands act at once (thesis 2D); realistic: inertia, lag "
+                        "and noise (default: ideal)")
+    parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
+                        help="seed of the noise of the realistic profile (default 0)")
+    parser.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
+    parser.add_argument("--sound", action="store_true",
+                        help="also write sound.wav: the robots' speech and beeps on the show's "
+                        "time line (needs espeak-ng)")
+    parser.add_argument("--show-lidar", action="store_true",
+                        help="draw each robot's latest LIDAR scan in the animation")
+    parser.add_argument("--no-lidar", action="store_true",
+                        help="robots without LIDAR: no obstacle detection, stops or force "
+                        "field (they drive into people)")
+    parser.add_argument("--rays", type=int, default=256, choices=(256, 1024),
+                        help="LIDAR rays per scan (default 256 as in the thesis's simulator)")
+    parser.add_argument("--latency", type=in_range(0.0, 2.0), default=0.3, metavar="S",
+                        help="LIDAR latency, s, 0 to 2 (default 0.3, the thesis's robots)")
+    parser.add_argument("--detector", choices=DETECTORS, default="compensated",
+                        help="thesis: use the latest cloud as if current; compensated "
+                        "(default): move its points by the robot's motion since the scan")
+    parser.add_argument("--force-steering", choices=FORCE_STEERINGS, default="blend",
+                        help="how the virtual force field steers (docs/safety.md)")
+    parser.add_argument("--final-tolerance", type=positive, default=None, metavar="M",
+                        help="a robot ending further than this from its final slot fails the "
+                        "show, m (default 0.5)")
+    parser.add_argument("--json", action="store_true",
+                        help="print the summary and the verdict as JSON on stdout")
+
+
+def run(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    from dancebots.check import CheckOptions
+    from dancebots.loading import load_show
+
+    if args.scenario is None:  # the bundled open-day show in its hall
+        args.scenario = short_path(bundled("open_day.dance"))
+        if args.world is None:
+            args.world = short_path(bundled("open_day.toml"))
+    show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions())
+    if not show.valid or show.plan is None:
+        print_diagnostics(show.diagnostics, show.sources)
+        return EXIT_INVALID
+    from dancebots.sim.setup import SetupError, prepare_show
+
+    try:
+        arena, placement = prepare_show(show.plan, show.world)
+    except SetupError as exc:
+        return fail(NAME, str(exc))
+    console = Console(stderr=True)
+    if args.sound:
+        from dancebots.report.sound import espeak_available
+
+        if not espeak_available():
+            return fail(NAME, "--sound needs espeak-ng (Debian package espeak-ng; "
+                        "scripts/dev.sh installs it)")
+    target = Path(args.out) if args.out else Path("out") / Path(args.scenario).stem
+    try:
+        staged = stage_output(target, NAME)
+    except OutputError as exc:
+        return fail(NAME, str(exc))
+    try:
+        return _simulate_and_write(args, show, (arena, placement), staged, console)
+    except BaseException:
+        staged.abandon()
+        raise
+
+
+def _simulate_and_write(args: argparse.Namespace, show: LoadedShow,
+                        setup: tuple[Arena, Placement], staged: StagedOutput,
+                        console: Console) -> int:
+    from dancebots import __version__
+    from dancebots.report.metrics import run_metrics
+    from dancebots.report.verdict import FINAL_SLOT_TOLERANCE, run_verdict
+    from dancebots.sim.kernels import kernels_to_compile
+    from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
+    from dancebots.sim.lidar import LidarConfig
+    from dancebots.sim.simulator import SimConfig, simulate
+
+    assert show.plan is not None
+    plan, (arena, placement) = show.plan, setup
+    if show.diagnostics:  # check's warnings, in full, before the long work
+        print_diagnostics(show.diagnostics, show.sources)
+    if args.no_lidar and arena.spectators:
+        console.print(f"WARNING: --no-lidar with {len(arena.spectators)} spectator"
+                      f"{'s' if len(arena.spectators) > 1 else ''} in the world: the robots "
+                      "cannot see people and will drive into them", style="bold red",
+                      highlight=False)
+    compile_first = kernels_to_compile()
+    if compile_first:
+        console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
+                      "run on this machine only, about 20 s)", style="yellow", highlight=False)
+    lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
+    config = SimConfig(profile=CORE_PROFILES[args.profile], seed=args.seed, lidar=lidar,
+                       detector=args.detector, force_steering=args.force_steering,
+                       record_lidar=args.show_lidar and lidar is not None
+                       and not args.no_animation)
+    started = time.perf_counter()
+    with progress(console, "simulating  (show s)") as update:
+        result = simulate(plan, arena, placement, config, update)
+    wall = time.perf_counter() - started
+    metrics = run_metrics(result)
+    verdict = run_verdict(metrics, args.final_tolerance or FINAL_SLOT_TOLERANCE)
+    written = _write_outputs(result, metrics, verdict, staged.staging, console,
+                             not args.no_animation, args.sound)
+    staged.commit(written, __version__)
+    if args.json:
+        print(json.dumps({"output": str(staged.target), "files": written,
+                          "wall_s": round(wall, 3), "verdict": verdict.to_json(),
+                          "metrics": metrics.to_json()}, indent=2))
+    else:
+        _summary(result, metrics, verdict, wall, staged.target, written)
+    return EXIT_OK if verdict.clean else EXIT_FAILED
+
+
+def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, directory: Path,
+                   console: Console, animation: bool, sound: bool = False) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from dancebots.report.animation import animate_run, ffmpeg_available
+    from dancebots.report.run_plots import plot_speeds_and_distances, plot_trajectories
+    from dancebots.report.runlog import write_log
+
+    with open(directory / "log.csv", "w", encoding="utf-8") as handle:
+        write_log(result, handle)
+    for name, draw in (("speeds_distances.png", plot_speeds_and_distances),
+                       ("trajectories.png", plot_trajectories)):
+        figure = draw(result)
+        figure.savefig(directory / name, dpi=110)
+        plt.close(figure)
+    written = ["log.csv", "speeds_distances.png", "trajectories.png"]
+    if animation:
+        kinds = ["gif"] + (["mp4"] if ffmpeg_available() else [])
+        for kind in kinds:
+            with progress(console, f"animation.{kind} (frames)") as update:
+                animate_run(result, str(directory / f"animation.{kind}"),
+                            progress=lambda done, total: update(done, total))
+            written.append(f"animation.{kind}")
+    if sound:
+        from dancebots.report.sound import render_events_wav
+
+        render_events_wav(result.events, float(result.times[-1]), str(directory / "sound.wav"))
+        written.append("sound.wav")
+    (directory / "metrics.json").write_text(json.dumps(
+        {**metrics.to_json(), "verdict": verdict.to_json()}, indent=2) + "\n", encoding="utf-8")
+    return [*written, "metrics.json"]
+
+
+def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: float,
+             target: Path, written: list[str]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    out = Console()
+    table = Table(title=f"{result.plan.scenario.path} ({metrics.profile} profile, seed "
+                  f"{metrics.seed})", title_justify="left")
+    for column in ("robot", "RMS error m", "max error m", "final error m",
+                   "max |d_vl - d_req| m", "stops", "stopped s", "state"):
+        table.add_column(column, justify="right" if column != "robot" else "left")
+    for robot in metrics.robots:
+        table.add_row(robot.robot, f"{robot.rms_error:.3f}", f"{robot.max_error:.3f}",
+                      f"{robot.final_error:.3f}", f"{robot.max_leader_distance_deviation:.3f}",
+                      str(robot.stops), f"{robot.stopped_time:.1f}",
+                      "ok" if robot.error is None else f"error: {robot.error}")
+    out.print(table)
+    change = metrics.max_spacing_change
+    clearance = metrics.min_clearance
+    out.print(f"show {metrics.show_duration:.1f} s, simulated {metrics.run_duration:.1f} s in "
+              f"{wall:.2f} s ({metrics.run_duration / max(wall, 1e-9):.0f}x real time)",
+              highlight=False)
+    out.print("max change of the distance between row neighbours: "
+              + ("n/a" if change is None else f"{change:.3f} m")
+              + "; smallest gap between robots: "
+              + ("n/a" if clearance is None else f"{clearance:.3f} m"), highlight=False)
+    style = "bold red" if metrics.collisions else "green"
+    out.print(f"collisions: {metrics.collisions}", style=style, highlight=False)
+    out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
+    if verdict.clean:
+        out.print("verdict: the show ran clean", style="bold green", highlight=False)
+    else:
+        out.print("verdict: NOT CLEAN", style="bold red", highlight=False)
+        for failure in verdict.failures:
+            out.print(f"  - {failure}", style="red", highlight=False)

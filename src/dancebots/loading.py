@@ -1,0 +1,97 @@
+"""Loading a show: a scenario file and an optional world file in, a plan or diagnostics out.
+
+The one way every shell (the ``dancebots`` commands, the ROS nodes) turns files into a plan,
+so that they all compute the same plan from the same files. No argparse, no printing: every
+problem, including an unreadable file, is a :class:`~dancebots.diagnostics.Diagnostic`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from dancebots.check import CheckOptions, CheckReport, check_plan, compile_scenario
+from dancebots.diagnostics import (
+    Diagnostic,
+    DiagnosticError,
+    has_errors,
+    read_source_file,
+    source_lines,
+)
+from dancebots.plan.planner import Plan, PlanParameters
+from dancebots.world import World, load_world
+
+__all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show"]
+
+DEFAULT_VMAX = 0.5
+"""m/s: the slowest robot's maximum speed when neither the caller nor a world gives one."""
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class LoadedShow:
+    """The result of loading a show.
+
+    plan: None when there are errors; world: None without a world file or when it is
+    invalid; diagnostics: every problem found (compiler, world and, if asked, check);
+    sources: the lines of each file read, by path (to print diagnostics with their source);
+    report: the check's report when ``load_show(..., check=...)`` asked for one and the
+    show compiled.
+    """
+
+    scenario_path: str
+    world_path: str | None
+    plan: Plan | None
+    world: World | None
+    diagnostics: tuple[Diagnostic, ...]
+    sources: Mapping[str, list[str]] = field(default_factory=dict)
+    report: CheckReport | None = None
+
+    @property
+    def valid(self) -> bool:
+        """True when the show compiled without errors (warnings allowed)."""
+        return self.plan is not None and not has_errors(self.diagnostics)
+
+
+def load_show(scenario_path: str, world_path: str | None = None, vmax: float | None = None,
+              check: CheckOptions | None = None) -> LoadedShow:
+    """Read and compile ``scenario_path`` (and place it in ``world_path``).
+
+    vmax: the slowest robot's maximum speed, m/s (default: the world's slowest robot type,
+    else :data:`DEFAULT_VMAX`); the virtual leader moves at 0.7 vmax (thesis 6.1).
+    check: also run :func:`~dancebots.check.check_plan` with these options; its diagnostics
+    (warnings, and errors for shows that cannot run in the world) join the others.
+    """
+    diagnostics: list[Diagnostic] = []
+    sources: dict[str, list[str]] = {}
+    world = None
+    if world_path:
+        try:
+            world = load_world(world_path)
+        except DiagnosticError as exc:
+            diagnostics.extend(exc.diagnostics)
+            text, _ = read_source_file(world_path)
+            if text is not None:
+                sources[world_path] = source_lines(text)
+        else:
+            text, _ = read_source_file(world_path)
+            if text is not None:
+                sources[world_path] = source_lines(text)
+    text, read_problems = read_source_file(scenario_path)
+    diagnostics.extend(read_problems)
+    if text is None:
+        return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)
+    sources[scenario_path] = source_lines(text)
+    speed = vmax or (world.slowest_speed() if world is not None else None) or DEFAULT_VMAX
+    _, plan, problems = compile_scenario(text, scenario_path, PlanParameters(vmax=speed))
+    diagnostics.extend(problems)
+    if plan is None or has_errors(diagnostics):
+        return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)
+    report = None
+    if check is not None:
+        report = check_plan(plan, world, check)
+        diagnostics.extend(report.diagnostics)
+        if has_errors(report.diagnostics):
+            return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics),
+                              sources, report)
+    return LoadedShow(scenario_path, world_path, plan, world, tuple(diagnostics), sources,
+                      report)

@@ -1,0 +1,82 @@
+"""The verdict on a simulated show: did it run clean, and if not, what went wrong.
+
+A show runs clean when no robot touched another robot, a wall, an obstacle or a person, no
+robot went into its error state, and every robot ends near its final slot (a formation show
+that ends out of formation did not look like one). Pure functions of the metrics; the shells
+turn a verdict into their exit status (0 clean, 1 not).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from dancebots.report.follow import QueueMetrics
+    from dancebots.report.metrics import RunMetrics
+
+__all__ = ["FINAL_SLOT_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
+
+FINAL_SLOT_TOLERANCE = 0.5
+"""m: a robot that ends further than this from its final slot fails the show (about a robot's
+length: the audience sees it out of place)."""
+
+_KINDS = {"robot": ("collision between robots", "collisions between robots"),
+          "spectator": ("contact with a person", "contacts with people"),
+          "wall": ("collision with a wall", "collisions with walls"),
+          "obstacle": ("collision with an obstacle", "collisions with obstacles")}
+
+
+@dataclass(frozen=True, slots=True)
+class Verdict:
+    """failures: one line per kind of failure, empty when the show ran clean."""
+
+    failures: tuple[str, ...]
+
+    @property
+    def clean(self) -> bool:
+        return not self.failures
+
+    def to_json(self) -> dict[str, object]:
+        return {"clean": self.clean, "failures": list(self.failures)}
+
+
+def _contacts(events: Sequence[dict[str, object]]) -> list[str]:
+    failures = []
+    for kind, (one, many) in _KINDS.items():
+        found = [e for e in events if e.get("kind") == kind]
+        if found:
+            first = found[0]
+            failures.append(f"{len(found)} {one if len(found) == 1 else many} (first: "
+                            f"{first['robot']} with {first['with']} at t = "
+                            f"{float(str(first['t_s'])):.1f} s)")
+    return failures
+
+
+def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERANCE) -> Verdict:
+    """The verdict on a formation show; final_tolerance in m."""
+    failures = _contacts(metrics.collision_events)
+    for robot in metrics.robots:
+        if robot.error is not None:
+            failures.append(f"{robot.robot} went into its error state: {robot.error}")
+    far = [r for r in metrics.robots if r.final_error > final_tolerance]
+    if far:
+        listed = ", ".join(f"{r.robot} {r.final_error:.2f} m" for r in far)
+        failures.append(f"{'robots end' if len(far) > 1 else 'a robot ends'} away from the "
+                        f"final slot (more than {final_tolerance:g} m): {listed}")
+    return Verdict(tuple(failures))
+
+
+def queue_verdict(metrics: QueueMetrics) -> Verdict:
+    """The verdict on a leader-follower queue: contacts, and a queue broken at the end."""
+    failures = []
+    contacts = sum(f.collisions for f in metrics.followers)
+    if contacts:
+        who = ", ".join(f"{f.robot} {f.collisions}" for f in metrics.followers if f.collisions)
+        failures.append(f"{contacts} contact{'s' if contacts > 1 else ''} ({who})")
+    broken = [f.robot for f in metrics.followers if not f.intact]
+    if broken:
+        failures.append(f"the queue is broken: {' '.join(broken)} no longer follow"
+                        + ("s" if len(broken) == 1 else "") + " the one in front")
+    return Verdict(tuple(failures))

@@ -1,0 +1,35 @@
+"""The simulator's numba kernels and whether they are compiled on disk yet.
+
+Every kernel is ``@njit(cache=True)``: numba compiles it on the first run on a machine (about
+20 s for all of them on a 2-core machine) and stores the machine code next to its module
+(``__pycache__``), so later runs load it in milliseconds. Shells use
+:func:`kernels_to_compile` to say so before that first, slow run.
+"""
+
+from __future__ import annotations
+
+import os
+from types import ModuleType
+
+__all__ = ["kernel_modules", "kernels_to_compile"]
+
+
+def kernel_modules() -> tuple[ModuleType, ...]:
+    """The modules that hold numba kernels (importing them imports numba)."""
+    from dancebots.perception import fast
+    from dancebots.sim import collision, raycast_jit
+
+    return (raycast_jit, collision, fast)
+
+
+def kernels_to_compile() -> tuple[str, ...]:
+    """``module.function`` of every kernel with no compiled code in numba's disk cache."""
+    missing = []
+    for module in kernel_modules():
+        for name, value in vars(module).items():
+            cache = getattr(value, "_cache", None)
+            cache_file = getattr(cache, "_cache_file", None)
+            index = getattr(cache_file, "_index_path", None)
+            if isinstance(index, str) and not os.path.exists(index):
+                missing.append(f"{module.__name__}.{name}")
+    return tuple(missing)
