@@ -62,7 +62,7 @@ def test_every_error_of_a_bad_world_at_its_line(data: Path) -> None:
      "declaration"),
     ("[room]\nsize = 3\nsize = 4\n", "w.toml:3:9: error: invalid TOML: cannot overwrite a value"),
     ("[[robots]]\nname = \"R1\"\nx = 1\n", "w.toml:1:1: error: missing key 'y'"),
-    ("[[robots]]\nname = \"R1\"\nx = 0\ny = 0\n[[robots]]\nname = \"R1\"\n",
+    ("[[robots]]\nname = \"R1\"\nx = 2\ny = 2\n[[robots]]\nname = \"R1\"\n",
      "w.toml:6:1: error: robot 'R1' is defined twice"),
     ("room = 3\n", "w.toml:1:1: error: 'room' must be a table: [room]"),
     ("[room]\nsize = 1e400\n", "w.toml:2:1: error: 'size' must be a finite number"),
@@ -89,13 +89,13 @@ def test_load_world_raises_with_diagnostics(tmp_path: Path) -> None:
 
 def test_spectators() -> None:
     text = ('[[spectators]]\nname = "child"\nspeed = 0.9\nstart = 2\nloop = true\n'
-            'path = [[0, 0], [4, 0, 2.5]]\n[[spectators]]\npath = [[1, 1]]\n')
+            'path = [[1, 1], [5, 1, 2.5]]\n[[spectators]]\npath = [[2, 2]]\n')
     world, diagnostics = parse_world(text, "w.toml")
     assert world is not None, diagnostics
     child, other = world.spectators
     assert (child.name, child.radius, child.height, child.speed, child.loop, child.start) == (
         "child", 0.3, 1.7, 0.9, True, 2.0)
-    assert child.waypoints.tolist() == [[0.0, 0.0], [4.0, 0.0]]
+    assert child.waypoints.tolist() == [[1.0, 1.0], [5.0, 1.0]]
     assert child.pauses.tolist() == [0.0, 2.5]
     assert other.name == "spectator 2"
 
@@ -104,7 +104,7 @@ def test_spectators() -> None:
     ("[[spectators]]\nname = \"a\"\n", "w.toml:1:1: error: spectator 'a' needs a 'path': a "
      "list of [x, y] or [x, y, pause_s] waypoints"),
     ("[[spectators]]\npath = [[0, 0, -1]]\n", "w.toml:2:1: error: the path of spectator "
-     "'spectator 1' must hold finite coordinates and pauses >= 0"),
+     "'spectator 1' must hold coordinates within +-10000 m and pauses from 0 to 3600 s"),
     ("[[spectators]]\npath = [[0, 0]]\nspeed = 0\n", "w.toml:3:1: error: 'speed' must be "
      "greater than 0"),
     ("[[spectators]]\npath = [[0, 0]]\nloop = 1\n", "w.toml:3:1: error: 'loop' must be true "
@@ -122,3 +122,138 @@ def test_slowest_speed_is_the_default_vmax(data: Path) -> None:
     empty, _ = parse_world("", "w.toml")
     assert empty is not None
     assert empty.slowest_speed() is None
+
+
+HUGE = "1" + "0" * 400  # an integer TOML reads exactly and no float holds
+
+
+@pytest.mark.parametrize(("text", "headline", "hint"), [
+    (f"[room]\nsize = {HUGE}\n", "w.toml:2:1: error: 'size' must be between 1 and 10000",
+     "is a digit too many?"),
+    (f"[[robots]]\nname = 'A'\nx = -{HUGE}\ny = 0\n",
+     "w.toml:3:1: error: 'x' must be between -10000 and 10000", "is a digit too many?"),
+    ("[room]\nsize = 5e-324\n", "w.toml:2:1: error: 'size' must be between 1 and 10000",
+     "see the range of each key in docs/worlds.md"),
+    ("[room]\nsize = -0.0\n", "w.toml:2:1: error: 'size' must be greater than 0",
+     "see the range of each key in docs/worlds.md"),
+    ("[room]\nsize = nan\n", "w.toml:2:1: error: 'size' must be a finite number",
+     "write a decimal number; nan and inf are not accepted"),
+    ("[robot_types.SIM]\nmax_speed = 1e-300\n", "w.toml:2:1: error: 'max_speed' must be "
+     "between 0.01 and 100", "see the range of each key in docs/worlds.md"),
+    (f"[room]\npolygon = [[0, 0], [{HUGE}, 0], [1, 1]]\n", "w.toml:2:1: error: the points of "
+     "the room must be finite numbers within +-10000 m", None),
+    (f"[[obstacles]]\npolygon = [[0, 0], [1, 0], [1, {HUGE}]]\n", "w.toml:2:1: error: the "
+     "points of obstacle 'obstacle 1' must be finite numbers within +-10000 m", None),
+    (f"[[spectators]]\npath = [[1, 1], [2, {HUGE}]]\n", "w.toml:2:1: error: the path of "
+     "spectator 'spectator 1' must hold coordinates within +-10000 m and pauses from 0 to "
+     "3600 s", None),
+    ("[[spectators]]\npath = [[1, 1], [2, 2, 1e308]]\n", "w.toml:2:1: error: the path of "
+     "spectator 'spectator 1' must hold coordinates within +-10000 m and pauses from 0 to "
+     "3600 s", None),
+    ("[[spectators]]\nspeed = 1e-320\npath = [[1, 1], [2, 2]]\n", "w.toml:2:1: error: "
+     "'speed' must be between 0.01 and 10", "see the range of each key in docs/worlds.md"),
+    ("[[spectators]]\nspeed = 0.01\nloop = true\npath = [[1, 1], [200, 2]]\n",
+     "w.toml:4:1: error: the walk of spectator 'spectator 1' lasts 39801 s, longer than 1 h",
+     "shorten the path or the pauses, or raise the speed"),
+])
+def test_hostile_numbers_are_positioned_errors(text: str, headline: str,
+                                               hint: str | None) -> None:
+    world, diagnostics = parse_world(text, "w.toml")
+    assert world is None
+    assert [d.headline() for d in diagnostics] == [headline]
+    assert diagnostics[0].hint == hint
+
+
+@pytest.mark.parametrize("separator", ["\x85", "\u2028", "\u2029"])
+def test_only_newlines_end_lines_of_a_world(separator: str) -> None:
+    text = f'# a note{separator}with odd breaks\n[room]\nsize = 0\n'
+    _, diagnostics = parse_world(text, "w.toml")
+    assert [d.headline() for d in diagnostics] == [
+        "w.toml:3:1: error: 'size' must be greater than 0"]
+
+
+def test_every_error_of_an_impossible_world(data: Path) -> None:
+    """Valid values that no show can run in: each problem at the key to change."""
+    path = data / "worlds" / "impossible.toml"
+    world, diagnostics = parse_world(path.read_text(), "impossible.toml")
+    assert world is None
+    assert [(d.headline(), d.hint) for d in diagnostics] == [
+        ("impossible.toml:11:1: error: obstacle 'pillar' is defined twice",
+         "give each obstacle its own name"),
+        ("impossible.toml:12:1: error: obstacle 'pillar' is not inside the room",
+         "move its corners inside the room, or make the room larger"),
+        ("impossible.toml:16:1: error: robot 'R1' starts outside the room",
+         "its SIM footprint (1.2 x 0.6 m) must lie inside the room: move x, y or turn it"),
+        ("impossible.toml:26:1: error: robots 'R2' and 'R3' overlap at their start poses",
+         "place them further apart: the simulator would hold both where they stand"),
+        ("impossible.toml:32:1: error: robot 'R4' starts in obstacle 'pillar'",
+         "move it off the obstacle"),
+        ("impossible.toml:37:1: error: robot 'R5' starts where spectator 'child' stands",
+         "move the robot or the spectator's first waypoint"),
+        ("impossible.toml:45:1: error: spectator 'child' is defined twice",
+         "give each spectator its own name"),
+        ("impossible.toml:47:1: error: spectator 'child' starts outside the room",
+         "its disc (radius 0.5 m) at the first waypoint must lie inside the room"),
+        ("impossible.toml:52:1: error: the path of spectator 'parent' leaves the room",
+         "its disc (radius 0.3 m) must stay inside the room along the whole path"),
+        ("impossible.toml:56:1: error: the path of spectator 'visitor' crosses obstacle "
+         "'pillar'", "route the path around the obstacle: the spectator's disc must not "
+         "touch it"),
+    ]
+
+
+ROBOT = '[[robots]]\nname = "{}"\ntype = "{}"\nx = {}\ny = {}\nyaw_deg = {}\n'
+
+
+@pytest.mark.parametrize(("robots", "problem"), [
+    # SIM 1.2 x 0.6 m: x from 0.6 to 10.073 fits the 10.673 m room with yaw 0
+    ([("A", "SIM", 0.6, 5, 0)], None),
+    ([("A", "SIM", 0.5999, 5, 0)], "robot 'A' starts outside the room"),
+    ([("A", "SIM", 5, 10.673 - 0.3, 0)], None),
+    ([("A", "SIM", 5, 10.673 - 0.2999, 0)], "robot 'A' starts outside the room"),
+    # turned by 90 degrees it is 0.6 m wide along x
+    ([("A", "SIM", 0.3, 5, 90)], None),
+    # side by side 0.6 m apart: touching is allowed, 0.1 mm of overlap is not
+    ([("A", "SIM", 3, 3, 0), ("B", "SIM", 3, 3.6, 0)], None),
+    ([("A", "SIM", 3, 3, 0), ("B", "SIM", 3, 3.5999, 0)],
+     "robots 'A' and 'B' overlap at their start poses"),
+    # nose to tail (the thesis's rows 1.2 m apart)
+    ([("A", "SIM", 3, 3, 0), ("B", "SIM", 4.2, 3, 0)], None),
+    ([("A", "SIM", 3, 3, 0), ("B", "HUSKY", 3.3, 3, 90)],
+     "robots 'A' and 'B' overlap at their start poses"),
+])
+def test_start_poses_must_fit_the_room_and_each_other(
+        robots: list[tuple[str, str, float, float, float]], problem: str | None) -> None:
+    text = "".join(ROBOT.format(*robot) for robot in robots)
+    world, diagnostics = parse_world(text, "w.toml")
+    assert [d.message for d in diagnostics] == ([problem] if problem else [])
+    assert (world is None) == (problem is not None)
+
+
+@pytest.mark.parametrize(("spectator", "problem"), [
+    # radius 0.3 m in a 10 m room: the centre may come to 0.3 m of a wall
+    ("path = [[0.3, 2], [9.7, 2]]", None),
+    ("path = [[0.29, 2], [9.7, 2]]", "spectator 'a' starts outside the room"),
+    ("path = [[0.3, 2], [9.71, 2]]", "the path of spectator 'a' leaves the room"),
+    ("path = [[11, 5]]", "spectator 'a' starts outside the room"),
+    # the way back to the first waypoint of a loop counts: it cuts the pillar's corner
+    ("path = [[3, 3], [3, 7], [7, 7]]", None),
+    ("path = [[3, 3], [3, 7], [7, 7]]\nloop = true",
+     "the path of spectator 'a' crosses obstacle 'pillar'"),
+    ("path = [[4.2, 5.5]]", "the path of spectator 'a' crosses obstacle 'pillar'"),
+])
+def test_spectator_paths_must_stay_in_the_room_and_off_obstacles(spectator: str,
+                                                                 problem: str | None) -> None:
+    text = ('[room]\nsize = 10\n[[obstacles]]\nname = "pillar"\n'
+            'polygon = [[4.5, 4.5], [5.5, 4.5], [5.5, 5.5], [4.5, 5.5]]\n'
+            f'[[spectators]]\nname = "a"\n{spectator}\n')
+    world, diagnostics = parse_world(text, "w.toml")
+    assert [d.message for d in diagnostics] == ([problem] if problem else [])
+    assert all((d.line, d.col) == (8, 1) for d in diagnostics)  # at its 'path'
+
+
+def test_the_bundled_and_example_worlds_are_possible(examples: Path, data: Path) -> None:
+    bundled = Path(__file__).resolve().parent.parent / "src" / "dancebots" / "data"
+    for path in [*bundled.glob("*.toml"), *(examples / "worlds").glob("*.toml"),
+                 data / "worlds" / "two_robots.toml"]:
+        load_world(str(path))

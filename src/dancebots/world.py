@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,25 +19,44 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from dancebots.diagnostics import Diagnostic, DiagnosticError, Severity, read_source_file
-from dancebots.geometry import Pose
+from dancebots.diagnostics import (
+    Diagnostic,
+    DiagnosticError,
+    Severity,
+    read_source_file,
+    source_lines,
+)
+from dancebots.geometry import Pose, footprint_corners
 
 __all__ = [
     "BUILTIN_ROBOT_TYPES",
+    "CONTACT_MARGIN",
     "DEFAULT_ROBOT_TYPE",
     "THESIS_ROOM_SIZE",
     "Obstacle",
     "RobotType",
     "Spectator",
+    "StartConflict",
     "World",
     "WorldRobot",
     "load_world",
     "parse_world",
+    "spectator_route",
+    "start_conflicts",
 ]
 
 THESIS_ROOM_SIZE = 10.673
 """Side of the thesis simulator's square room, m (thesis ch. 7.1)."""
 MAX_COORDINATE = 10_000.0
+"""Largest accepted coordinate, m (room, obstacles, robots, spectator paths)."""
+MIN_ROOM_SIZE = 1.0
+"""Smallest accepted side of a square room, m."""
+MIN_ROBOT_VALUE = 0.01
+"""Smallest accepted robot length and width (m), speeds (m/s, rad/s) and spectator radius (m)."""
+MIN_SPECTATOR_SPEED = 0.01
+"""Slowest accepted walking speed of a spectator, m/s."""
+MAX_WALK = 3600.0
+"""Longest accepted spectator walk (start delay, walking and pauses; one round of a loop), s."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,6 +145,69 @@ def square_room(size: float) -> NDArray[np.float64]:
     return np.array([[0.0, 0.0], [size, 0.0], [size, size], [0.0, size]])
 
 
+CONTACT_MARGIN = 1e-6
+"""m: how far a start footprint may reach into a wall, an obstacle, another robot or a
+visitor before it counts as overlapping it. Touching is allowed (the thesis's rows touch
+end to end); the margin absorbs rounding, so a touching robot is never refused for 1e-16 m."""
+
+
+@dataclass(frozen=True, slots=True)
+class StartConflict:
+    """Why robot ``robot`` (an index into the start poses) cannot start where it stands:
+    ``kind`` "room" (its footprint is not inside the room), or it overlaps "robot",
+    "obstacle" or "spectator" number ``other`` (an index; -1 for "room")."""
+
+    robot: int
+    kind: str
+    other: int
+
+
+def start_conflicts(types: Sequence[RobotType], starts: NDArray[np.float64],
+                    room: NDArray[np.float64] | None, obstacles: Sequence[Obstacle] = (),
+                    spectators: Sequence[Spectator] = ()) -> list[StartConflict]:
+    """Every reason the robots cannot start at ``starts`` (R, 3) (x, y, yaw in the world frame,
+    m and rad): a footprint that leaves ``room`` (N, 2; None: no walls), or overlaps an
+    obstacle, another robot or a spectator's disc at its first waypoint, each by more than
+    :data:`CONTACT_MARGIN`. The simulator would hold such a robot where it stands. Sorted by
+    robot; a pair of robots comes once (robot < other)."""
+    if len(types) == 0:
+        return []
+    lengths = np.array([t.length for t in types])
+    widths = np.array([t.width for t in types])
+    shapes = shapely.polygons(footprint_corners(starts[:, 0], starts[:, 1], starts[:, 2],
+                                                lengths, widths))
+    # the footprints less the margin all round (the centre of one smaller than the margin)
+    cores = shapely.buffer(shapes, -CONTACT_MARGIN, join_style="mitre")
+    cores = np.where(shapely.is_empty(cores), shapely.centroid(shapes), cores)
+    found: list[StartConflict] = []
+    if room is not None:
+        outside = ~shapely.contains(shapely.Polygon(room), cores)
+        found.extend(StartConflict(i, "room", -1) for i in np.flatnonzero(outside).tolist())
+    tree = shapely.STRtree(cores)
+    near = tree.query(cores, predicate="intersects")  # (2, P): pairs of indices
+    found.extend(StartConflict(i, "robot", j) for i, j in sorted(zip(
+        near[0].tolist(), near[1].tolist(), strict=True)) if i < j)
+    for k, obstacle in enumerate(obstacles):
+        hit = tree.query(shapely.Polygon(obstacle.polygon), predicate="intersects")
+        found.extend(StartConflict(int(i), "obstacle", k) for i in np.sort(hit).tolist())
+    for k, spectator in enumerate(spectators):
+        hit = tree.query(shapely.Point(spectator.waypoints[0]), predicate="dwithin",
+                         distance=spectator.radius)
+        found.extend(StartConflict(int(i), "spectator", k) for i in np.sort(hit).tolist())
+    return sorted(found, key=lambda c: c.robot)
+
+
+def spectator_route(spectator: Spectator) -> shapely.Geometry:
+    """The line (or point) a spectator's centre walks, world frame, m: its waypoints, and
+    back to the first one when it loops."""
+    points = spectator.waypoints
+    if spectator.loop and len(points) > 1:
+        points = np.concatenate([points, points[:1]])
+    if len(points) == 1 or np.all(points == points[0]):
+        return shapely.Point(points[0])
+    return shapely.LineString(points)
+
+
 def load_world(path: str) -> World:
     """Read and validate a world file; raises :class:`DiagnosticError` with every problem."""
     text, diagnostics = read_source_file(path)
@@ -141,7 +223,7 @@ class _Locator:
     """Finds the line and column of a key in the TOML text (tomllib gives no positions)."""
 
     def __init__(self, text: str) -> None:
-        self.lines = text.splitlines()
+        self.lines = source_lines(text)
         self.headers: list[tuple[int, str]] = []
         for number, line in enumerate(self.lines, start=1):
             match = re.match(r"\s*(\[\[?)\s*([^\]]+?)\s*\]", line)
@@ -175,7 +257,7 @@ def parse_world(text: str, path: str = "<world>") -> tuple[World | None, list[Di
         message = str(exc)
         match = re.search(r"\(at line (\d+), column (\d+)\)", message)
         line, col = (int(match.group(1)), int(match.group(2))) if match else (
-            max(1, len(text.splitlines())), 1)
+            max(1, len(source_lines(text))), 1)
         message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", message)
         return None, [Diagnostic(path, line, col, Severity.ERROR,
                                  f"invalid TOML: {message[:1].lower()}{message[1:]}",
@@ -207,15 +289,21 @@ class _World:
         if isinstance(value, bool) or not isinstance(value, int | float):
             self.error(position, f"'{key}' must be a number, not {_describe(value)}")
             return None
-        value = float(value)
+        value = _float(value)
+        if value is None:
+            self.error(position, f"'{key}' must be between {low:g} and {high:g}",
+                       "is a digit too many?")
+            return None
+        ranges = "see the range of each key in docs/worlds.md"
         if not math.isfinite(value):
-            self.error(position, f"'{key}' must be a finite number")
+            self.error(position, f"'{key}' must be a finite number",
+                       "write a decimal number; nan and inf are not accepted")
             return None
         if positive and value <= 0:
-            self.error(position, f"'{key}' must be greater than 0")
+            self.error(position, f"'{key}' must be greater than 0", ranges)
             return None
         if not low <= value <= high:
-            self.error(position, f"'{key}' must be between {low:g} and {high:g}")
+            self.error(position, f"'{key}' must be between {low:g} and {high:g}", ranges)
             return None
         return value
 
@@ -228,8 +316,9 @@ class _World:
             self.error(position, f"'{key}' of {what} must be a list of at least 3 [x, y] "
                        "points", "e.g. polygon = [[0, 0], [1, 0], [1, 1]]")
             return None
-        points = np.array(value, dtype=float)
-        if not np.all(np.isfinite(points)) or np.any(np.abs(points) > MAX_COORDINATE):
+        points = _float_array(value)
+        if points is None or not np.all(np.isfinite(points)) \
+                or np.any(np.abs(points) > MAX_COORDINATE):
             self.error(position, f"the points of {what} must be finite numbers within "
                        f"+-{MAX_COORDINATE:g} m")
             return None
@@ -253,10 +342,84 @@ class _World:
         obstacles = self.obstacles()
         robots = self.robots(types)
         spectators = self.spectators()
+        if room is not None:
+            self.layout(room, obstacles, robots, spectators)
         if self.diagnostics or room is None:
             return None, sorted(self.diagnostics, key=lambda d: (d.line, d.col))
         return World(self.path, room, wall_height, tuple(obstacles), tuple(robots),
                      tuple(spectators)), []
+
+    def at(self, table: str, line: int, key: str) -> tuple[int, int]:
+        """The position of ``key`` in the [[table]] entry whose header is on ``line``."""
+        lines = [n for n, header in self.where.headers if header == table]
+        return self.where.key(table, key, lines.index(line) if line in lines else 0)
+
+    def layout(self, room: NDArray[np.float64], obstacles: list[Obstacle],
+               robots: list[WorldRobot], spectators: list[Spectator]) -> None:
+        """What makes a world impossible although every value is valid: things outside the
+        room, robots that start on each other, an obstacle or a visitor, duplicate names."""
+        for kind, table, things in (("obstacle", "obstacles", obstacles),
+                                    ("spectator", "spectators", spectators)):
+            seen: set[str] = set()
+            for thing in things:
+                if thing.name in seen:
+                    self.error(self.at(table, thing.line, "name"),
+                               f"{kind} '{thing.name}' is defined twice",
+                               f"give each {kind} its own name")
+                seen.add(thing.name)
+        shape = shapely.Polygon(room)
+        for obstacle in obstacles:
+            if not shape.covers(shapely.Polygon(obstacle.polygon)):
+                self.error(self.at("obstacles", obstacle.line, "polygon"),
+                           f"obstacle '{obstacle.name}' is not inside the room",
+                           "move its corners inside the room, or make the room larger")
+        self.spectator_layout(shape, obstacles, spectators)
+        starts = np.array([[r.start.x, r.start.y, r.start.theta] for r in robots])
+        for conflict in start_conflicts([r.type for r in robots], starts, room, obstacles,
+                                        spectators):
+            robot = robots[conflict.robot]
+            where = self.at("robots", robot.line, "x")
+            if conflict.kind == "room":
+                self.error(where, f"robot '{robot.name}' starts outside the room",
+                           f"its {robot.type.name} footprint ({robot.type.length:g} x "
+                           f"{robot.type.width:g} m) must lie inside the room: move x, y or "
+                           "turn it")
+            elif conflict.kind == "robot":
+                other = robots[conflict.other]
+                self.error(self.at("robots", other.line, "x"), f"robots '{robot.name}' and "
+                           f"'{other.name}' overlap at their start poses",
+                           "place them further apart: the simulator would hold both where "
+                           "they stand")
+            elif conflict.kind == "obstacle":
+                self.error(where, f"robot '{robot.name}' starts in obstacle "
+                           f"'{obstacles[conflict.other].name}'",
+                           "move it off the obstacle")
+            else:
+                self.error(where, f"robot '{robot.name}' starts where spectator "
+                           f"'{spectators[conflict.other].name}' stands",
+                           "move the robot or the spectator's first waypoint")
+
+    def spectator_layout(self, room: shapely.Polygon, obstacles: list[Obstacle],
+                         spectators: list[Spectator]) -> None:
+        """Each spectator's disc must stay in the room and off the obstacles along its walk."""
+        for spectator in spectators:
+            where = self.at("spectators", spectator.line, "path")
+            start = shapely.Point(spectator.waypoints[0])
+            route = spectator_route(spectator)
+            radius = spectator.radius
+            if not room.contains(start) or room.exterior.distance(start) < radius:
+                self.error(where, f"spectator '{spectator.name}' starts outside the room",
+                           f"its disc (radius {radius:g} m) at the first waypoint must lie "
+                           "inside the room")
+            elif not room.contains(route) or room.exterior.distance(route) < radius:
+                self.error(where, f"the path of spectator '{spectator.name}' leaves the room",
+                           f"its disc (radius {radius:g} m) must stay inside the room along "
+                           "the whole path")
+            for obstacle in obstacles:
+                if shapely.Polygon(obstacle.polygon).distance(route) < radius:
+                    self.error(where, f"the path of spectator '{spectator.name}' crosses "
+                               f"obstacle '{obstacle.name}'", "route the path around the "
+                               "obstacle: the spectator's disc must not touch it")
 
     def room(self) -> tuple[NDArray[np.float64] | None, float]:
         table = self.data.get("room", {})
@@ -275,7 +438,8 @@ class _World:
                            "for the room, not both")
             return self.polygon(table["polygon"], "polygon", self.where.key("room", "polygon"),
                                 "the room"), wall or 2.0
-        size = self.number(table, "size", ("room", 0), default=THESIS_ROOM_SIZE, positive=True)
+        size = self.number(table, "size", ("room", 0), default=THESIS_ROOM_SIZE, positive=True,
+                           low=MIN_ROOM_SIZE)
         return (square_room(size) if size else None), wall or 2.0
 
     def robot_types(self) -> dict[str, RobotType]:
@@ -297,7 +461,7 @@ class _World:
                                f"'{name}'", "a robot type has length, width, max_speed and "
                                "max_angular_speed")
             values = {key: self.number(spec, key, (header, 0), default=getattr(base, key),
-                                       positive=True, high=100.0)
+                                       positive=True, low=MIN_ROBOT_VALUE, high=100.0)
                       for key in ("length", "width", "max_speed", "max_angular_speed")}
             length, width = values["length"], values["width"]
             speed, turn = values["max_speed"], values["max_angular_speed"]
@@ -415,9 +579,11 @@ class _World:
                            "a spectator's 'name' must be a string")
                 continue
             where = ("spectators", index)
-            radius = self.number(entry, "radius", where, default=0.3, positive=True, high=5.0)
+            radius = self.number(entry, "radius", where, default=0.3, positive=True,
+                                 low=MIN_ROBOT_VALUE, high=5.0)
             height = self.number(entry, "height", where, default=1.7, positive=True, high=5.0)
-            speed = self.number(entry, "speed", where, default=1.0, positive=True, high=10.0)
+            speed = self.number(entry, "speed", where, default=1.0, positive=True,
+                                low=MIN_SPECTATOR_SPEED, high=10.0)
             start = self.number(entry, "start", where, default=0.0, low=0.0, high=1e6)
             loop = entry.get("loop", False)
             if not isinstance(loop, bool):
@@ -436,17 +602,51 @@ class _World:
                 self.error(position, f"spectator '{name}' needs a 'path': a list of [x, y] or "
                            "[x, y, pause_s] waypoints", 'e.g. path = [[1, 1], [5, 1, 3.0]]')
                 continue
-            table = np.array([[*p, 0.0] if len(p) == 2 else p for p in points], dtype=float)
-            if not np.all(np.isfinite(table)) or np.any(np.abs(table[:, :2]) > MAX_COORDINATE) \
-                    or np.any(table[:, 2] < 0):
-                self.error(position, f"the path of spectator '{name}' must hold finite "
-                           "coordinates and pauses >= 0")
+            table = _float_array([[*p, 0.0] if len(p) == 2 else p for p in points])
+            if table is None or not np.all(np.isfinite(table)) \
+                    or np.any(np.abs(table[:, :2]) > MAX_COORDINATE) \
+                    or np.any(table[:, 2] < 0) or np.any(table[:, 2] > MAX_WALK):
+                self.error(position, f"the path of spectator '{name}' must hold coordinates "
+                           f"within +-{MAX_COORDINATE:g} m and pauses from 0 to "
+                           f"{MAX_WALK:g} s")
                 continue
             if radius is None or height is None or speed is None or start is None:
+                continue
+            walk = _walk_duration(table, speed, loop, start)
+            if walk > MAX_WALK:
+                self.error(position, f"the walk of spectator '{name}' lasts {walk:.0f} s, "
+                           f"longer than {MAX_WALK / 3600:g} h",
+                           "shorten the path or the pauses, or raise the speed")
                 continue
             result.append(Spectator(name, radius, height, speed, table[:, :2].copy(),
                                     table[:, 2].copy(), loop, start, line))
         return result
+
+
+def _float(value: int | float) -> float | None:
+    """``value`` as a float; None for an integer beyond the float range (e.g. 10**400)."""
+    try:
+        return float(value)
+    except OverflowError:
+        return None
+
+
+def _float_array(value: Any) -> NDArray[np.float64] | None:
+    """A list of equally long lists of numbers as a float array; None when a number is an
+    integer beyond the float range."""
+    try:
+        return np.array(value, dtype=float)
+    except OverflowError:
+        return None
+
+
+def _walk_duration(table: NDArray[np.float64], speed: float, loop: bool, start: float) -> float:
+    """A spectator's start delay, walking time at ``speed`` (m/s) and pauses, s (one round for
+    a loop): the closed form of ``sim.spectators.walk_duration``, checked at load time."""
+    points = np.vstack([table[:, :2], table[:1, :2]]) if loop else table[:, :2]
+    legs = float(np.hypot(*np.diff(points, axis=0).T).sum()) if len(points) > 1 else 0.0
+    pauses = float(table[1:, 2].sum()) + (float(table[0, 2]) if loop else 0.0)
+    return start + legs / speed + pauses
 
 
 def _describe(value: object) -> str:
