@@ -145,10 +145,8 @@ def read_text_source(path: str, data: bytes) -> tuple[str | None, list[Diagnosti
     try:
         return data.decode("utf-8"), []
     except UnicodeDecodeError as exc:
-        before = data[: exc.start]
-        line = before.count(b"\n") + 1
-        line_start = before.rfind(b"\n") + 1
-        col = len(before[line_start:].decode("utf-8", errors="replace")) + 1
+        before = _LINE_BREAK.split(data[: exc.start].decode("utf-8"))  # valid up to there
+        line, col = len(before), len(before[-1]) + 1
         bad = data[exc.start : exc.end].hex(" ")
         return None, [
             Diagnostic(

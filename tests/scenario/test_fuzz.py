@@ -6,7 +6,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from dancebots.check import check_plan, compile_scenario
-from dancebots.diagnostics import Diagnostic, read_text_source
+from dancebots.diagnostics import Diagnostic, read_text_source, source_lines
 
 KEYWORDS = ["robots", "groups", "start", "row", "column", "triangle", "square", "move",
             "circle", "newVL", "newvl", "#", "# note", "Move", "mvoe"]
@@ -14,8 +14,11 @@ NAMES = ["R1", "R2", "R3", "R4", "g1", "g2", "R1,R2", "R1;R2", "R1,R2;R3,R4", "R
          "R1;R3", "R2;R4", "R1,R3", "R1,,R2", ";", ",", "R5", "\x00", "é"]
 NUMBERS = ["0", "1", "-1", "2.5", "90", "-45", "270", "0.1", "1.2", "1;1", "1,1", "1e308",
            "nan", "inf", "-inf", "1,5", "1000", "360", "-3", "1e-9", ".5", "5.", "+2", "1e3"]
+HOSTILE = ["5e-324", "-5e-324", "1e-300", "1e-320", "-0", "-0.0", "1" + "0" * 400, "36000",
+           "-1000", "999.999", "0.001", "0.01", "10", "1e-3", "NaN", "Infinity", "0x10", "1_0",
+           "١", "1e99999"]
 
-token = st.sampled_from(KEYWORDS + NAMES + NUMBERS)
+token = st.sampled_from(KEYWORDS + NAMES + NUMBERS + HOSTILE)
 line = st.lists(token, min_size=0, max_size=6).map(" ".join)
 header = st.sampled_from([
     "robots R1 R2 R3 R4\n",
@@ -30,13 +33,14 @@ formation = st.sampled_from([
 
 
 def assert_well_formed(diagnostics: list[Diagnostic], text: str) -> None:
-    lines = max(1, len(text.splitlines()))
+    """Every diagnostic points at a real line and column of ``text``."""
+    lines = max(1, len(source_lines(text)))
     for d in diagnostics:
         assert isinstance(d, Diagnostic)
         assert d.message
-        assert 0 <= d.line <= lines + 1
-        assert d.col >= (1 if d.line else 0)
-        assert "Traceback" not in d.format(text.splitlines())
+        assert 1 <= d.line <= lines, d.headline()
+        assert d.col >= 1, d.headline()
+        assert "Traceback" not in d.format(source_lines(text))
 
 
 def compile_and_check(text: str) -> None:
@@ -61,7 +65,7 @@ def test_random_token_streams_give_only_diagnostics(head: str, shape: str,
 @given(st.binary(max_size=400))
 def test_random_bytes_give_only_diagnostics(data: bytes) -> None:
     text, problems = read_text_source("fuzz.dance", data)
-    assert_well_formed(problems, "")
+    assert_well_formed(problems, data.decode("utf-8", errors="replace"))
     if text is not None:
         compile_and_check(text)
 
@@ -81,3 +85,25 @@ def test_valid_random_shows_plan_and_check(moves: list[str]) -> None:
     assert plan is not None, diagnostics
     assert len(scenario.instructions) == 1 + len(moves)  # type: ignore[union-attr]
     compile_and_check(text)
+
+
+BREAKS = ["\n", "\r\n", "\r", "\x0b", "\x0c", "\x1c", "\x1d", "\x1e", "\x85", "\u2028",
+          "\u2029"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(line, st.sampled_from(BREAKS)), max_size=10))
+def test_odd_line_breaks_never_move_a_diagnostic_past_the_last_line(
+        parts: list[tuple[str, str]]) -> None:
+    text = "robots R1 R2 R3 R4\n" + "".join(body + brk for body, brk in parts)
+    compile_and_check(text)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.sampled_from(["move 1000 0", "move 999 180", "circle 1000 36000 10",
+                                 "circle 0.01 36000 0.001", "circle -1000 360 0.001",
+                                 "move 0 360", "circle 5 36000 0.01"]), min_size=1, max_size=6))
+def test_long_shows_are_refused_in_closed_form(moves: list[str]) -> None:
+    """Whatever its numbers, a show compiles or is refused before its leader runs for more
+    than the longest show; either way only diagnostics come out."""
+    compile_and_check("robots R1 R2\nrow R1,R2 0 1.2\n" + "\n".join(moves) + "\n")
