@@ -54,8 +54,17 @@ setup() {
 }
 
 show() {
-  # the main job: simulate the bundled open-day show (thesis listing 6.3) into out/open_day/
-  .venv/bin/dancebots run
+  # the main job: simulate the bundled open-day show (thesis listing 6.3) into out/open_day/.
+  # `dancebots run` exits 1 when the show ran but not clean (its verdict says why); that is a
+  # finding about the show, not a failure of the set-up, so it is reported and this succeeds.
+  local status=0
+  .venv/bin/dancebots run || status=$?
+  if [ "$status" = 1 ]; then
+    echo "dancebots: the show ran, but its verdict is NOT CLEAN (see above); outputs in" \
+      "out/open_day/" >&2
+    return 0
+  fi
+  return "$status"
 }
 
 tests() {

@@ -157,3 +157,28 @@ def test_the_bundled_open_day_show(capsys: Capture, tmp_path: Path) -> None:
     assert {e["text"] for e in speech} == {"Obstacle is too close, I have to stop"}
     assert metrics["scenario"].endswith("open_day.dance")
     capsys.readouterr()
+
+
+def test_no_lidar_among_people_is_loud_and_the_verdict_says_what_went_wrong(
+        capsys: Capture, tmp_path: Path) -> None:
+    """The open-day hall with its three visitors, robots without LIDAR: a warning before
+    simulating, and a verdict (JSON on stdout, and in metrics.json) that fails the show."""
+    out = tmp_path / "blind"
+    assert main(["run", "--no-lidar", "--no-animation", "--json", "--out", str(out)]) == 1
+    captured = capsys.readouterr()
+    assert ("WARNING: --no-lidar with 3 spectators in the world: the robots cannot see people "
+            "and will drive into them") in captured.err
+    summary = json.loads(captured.out)
+    assert summary["output"] == str(out)
+    verdict = summary["verdict"]
+    assert verdict["clean"] is False
+    assert any(f.endswith(" s)") and " contact" in f for f in verdict["failures"])
+    assert json.loads((out / "metrics.json").read_text())["verdict"] == verdict
+
+
+def test_check_warnings_are_repeated_before_simulating(capsys: Capture, examples: Path,
+                                                       tmp_path: Path) -> None:
+    main(["run", str(examples / "thesis_7_1.dance"), "--no-lidar", "--no-animation", "--out",
+          str(tmp_path / "run")])
+    err = capsys.readouterr().err
+    assert "thesis_7_1.dance:4:1: warning: desired speed above the robot's maximum" in err

@@ -5,6 +5,21 @@ the output writer), and one module per command. Importing the package is cheap: 
 core modules are imported when it runs.
 """
 
-from dancebots.cli.main import main
+import os
+import signal
+import sys
+
+
+def _interrupted_while_starting(signum: int, frame: object) -> None:
+    """Ctrl-C before ``main`` runs: nothing to clean up yet, so leave quietly with 130."""
+    sys.stderr.write("dancebots: interrupted\n")
+    sys.stderr.flush()
+    os._exit(130)
+
+
+if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    signal.signal(signal.SIGINT, _interrupted_while_starting)  # main() restores the default
+
+from dancebots.cli.main import main  # noqa: E402
 
 __all__ = ["main"]

@@ -26,6 +26,7 @@ if TYPE_CHECKING:
     from rich.console import Console
 
     from dancebots.diagnostics import Diagnostic
+    from dancebots.report.verdict import Verdict
 
 __all__ = [
     "EXIT_FAILED",
@@ -42,6 +43,7 @@ __all__ = [
     "in_range",
     "positive",
     "print_diagnostics",
+    "print_verdict",
     "progress",
     "short_path",
     "stage_output",
@@ -118,6 +120,16 @@ def print_diagnostics(diagnostics: Sequence[Diagnostic],
         sys.stdout.flush()
         print(format_diagnostics(diagnostics, dict(sources)), file=sys.stderr)
         sys.stderr.flush()
+
+
+def print_verdict(console: Console, verdict: Verdict, noun: str) -> None:
+    """The verdict's last lines: clean in green, or NOT CLEAN in red with every failure."""
+    if verdict.clean:
+        console.print(f"verdict: the {noun} ran clean", style="bold green", highlight=False)
+        return
+    console.print("verdict: NOT CLEAN", style="bold red", highlight=False)
+    for failure in verdict.failures:
+        console.print(f"  - {failure}", style="red", highlight=False)
 
 
 @contextlib.contextmanager

@@ -23,6 +23,7 @@ from dancebots.cli.common import (
     fail,
     in_range,
     print_diagnostics,
+    print_verdict,
     progress,
     short_path,
     stage_output,
@@ -119,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
         staged = stage_output(target, NAME)
     except OutputError as exc:
         return fail(NAME, str(exc))
-    console = Console(stderr=True)
+    console = Console(stderr=True, soft_wrap=True)
     try:
         started = time.perf_counter()
         try:
@@ -179,7 +180,7 @@ def _summary(metrics: QueueMetrics, verdict: Verdict, wall: float, target: Path,
     from rich.console import Console
     from rich.table import Table
 
-    out = Console()
+    out = Console(soft_wrap=True)
     table = Table(title=f"{world}: detector {metrics.detector}, controller "
                   f"{metrics.controller}, stand-off {metrics.standoff:g} m",
                   title_justify="left")
@@ -195,9 +196,4 @@ def _summary(metrics: QueueMetrics, verdict: Verdict, wall: float, target: Path,
               + ("intact" if metrics.intact else "BROKEN"),
               style="green" if metrics.intact else "bold red", highlight=False)
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
-    if verdict.clean:
-        out.print("verdict: the queue ran clean", style="bold green", highlight=False)
-    else:
-        out.print("verdict: NOT CLEAN", style="bold red", highlight=False)
-        for failure in verdict.failures:
-            out.print(f"  - {failure}", style="red", highlight=False)
+    print_verdict(out, verdict, "queue")

@@ -26,6 +26,7 @@ from dancebots.cli.common import (
     in_range,
     positive,
     print_diagnostics,
+    print_verdict,
     progress,
     short_path,
     stage_output,
@@ -112,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
         arena, placement = prepare_show(show.plan, show.world)
     except SetupError as exc:
         return fail(NAME, str(exc))
-    console = Console(stderr=True)
+    console = Console(stderr=True, soft_wrap=True)
     if args.sound:
         from dancebots.report.sound import espeak_available
 
@@ -219,7 +220,7 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     from rich.console import Console
     from rich.table import Table
 
-    out = Console()
+    out = Console(soft_wrap=True)
     table = Table(title=f"{result.plan.scenario.path} ({metrics.profile} profile, seed "
                   f"{metrics.seed})", title_justify="left")
     for column in ("robot", "RMS error m", "max error m", "final error m",
@@ -243,9 +244,4 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     style = "bold red" if metrics.collisions else "green"
     out.print(f"collisions: {metrics.collisions}", style=style, highlight=False)
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
-    if verdict.clean:
-        out.print("verdict: the show ran clean", style="bold green", highlight=False)
-    else:
-        out.print("verdict: NOT CLEAN", style="bold red", highlight=False)
-        for failure in verdict.failures:
-            out.print(f"  - {failure}", style="red", highlight=False)
+    print_verdict(out, verdict, "show")

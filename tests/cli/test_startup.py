@@ -1,0 +1,92 @@
+"""The command starts at once and stops cleanly (issue 10, part 4); its choices match the
+core's. Start-up *times* are measured by benchmarks/bench_startup.py, not here."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).parents[2]
+LIGHT = """
+import sys
+from dancebots.cli import main
+try:
+    main(sys.argv[1:])
+except SystemExit:
+    pass
+heavy = sorted(m for m in ("numpy", "numba", "sklearn", "scipy", "matplotlib", "shapely",
+                           "pandas", "rich") if m in sys.modules)
+print("HEAVY:", " ".join(heavy))
+"""
+
+
+def imported_by(*args: str) -> list[str]:
+    out = subprocess.run([sys.executable, "-c", LIGHT, *args], cwd=ROOT, capture_output=True,
+                         text=True, check=True, timeout=120)
+    return out.stdout.rsplit("HEAVY:", 1)[1].split()
+
+
+def test_help_and_demo_import_no_heavy_library() -> None:
+    assert imported_by("--help") == []
+    assert imported_by("demo") == []
+    assert imported_by("run", "--help") == []
+
+
+def test_check_imports_only_what_checking_needs() -> None:
+    assert imported_by("check", "examples/thesis_7_1.dance") == ["numpy", "shapely"]
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.02, 0.05, 0.1])
+def test_ctrl_c_while_starting_exits_130_without_a_traceback(delay: float) -> None:
+    process = subprocess.Popen([sys.executable, "-m", "dancebots.cli", "check",
+                                "examples/thesis_6_3.dance"], cwd=ROOT,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(delay)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    assert "Traceback" not in err
+    # 0: it finished before the signal came; -SIGINT: the signal came while Python itself
+    # started or shut down, and ended it as Ctrl-C ends any program (a shell says 130)
+    assert process.returncode in (0, 130, -signal.SIGINT)
+    if process.returncode == 130:
+        assert err.endswith("dancebots: interrupted\n")
+
+
+def test_an_interrupt_while_importing_is_quiet() -> None:
+    """A signal 50 ms in arrives while the command imports its modules: 130, no trace."""
+    codes = []
+    for _ in range(3):
+        process = subprocess.Popen([sys.executable, "-m", "dancebots.cli", "check",
+                                    "examples/thesis_6_3.dance"], cwd=ROOT,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        time.sleep(0.05)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+        assert "Traceback" not in err
+        codes.append(process.returncode)
+    assert 130 in codes
+
+
+def test_choices_match_the_core() -> None:
+    from dancebots.cli import follow, ros, run
+    from dancebots.leader_follower.controllers import CONTROLLERS
+    from dancebots.leader_follower.detectors import DETECTORS
+    from dancebots.sim.kinematics import PROFILES
+    from dancebots.sim.queue import LEADERS
+    from dancebots.sync.start import START_STRATEGIES
+
+    assert set(run.PROFILES) == set(follow.PROFILES) == set(ros.PROFILES) == set(PROFILES)
+    assert follow.DETECTORS == DETECTORS
+    assert follow.CONTROLLERS == CONTROLLERS
+    assert follow.LEADERS == LEADERS
+    assert set(ros.START_STRATEGIES) == set(START_STRATEGIES)
