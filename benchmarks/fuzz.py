@@ -217,7 +217,15 @@ def run_one(item: Item) -> Outcome:
     start = time.process_time()
     try:
         problem: str | None = None
-        if item.kind == "sync":
+        if item.kind == "selftest":  # --self-test: the harness must see each of these
+            if item.text == "hang":
+                while True:
+                    pass
+            if item.text == "memory":
+                problem = str(len(bytearray(4 << 30)))
+            if item.text == "traceback":
+                raise RuntimeError("a planted traceback")
+        elif item.kind == "sync":
             with contextlib.suppress(SyncMessageError):  # the documented refusal
                 parse_message(item.text)
         elif item.kind == "world":
@@ -360,6 +368,9 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=2.0, help="s per input (wall)")
     parser.add_argument("--memory-mb", type=int, default=1024,
                         help="address-space limit of each worker, MiB")
+    parser.add_argument("--self-test", action="store_true",
+                        help="first plant a hang, a memory hog and a traceback and check that "
+                        "each is reported")
     args = parser.parse_args()
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -374,9 +385,15 @@ def main() -> int:
     counts: Counter[str] = Counter()
     retried = 0
     slowest = (0.0, "")
-    began = time.monotonic()
     items = (generate(rng, dances, worlds) for _ in range(args.n))
     retry = Pool(1, args.timeout, args.memory_mb * 1024 * 1024)
+    if args.self_test:
+        planted = [Item("selftest", kind) for kind in ("hang", "memory", "traceback")]
+        seen = sorted(outcome.status for _, outcome in pool.map(iter(planted)))
+        print(f"self-test: planted hang, memory, traceback; reported {', '.join(seen)}")
+        if seen != ["hang", "memory", "traceback"]:
+            return 2
+    began = time.monotonic()
     for done, (item, outcome) in enumerate(pool.map(items), start=1):
         kinds[item.kind] += 1
         if outcome.status == "hang":  # the machine is shared: a hang must hang twice
