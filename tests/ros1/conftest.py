@@ -1,7 +1,15 @@
-"""Fixtures of the ROS tests: a real ``roscore`` (Debian's ROS 1) on a free loopback port.
+"""Fixtures of the ROS tests: a real ``roscore`` (Debian's ROS 1) on a free loopback port,
+and the guarantee that no test leaves a process behind.
 
 Without Debian's ROS packages these tests are skipped, unless DANCEBOTS_REQUIRE_ROS=1 (set
 by ``.ci/run``, which installs them), where a missing ROS is a failure.
+
+Every process a test starts carries the test's tag in its environment (``TAG_VARIABLE``:
+set in ``os.environ`` and in :attr:`Master.env`), and so do its children and grandchildren
+(roslaunch passes its environment to the nodes, ``ip netns exec`` keeps it), even when they
+run in sessions of their own, in other network namespaces, or were re-parented to init. At
+the end of each test (and of each module, for the module's roscore), a tagged process still
+alive after ``LEFT_GRACE`` s fails the test and is killed.
 """
 
 from __future__ import annotations
@@ -12,8 +20,10 @@ import signal
 import socket
 import subprocess
 import time
+import uuid
 import xmlrpc.client
 from collections.abc import Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 import pytest
@@ -75,18 +85,91 @@ def stop(process: subprocess.Popen[bytes], grace: float = 10.0) -> None:
         pass
 
 
+TAG_VARIABLE = "DANCEBOTS_TEST_PROCESS_TAG"
+LEFT_GRACE = 15.0
+"""s a test's processes get to end after the test before they count as left behind."""
+
+
+def tagged(env: dict[str, str]) -> dict[str, str]:
+    """``env`` with the running test's process tag (see the module)."""
+    tag = os.environ.get(TAG_VARIABLE)
+    return env if tag is None else dict(env, **{TAG_VARIABLE: tag})
+
+
+def tagged_processes(tag: str) -> list[tuple[int, str]]:
+    """The live processes (pid, command line) whose environment carries ``tag``."""
+    needle = f"{TAG_VARIABLE}={tag}".encode()
+    found = []
+    for entry in os.scandir("/proc"):
+        if not entry.name.isdigit() or int(entry.name) == os.getpid():
+            continue
+        try:
+            if needle not in Path(entry.path, "environ").read_bytes().split(b"\0"):
+                continue
+            state = Path(entry.path, "stat").read_text().rsplit(")", 1)[1].split()[0]
+            command = Path(entry.path, "cmdline").read_bytes().replace(b"\0", b" ")
+        except (OSError, IndexError):
+            continue  # gone meanwhile, or not ours to read
+        if state != "Z":  # a zombie has ended; its parent reaps it
+            found.append((int(entry.name), command.decode(errors="replace").strip()))
+    return found
+
+
+@contextmanager
+def no_process_left(what: str, grace: float = LEFT_GRACE) -> Iterator[str]:
+    """Tag the processes started inside (os.environ and Master.env); afterwards wait up to
+    ``grace`` s for them to end, then kill the rest and fail: ``what`` left them behind."""
+    tag = f"{os.getpid()}-{uuid.uuid4().hex[:12]}"
+    previous = os.environ.get(TAG_VARIABLE)
+    os.environ[TAG_VARIABLE] = tag
+    try:
+        yield tag
+    finally:
+        if previous is None:
+            os.environ.pop(TAG_VARIABLE, None)
+        else:
+            os.environ[TAG_VARIABLE] = previous
+        deadline = time.monotonic() + grace
+        left = tagged_processes(tag)
+        while left and time.monotonic() < deadline:
+            time.sleep(0.2)
+            left = tagged_processes(tag)
+        if left:
+            for pid, _ in left:
+                with suppress(ProcessLookupError):
+                    os.kill(pid, signal.SIGKILL)
+            deadline = time.monotonic() + 10.0
+            while tagged_processes(tag) and time.monotonic() < deadline:
+                time.sleep(0.1)
+            listing = "\n".join(f"  {pid}: {command[:200]}" for pid, command in left)
+            pytest.fail(f"{what} left {len(left)} process(es) running {grace:g} s after it "
+                        f"ended (now killed):\n{listing}", pytrace=False)
+
+
+@pytest.fixture(autouse=True)
+def _no_process_left(request: pytest.FixtureRequest) -> Iterator[None]:
+    with no_process_left(f"test {request.node.nodeid}"):
+        yield
+
+
 class Master:
-    """A running roscore: its URI and the environment that points nodes at it."""
+    """A running roscore: its URI and the environment that points nodes at it (with the
+    running test's process tag, read when :attr:`env` is)."""
 
     def __init__(self, uri: str, env: dict[str, str]) -> None:
-        self.uri, self.env = uri, env
+        self.uri, self.base_env = uri, env
+
+    @property
+    def env(self) -> dict[str, str]:
+        """The environment of a process that talks to this master."""
+        return tagged(self.base_env)
 
 
 def start_master(log_dir: Path, host: str = "127.0.0.1",
                  netns: str | None = None) -> tuple[Master, subprocess.Popen[bytes]]:
     port = free_port()
     uri = f"http://{host}:{port}/"
-    env = ros_environment()
+    env = tagged(ros_environment())
     env.update(ROS_MASTER_URI=uri, ROS_IP=host, ROS_LOG_DIR=str(log_dir), ROS_HOME=str(log_dir))
     env.pop("ROS_HOSTNAME", None)
     command = ["roscore", "-p", str(port)]
@@ -115,9 +198,13 @@ def _wait_in_netns(netns: str, uri: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def roscore(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Master]:
+def roscore(tmp_path_factory: pytest.TempPathFactory,
+            request: pytest.FixtureRequest) -> Iterator[Master]:
     require_ros()
     log_dir = tmp_path_factory.mktemp("roslog")
-    master, process = start_master(log_dir)
-    yield master
-    stop(process)
+    with no_process_left(f"the roscore of {request.module.__name__}"):
+        master, process = start_master(log_dir)
+        try:
+            yield master
+        finally:
+            stop(process)

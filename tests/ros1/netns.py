@@ -1,14 +1,20 @@
 """Hosts for the multi-host tests: one network namespace per host, joined by veth pairs to
 a Linux bridge inside the master's namespace. Addresses exist only inside the namespaces
-(a private test range); nothing is configured in the machine's own namespace."""
+(a private test range); nothing is configured in the machine's own namespace. A process
+still running inside a namespace when the hosts are removed fails the test (and is killed):
+deleting a namespace does not end its processes, it only hides them."""
 
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
+import time
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
+
+from tests.ros1.conftest import LEFT_GRACE
 
 SUBNET = "10.231.{run}.{host}"
 
@@ -43,13 +49,49 @@ def netns_missing() -> str | None:
     return None
 
 
+def namespace_processes(namespace: str) -> list[tuple[int, str]]:
+    """The processes (pid, command line) running inside ``namespace``."""
+    listed = subprocess.run(["ip", "netns", "pids", namespace], capture_output=True,
+                            text=True, check=False, timeout=20).stdout.split()
+    found = []
+    for pid in map(int, listed):
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as cmdline:
+                found.append((pid, cmdline.read().replace(b"\0", b" ").decode(
+                    errors="replace").strip()))
+        except OSError:
+            continue
+    return found
+
+
+def _empty(namespaces: list[str], grace: float) -> list[tuple[str, int, str]]:
+    """Wait up to ``grace`` s for the namespaces' processes to end; kill the rest and return
+    them (namespace, pid, command line)."""
+    deadline = time.monotonic() + grace
+    while True:
+        left = [(namespace, pid, command) for namespace in namespaces
+                for pid, command in namespace_processes(namespace)]
+        if not left or time.monotonic() >= deadline:
+            break
+        time.sleep(0.2)
+    for _, pid, _ in left:
+        with suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGKILL)
+    deadline = time.monotonic() + 10.0
+    while time.monotonic() < deadline and any(namespace_processes(n) for n in namespaces):
+        time.sleep(0.1)
+    return left
+
+
 @contextmanager
 def hosts(robots: tuple[str, ...]) -> Iterator[Hosts]:
-    """Create the namespaces and links for ``robots``; remove them afterwards."""
+    """Create the namespaces and links for ``robots``; remove them afterwards, failing when
+    a process still runs inside one ``LEFT_GRACE`` s after the block ended."""
     run = os.getpid() % 200 + 20
     tag = f"db{os.getpid() % 100000}"
     master = f"{tag}-m"
     created: list[str] = []
+    completed = False
     try:
         _ip("netns", "add", master)
         created.append(master)
@@ -75,7 +117,14 @@ def hosts(robots: tuple[str, ...]) -> Iterator[Hosts]:
             _ip("netns", "exec", namespace, "ip", "link", "set", "lo", "up")
             namespaces[robot], addresses[robot], links[robot] = namespace, address, near
         yield Hosts(master, master_address, namespaces, addresses, links)
+        completed = True
     finally:
+        left = _empty(created, LEFT_GRACE)
         for namespace in reversed(created):  # deleting a namespace deletes its veth ends
             subprocess.run(["ip", "netns", "delete", namespace], capture_output=True,
                            check=False)
+        if left and completed:
+            listing = "\n".join(f"  {ns} {pid}: {command[:200]}" for ns, pid, command in left)
+            raise AssertionError(f"{len(left)} process(es) still ran inside the test's network "
+                                 f"namespaces {LEFT_GRACE:g} s after the test (now killed):\n"
+                                 f"{listing}")

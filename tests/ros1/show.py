@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from tests.ros1.conftest import Master, stop
+from tests.ros1.conftest import Master, stop, tagged
 
 from dancebots.check import compile_scenario
 from dancebots.plan.planner import Plan
@@ -73,7 +73,7 @@ class RosShow:
             command = ["ip", "netns", "exec", netns, *command]
         with open(self.folder / f"{key}.log", "wb") as log:
             self.processes[key] = subprocess.Popen(
-                command, env=env or self.master.env, stdout=log, stderr=subprocess.STDOUT,
+                command, env=tagged(env or self.master.env), stdout=log, stderr=subprocess.STDOUT,
                 start_new_session=True)
 
     def start_bridge(self, scenario: Path, stop_after: float, silence: str = "") -> Path:
@@ -96,8 +96,15 @@ class RosShow:
         return (self.folder / f"{key}.log").read_text(errors="replace")
 
     def stop_all(self) -> None:
+        """SIGINT every roslaunch (each shuts its nodes down), SIGKILL those that do not end
+        within 10 s; fails when roslaunch had to escalate to SIGTERM or SIGKILL: a node
+        ignored SIGINT for 15 s."""
         for process in self.processes.values():
             stop(process)
+        for key in self.processes:
+            escalations = [line for line in self.log(key).splitlines()
+                           if "escalating to SIG" in line]
+            assert not escalations, f"{key}: a node did not end on SIGINT: {escalations}"
 
 
 def kill_tree(pid: int) -> list[int]:

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import pytest
 from tests.ros1.conftest import require_ros
@@ -58,6 +60,118 @@ def test_a_cloud_without_xyz_is_refused() -> None:
                           height=1, width=0, point_step=4)
     with pytest.raises(ValueError, match="no float32 x, y and z fields"):
         cloud_points(message)
+
+
+def _xyz_fields(datatype: int | None = None, offsets: tuple[int, int, int] = (0, 4, 8),
+                names: str = "xyz") -> list[object]:
+    from sensor_msgs.msg import PointField
+
+    return [PointField(name, offset, PointField.FLOAT32 if datatype is None else datatype, 1)
+            for name, offset in zip(names, offsets, strict=True)]
+
+
+def _malformed_clouds() -> dict[str, object]:
+    """PointCloud2 messages whose fields, sizes and data do not fit (issue 10, part 6)."""
+    from sensor_msgs.msg import PointCloud2, PointField
+    from std_msgs.msg import Header
+
+    good = np.arange(12, dtype="<f4").tobytes()  # one point of 12 bytes
+
+    def cloud(**changes: object) -> object:
+        values: dict[str, object] = {"header": Header(), "height": 1, "width": 1,
+                                         "fields": _xyz_fields(), "is_bigendian": False,
+                                         "point_step": 12, "row_step": 12, "data": good[:12],
+                                         "is_dense": True}
+        values.update(changes)
+        return PointCloud2(**values)
+
+    return {
+        "empty data": cloud(data=b""),
+        "empty data, 1000 points": cloud(width=1000, row_step=12000, data=b""),
+        "data shorter than the points": cloud(width=2, row_step=24),
+        "huge width and height": cloud(width=2**32 - 1, height=2**32 - 1),
+        "point step 0": cloud(point_step=0),
+        "point step shorter than the fields": cloud(point_step=8),
+        "field beyond the point": cloud(fields=_xyz_fields(offsets=(0, 4, 100))),
+        "negative offset": cloud(fields=_xyz_fields(offsets=(-4, 4, 8))),
+        "float64 fields": cloud(fields=_xyz_fields(PointField.FLOAT64)),
+        "no fields": cloud(fields=[]),
+        "x, y, w fields": cloud(fields=_xyz_fields(names="xyw")),
+        "rows shorter than a row of points": cloud(height=2, width=1, row_step=4,
+                                                   data=good + good),
+        "negative width": cloud(width=-1),
+        "data that is no bytes": cloud(data=None),
+        "fields that are no fields": cloud(fields=[1, 2, 3]),
+        "not a PointCloud2": Header(),
+    }
+
+
+@pytest.mark.parametrize("case", [
+    "empty data", "empty data, 1000 points", "data shorter than the points",
+    "huge width and height", "point step 0", "point step shorter than the fields",
+    "field beyond the point", "negative offset", "float64 fields", "no fields",
+    "x, y, w fields", "rows shorter than a row of points", "negative width",
+    "data that is no bytes", "fields that are no fields", "not a PointCloud2"])
+def test_a_malformed_cloud_is_the_malformed_cloud_error(case: str) -> None:
+    from dancebots.ros1.convert import MalformedCloudError, cloud_points
+
+    with pytest.raises(MalformedCloudError):
+        cloud_points(_malformed_clouds()[case])
+
+
+def test_malformed_clouds_from_the_wire_are_the_malformed_cloud_error() -> None:
+    """Clouds as rospy hands them over: serialised and deserialised, with sizes that
+    disagree with the data; and random bytes deserialised as a PointCloud2."""
+    import io
+
+    import genpy
+    from sensor_msgs.msg import PointCloud2
+    from std_msgs.msg import Header
+
+    from dancebots.ros1.convert import MalformedCloudError, cloud_points
+
+    rng = np.random.default_rng(7)
+    read = 0
+    for width, height, step, size in [(5, 1, 12, 0), (1, 7, 12, 12), (3, 1, 4, 12),
+                                      (100, 100, 12, 1200), (0, 1, 12, 0), (1, 1, 16, 12)]:
+        message = PointCloud2(header=Header(), height=height, width=width,
+                              fields=_xyz_fields(), point_step=step, row_step=step * width,
+                              data=rng.bytes(size))
+        buffer = io.BytesIO()
+        message.serialize(buffer)
+        received = PointCloud2().deserialize(buffer.getvalue())
+        try:
+            points = cloud_points(received)
+        except MalformedCloudError:
+            continue
+        read += 1
+        assert points.shape[1] == 3
+        assert np.isfinite(points).all()
+    assert read == 1  # only the empty cloud (0 x 1 points) is well formed
+    for _ in range(300):  # random bytes: genpy refuses them or the cloud is refused or read
+        try:
+            received = PointCloud2().deserialize(rng.bytes(int(rng.integers(0, 200))))
+        except (genpy.DeserializationError, ValueError, UnicodeDecodeError):
+            continue
+        with contextlib.suppress(MalformedCloudError):
+            cloud_points(received)
+
+
+def test_padded_rows_and_big_endian_clouds_are_read() -> None:
+    from sensor_msgs.msg import PointCloud2
+    from std_msgs.msg import Header
+
+    from dancebots.ros1.convert import cloud_points
+
+    rows = np.zeros((2, 5), dtype=">f4")  # 2 rows of 1 point (12 bytes) + 8 bytes padding
+    rows[:, :3] = [[1, 2, 3], [4, 5, 6]]
+    message = PointCloud2(header=Header(), height=2, width=1, fields=_xyz_fields(),
+                          is_bigendian=True, point_step=12, row_step=20, data=rows.tobytes())
+    np.testing.assert_allclose(cloud_points(message), [[1, 2, 3], [4, 5, 6]])
+    inf = np.array([[np.inf, 0, 0], [1, 1, 1]], dtype="<f4")
+    message = PointCloud2(header=Header(), height=1, width=2, fields=_xyz_fields(),
+                          point_step=12, row_step=24, data=inf.tobytes())
+    np.testing.assert_allclose(cloud_points(message), [[1, 1, 1]])  # infinite points dropped
 
 
 def test_obstacle_points_reach_the_brain_unfiltered() -> None:

@@ -8,6 +8,7 @@ transport wrapper (``Transport``), seeded, one random draw per delivery.
 from __future__ import annotations
 
 import heapq
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,6 +18,7 @@ from dancebots.sync import (
     NetworkTest,
     StartAgreement,
     StartProposal,
+    SyncMessageError,
     agreement_ready,
     agreement_receive,
     format_message,
@@ -71,9 +73,13 @@ class Outcome:
 
 
 def run_schedule(launches: dict[str, float], transport: Transport, strategy: str = "agreed",
-                 horizon: float = 40.0) -> Outcome:
+                 horizon: float = 40.0, epoch: float = 0.0,
+                 intruder: Callable[[float], list[str]] | None = None) -> Outcome:
     """Launch each robot's network_test + formation_member at ``launches[role]`` s and run
-    the shared /sync topic until ``horizon`` s; messages go through ``transport`` as text."""
+    the shared /sync topic until ``horizon`` s; messages go through ``transport`` as text.
+    The robots' common clock reads ``epoch`` + the schedule's time (s), and every tick
+    ``intruder(clock)`` (if given) publishes the texts it returns (hostile or stray
+    messages, through the same transport). Times in the outcome are the schedule's."""
     roles = tuple(sorted(launches))
     robots = {role: Robot(role, t, start_network_test(role, roles),
                           new_agreement(role, roles, strategy))
@@ -97,26 +103,31 @@ def run_schedule(launches: dict[str, float], transport: Transport, strategy: str
         while outcome.queue and outcome.queue[0][0] <= now:
             _, _, receiver, text = heapq.heappop(outcome.queue)
             robot = robots[receiver]
-            message = parse_message(text)
+            try:
+                message = parse_message(text)
+            except SyncMessageError:
+                continue  # the nodes log and drop what is not a /sync message
             if isinstance(message, EchoMessage):
                 robot.test, echo = network_test_receive(robot.test, message)
                 if echo is not None:
                     publish(now, format_message(echo))
             else:
-                robot.agreement = agreement_receive(robot.agreement, message)
+                robot.agreement = agreement_receive(robot.agreement, message, epoch + now)
+        for text in intruder(epoch + now) if intruder is not None else ():
+            publish(now, text)
         for robot in robots.values():
             if now < robot.launched:
                 continue
             if robot.ready_at is None and robot.test.ready:
                 robot.ready_at = now
-                robot.agreement = agreement_ready(robot.agreement, now)
+                robot.agreement = agreement_ready(robot.agreement, epoch + now)
             if not robot.test.ready:
                 publish(now, format_message(robot.test.beacon()))
-            proposal = robot.agreement.message(now)
+            proposal = robot.agreement.message(epoch + now)
             if proposal is not None:
                 publish(now, format_message(proposal))
             start = robot.agreement.start
-            if robot.started_at is None and start is not None and now >= start:
+            if robot.started_at is None and start is not None and epoch + now >= start:
                 robot.started_at = now
         tick += 1
     return outcome

@@ -4,12 +4,16 @@ in-process by the transport of ``schedules.py`` (the kernel here has no netem)."
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from tests.sync.schedules import Transport, run_schedule
 
 from dancebots.sync import (
+    PLAUSIBLE_AHEAD,
+    PLAUSIBLE_BEHIND,
     START_DELAY,
     EchoMessage,
     StartProposal,
@@ -17,6 +21,7 @@ from dancebots.sync import (
     agreement_ready,
     agreement_receive,
     format_message,
+    implausible,
     network_test_receive,
     new_agreement,
     parse_message,
@@ -87,8 +92,8 @@ def test_agreed_start_is_the_latest_proposal() -> None:
     assert r1.message(11.0) == StartProposal("R1", 10.0 + START_DELAY)  # fixed proposal
     assert r1.start is None
     assert show_time(r1, 12.0) is None
-    r1 = agreement_receive(r1, StartProposal("R2", 13.0))
-    r1 = agreement_receive(r1, StartProposal("R2", 99.0))  # a role's first proposal counts
+    r1 = agreement_receive(r1, StartProposal("R2", 13.0), 11.0)
+    r1 = agreement_receive(r1, StartProposal("R2", 14.5), 12.0)  # a role's first proposal counts
     assert r1.start == 14.0
     assert show_time(r1, 15.5) == pytest.approx(1.5)
 
@@ -96,8 +101,8 @@ def test_agreed_start_is_the_latest_proposal() -> None:
 def test_thesis_start_is_the_last_valid_proposal() -> None:
     r1 = agreement_ready(new_agreement("R1", ("R1", "R2"), "thesis"), 10.0)
     assert r1.message(11.0) == StartProposal("R1", 15.0)  # clock + 4 s at every message
-    r1 = agreement_receive(r1, StartProposal("R2", 16.0))
-    r1 = agreement_receive(r1, StartProposal("R1", 14.5))
+    r1 = agreement_receive(r1, StartProposal("R2", 16.0), 12.0)
+    r1 = agreement_receive(r1, StartProposal("R1", 14.5), 12.0)
     assert r1.start == 14.5  # the last role heard, not the latest time
 
 
@@ -132,3 +137,182 @@ def test_thesis_strategy_disagrees_when_messages_arrive_in_other_orders() -> Non
         starts = {robot.agreement.start for robot in outcome.robots.values()}
         disagreements += len(starts) > 1
     assert disagreements > 0
+
+
+# --- hostile and stray input (issue 10, part 6) ------------------------------------------
+
+EPOCH = 1.79e9  # s: a robot's clock, seconds since 1970 (November 2026)
+HOSTILE_TIMES = ["0", "1e-300", "-1e-300", "5e-324", "1e308", "-1e308", "1.7976931348623157e308",
+                 "nan", "-nan", "inf", "-inf", "infinity", "1e309", "9" * 400, "-" + "9" * 400,
+                 str(2**1024), "1_000", "0x10", "1e", ".", "+", "١٢٣", "1.5.2", "1e5e5", "١"]
+ROLES = st.from_regex(r"[A-Za-z_][A-Za-z0-9_.-]{0,8}", fullmatch=True)
+GARBAGE = st.one_of(
+    st.text(max_size=60),
+    st.text(alphabet=st.characters(codec="ascii"), max_size=60),
+    st.binary(max_size=40).map(lambda b: b.decode("latin-1")),
+    st.lists(st.sampled_from(["sync", "test", "R1", "R_2", " ", "\t", "\x1c", "\u2028", "\x85",
+                              "1e308", "nan", "-", "é", "\x00", "1", ".5", "R1;rm"]),
+             max_size=8).map("".join),
+)
+NUMBERS = st.one_of(
+    st.sampled_from(HOSTILE_TIMES),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.floats(allow_nan=True, allow_infinity=True).map(str),
+    st.integers(-(10**700), 10**700).map(str),
+    st.from_regex(r"[+-]?[0-9]{0,30}(\.[0-9]{0,30})?([eE][+-]?[0-9]{1,6})?", fullmatch=True),
+)
+
+
+def _parsed(text: str) -> EchoMessage | StartProposal | SyncMessageError:
+    """parse_message's message or its SyncMessageError (any other exception propagates)."""
+    try:
+        return parse_message(text)
+    except SyncMessageError as error:
+        return error
+
+
+@pytest.mark.parametrize("role", ["R1", "R_2", "_x", "r.2", "robot-3", "A" * 200])
+def test_roles_are_the_scenarios_robot_names(role: str) -> None:
+    assert parse_message(f"sync {role} 1.5") == StartProposal(role, 1.5)
+    assert parse_message(f"test R1 {role}") == EchoMessage("R1", role)
+
+
+@pytest.mark.parametrize("role", ["1R", "-R", ".R", "R1;rm", "R/1", "R1$", "é", "R١", "Ｒ1",
+                                  "R\x00", "'R1'", "*"])
+def test_roles_that_are_not_plain_identifiers_are_refused(role: str) -> None:
+    for text in (f"sync {role} 1.5", f"test {role}", f"test R1 {role}"):
+        with pytest.raises(SyncMessageError, match="is not a role name"):
+            parse_message(text)
+
+
+@pytest.mark.parametrize("seconds", HOSTILE_TIMES)
+def test_hostile_times_parse_or_raise_the_sync_error(seconds: str) -> None:
+    outcome = _parsed(f"sync R2 {seconds}")
+    if isinstance(outcome, SyncMessageError):
+        assert outcome.reason.endswith(("is not a time in seconds", "is not a finite time"))
+        assert len(str(outcome)) < 400  # a long text is cut in the message
+    else:
+        assert isinstance(outcome, StartProposal)
+        assert math.isfinite(outcome.start)
+
+
+def test_a_long_bad_message_is_cut_in_the_error() -> None:
+    with pytest.raises(SyncMessageError) as error:
+        parse_message("sync R1 " + "x" * 100_000)
+    assert len(str(error.value)) < 400
+    assert "(100000 characters)" in str(error.value)
+    assert error.value.text == "sync R1 " + "x" * 100_000
+
+
+def test_non_text_is_the_sync_error() -> None:
+    with pytest.raises(SyncMessageError, match="a bytes is not text"):
+        parse_message(b"sync R1 1.0")  # type: ignore[arg-type]
+
+
+@settings(max_examples=500, deadline=None)
+@given(text=st.one_of(GARBAGE,
+                      st.builds("sync {} {}".format, ROLES, NUMBERS),
+                      st.builds("sync {} {}".format, GARBAGE, NUMBERS),
+                      st.builds("test {} {}".format, ROLES, GARBAGE)))
+def test_parse_message_raises_only_the_sync_error(text: str) -> None:
+    message = _parsed(text)
+    if isinstance(message, SyncMessageError):
+        assert message.text == text
+        return
+    assert parse_message(format_message(message)) == message  # what is accepted round-trips
+    if isinstance(message, StartProposal):
+        assert math.isfinite(message.start)
+
+
+@pytest.mark.parametrize(("offset", "plausible"), [
+    (0.0, True), (START_DELAY, True), (PLAUSIBLE_AHEAD, True), (PLAUSIBLE_AHEAD + 1e-3, False),
+    (-PLAUSIBLE_BEHIND, True), (-PLAUSIBLE_BEHIND - 1e-3, False)])
+def test_the_plausibility_window_is_around_the_receivers_clock(offset: float,
+                                                               plausible: bool) -> None:
+    assert (implausible(EPOCH + offset, EPOCH) is None) == plausible
+
+
+def test_implausible_reasons_say_what_is_wrong() -> None:
+    assert implausible(1e308, EPOCH) == (
+        "it is 3.17e+300 years after this robot's clock (at most 5 s: the 4 s start delay and "
+        "1 s of clock offset); are the clocks synchronised?")
+    assert implausible(0.0, EPOCH) == ("it is 56.7 years before this robot's clock (at most "
+                                       "3600 s); are the clocks synchronised?")
+    assert implausible(EPOCH + 10, EPOCH) == (
+        "it is 10.0 s after this robot's clock (at most 5 s: the 4 s start delay and 1 s of "
+        "clock offset); are the clocks synchronised?")
+    assert implausible(math.nan, EPOCH) == "nan is not a finite time"
+    assert implausible(EPOCH, math.inf) == f"{EPOCH!r} is not a finite time"
+
+
+@pytest.mark.parametrize("strategy", ["agreed", "thesis"])
+def test_a_single_far_proposal_does_not_hold_the_formation(strategy: str) -> None:
+    """The reproducer of the issue: one ``sync R2 1e308`` used to make R1 wait 1e308 s while
+    R2 started 4 s later. It is ignored; R2's own proposal then sets the start."""
+    r1 = agreement_ready(new_agreement("R1", ("R1", "R2"), strategy), EPOCH)
+    if strategy == "thesis":
+        r1 = agreement_receive(r1, parse_message(format_message(r1.message(EPOCH))), EPOCH)
+    for hostile in ("1e308", "0", "1e-300", str(10**300), "-5"):
+        r1 = agreement_receive(r1, parse_message(f"sync R2 {hostile}"), EPOCH + 0.5)
+        assert r1.start is None
+        assert "R2" not in r1.heard
+    r1 = agreement_receive(r1, StartProposal("R2", EPOCH + 0.5 + START_DELAY), EPOCH + 0.6)
+    assert r1.start == EPOCH + 0.5 + START_DELAY
+
+
+HOSTILE_STARTS = st.one_of(  # (is it relative to the receiver's clock, value)
+    st.tuples(st.just(False), st.sampled_from(
+        [0.0, 1e-300, -1e-300, 5e-324, 1e308, -1e308, 1.7976931348623157e308, float(2**1000),
+         float(10**300), math.nan, math.inf, -math.inf])),
+    st.tuples(st.just(True), st.floats(PLAUSIBLE_AHEAD + 1e-3, 1e308)),
+    st.tuples(st.just(True), st.floats(PLAUSIBLE_BEHIND + 1e-3, 1e308).map(lambda d: -d)),
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(strategy=st.sampled_from(["agreed", "thesis"]),
+       proposals=st.lists(st.tuples(st.sampled_from(["R1", "R2", "R3", "X"]),
+                                    st.floats(0.0, START_DELAY)), max_size=12),
+       hostiles=st.lists(st.tuples(st.integers(0, 12), st.sampled_from(["R1", "R2", "R3"]),
+                                   HOSTILE_STARTS), max_size=12),
+       ready_at=st.floats(0.0, 5.0))
+def test_implausible_proposals_never_move_the_agreed_start(
+        strategy: str, proposals: list[tuple[str, float]],
+        hostiles: list[tuple[int, str, tuple[bool, float]]], ready_at: float) -> None:
+    """Plausible proposals (each heard 0.1 s after the last) with implausible ones mixed in
+    anywhere: the agreement is exactly what it is without the implausible ones."""
+    clean = agreement_ready(new_agreement("R1", ("R1", "R2", "R3"), strategy), EPOCH + ready_at)
+    mixed = clean
+    for k in range(len(proposals) + 1):
+        now = EPOCH + ready_at + 0.1 * k
+        for _, role, (relative, value) in (h for h in hostiles if h[0] == k):
+            start = now + value if relative else value
+            assert implausible(start, now) is not None
+            mixed = agreement_receive(mixed, StartProposal(role, start), now)
+        if k < len(proposals):
+            role, ahead = proposals[k]
+            clean = agreement_receive(clean, StartProposal(role, now + ahead), now)
+            mixed = agreement_receive(mixed, StartProposal(role, now + ahead), now)
+    assert mixed == clean
+
+
+@settings(max_examples=40, deadline=None)
+@given(launches=st.lists(st.floats(0.0, 6.0), min_size=2, max_size=4),
+       hostile=st.sampled_from(["1e308", "0", "1e-300", str(10**300), "nan", "inf",
+                                "99999999999999999999"]),
+       max_delay=st.floats(0.0, 2.0), seed=st.integers(0, 2**32 - 1))
+def test_a_flooding_intruder_does_not_change_the_start(launches: list[float], hostile: str,
+                                                       max_delay: float, seed: int) -> None:
+    """An intruder floods /sync at 10 Hz with a far proposal for every role of the show from
+    the first tick on: every robot still starts at the same time, within the start delay of
+    the last robot's readiness."""
+    roles = {f"R{i + 1}": t for i, t in enumerate(launches)}
+    outcome = run_schedule(roles, Transport(max_delay, 0.1, 0.1, seed), epoch=EPOCH,
+                           intruder=lambda now: [f"sync {role} {hostile}" for role in roles])
+    robots = outcome.robots.values()
+    starts = {robot.agreement.start for robot in robots}
+    assert len(starts) == 1
+    start = starts.pop()
+    assert start is not None
+    last_ready = max(robot.ready_at for robot in robots if robot.ready_at is not None)
+    assert EPOCH + last_ready <= start <= EPOCH + last_ready + START_DELAY

@@ -15,7 +15,7 @@ from sensor_msgs.msg import PointCloud2, PointField
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.obstacles import DetectorParams
 
-__all__ = ["cloud_message", "cloud_points", "obstacle_cloud"]
+__all__ = ["MalformedCloudError", "cloud_message", "cloud_points", "obstacle_cloud"]
 
 FloatArray = NDArray[np.float64]
 _XYZ = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4")])
@@ -33,20 +33,47 @@ def cloud_message(points: FloatArray, header: Any) -> Any:
         is_dense=True)
 
 
+class MalformedCloudError(ValueError):
+    """A PointCloud2 whose layout cannot be read (no float32 x, y, z fields, sizes that do not
+    fit its data, ...). A node treats it as a scan that did not arrive."""
+
+
 def cloud_points(message: Any) -> FloatArray:
     """The (M, 3) float64 x, y, z of a PointCloud2 whose x, y, z fields are float32 (any
-    other fields and padding are skipped; points with a NaN coordinate are dropped)."""
-    offsets = {f.name: f.offset for f in message.fields if f.datatype == PointField.FLOAT32}
+    other fields and padding are skipped; points with a NaN or infinite coordinate are
+    dropped). Raises :class:`MalformedCloudError`, and nothing else, when the fields, sizes and
+    data do not describe such a cloud."""
+    try:
+        fields = list(message.fields)
+        offsets = {f.name: f.offset for f in fields if f.datatype == PointField.FLOAT32}
+        width, height = int(message.width), int(message.height)
+        point_step, row_step = int(message.point_step), int(message.row_step)
+        data = bytes(message.data)
+        big_endian = bool(message.is_bigendian)
+    except (AttributeError, TypeError, ValueError, OverflowError) as exc:
+        raise MalformedCloudError(f"the cloud is not a PointCloud2 ({exc})") from None
     if not {"x", "y", "z"} <= offsets.keys():
-        raise ValueError("the cloud has no float32 x, y and z fields")
-    count = message.width * message.height
-    layout = np.dtype({"names": ["x", "y", "z"], "formats": ["<f4" if not message.is_bigendian
-                                                              else ">f4"] * 3,
-                       "offsets": [offsets["x"], offsets["y"], offsets["z"]],
-                       "itemsize": message.point_step})
-    raw = np.frombuffer(bytes(message.data), dtype=layout, count=count)
-    points = np.stack([raw["x"], raw["y"], raw["z"]], axis=1).astype(np.float64)
-    result: FloatArray = points[~np.isnan(points).any(axis=1)]
+        raise MalformedCloudError("the cloud has no float32 x, y and z fields")
+    xyz = [offsets["x"], offsets["y"], offsets["z"]]
+    if width < 0 or height < 0 or min(xyz) < 0 or point_step < max(xyz) + 4:
+        raise MalformedCloudError(f"the cloud's fields at bytes {xyz} do not fit its points of "
+                             f"{point_step} bytes ({width} x {height} points)")
+    if width == 0 or height == 0:
+        return np.zeros((0, 3))
+    if height > 1 and row_step < width * point_step:
+        raise MalformedCloudError(f"rows of {row_step} bytes cannot hold {width} points of "
+                             f"{point_step} bytes")
+    stride = row_step if height > 1 else width * point_step
+    needed = stride * (height - 1) + width * point_step
+    if len(data) < needed:
+        raise MalformedCloudError(f"{width} x {height} points of {point_step} bytes need {needed} "
+                             f"bytes of data, the cloud has {len(data)}")
+    layout = np.dtype({"names": ["x", "y", "z"], "formats": [">f4" if big_endian else "<f4"] * 3,
+                       "offsets": xyz, "itemsize": point_step})
+    raw = np.ndarray((height, width), dtype=layout, buffer=data, strides=(stride, point_step))
+    points = np.stack([raw["x"].ravel(), raw["y"].ravel(), raw["z"].ravel()],
+                      axis=1).astype(np.float64)
+    result: FloatArray = points[np.isfinite(points).all(axis=1)]
     return result
 
 

@@ -19,6 +19,13 @@ Publishes ``[/robot_name]/nav/cmd_vel`` (geometry_msgs/Twist) at 20 Hz (the brai
 10 Hz; the robots ignore commands slower than 10 Hz), ``/sync`` proposals at 10 Hz,
 ``[/robot_name]/robotsound`` (sound_play/SoundRequest: the stop sentence, beeps) and
 ``[/robot_name]/events`` (std_msgs/String: every safety event as "kind: text").
+
+Faults: a malformed cloud on ``obstacles`` counts as a scan that did not arrive (after 0.3 s
+without a readable one the robot stops for good, thesis 5.1), and is logged at most every
+5 s; ``/sync`` proposals outside the plausibility window are ignored and logged. The loop
+ticks on the wall clock and never waits for the master: a robot that lost its master keeps
+publishing its (zero) command at 20 Hz and ends on SIGINT/SIGTERM within a few seconds
+(see :class:`dancebots.ros1.common.NodeLife`), stopping its obstacle_detection first.
 """
 
 from __future__ import annotations
@@ -26,6 +33,7 @@ from __future__ import annotations
 import math
 import socket
 import threading
+import time
 from typing import Any
 
 import rospy
@@ -38,8 +46,15 @@ from dancebots.control.follower import FollowerParams
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
 from dancebots.robot import BrainState, RobotBrain, SensingConfig
-from dancebots.ros1.common import load_show, parse_sync, required_param, sync_publisher
-from dancebots.ros1.convert import cloud_points, obstacle_cloud
+from dancebots.ros1.common import (
+    NodeLife,
+    QueuedLog,
+    load_show,
+    parse_sync,
+    required_param,
+    sync_publisher,
+)
+from dancebots.ros1.convert import MalformedCloudError, cloud_points, obstacle_cloud
 from dancebots.ros1.naming import SYNC_TOPIC, RobotNames, robot_type_for_host
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
@@ -47,6 +62,7 @@ from dancebots.sync import (
     agreement_ready,
     agreement_receive,
     format_message,
+    implausible,
     new_agreement,
     show_time,
 )
@@ -55,10 +71,14 @@ CONTROL_HZ = 10.0
 PUBLISH_HZ = 20.0
 POSE_MAX_AGE = 0.3
 """s: a map -> base_link transform older than this is a failed look-up (thesis 5.1)."""
+DETECTOR_SIGINT_TIMEOUT = 5.0
+"""s obstacle_detection gets to end after SIGINT before SIGTERM, then 1 s before SIGKILL."""
 
 
 def main() -> None:
-    rospy.init_node("formation_member")
+    rospy.init_node("formation_member", disable_signals=True)
+    life = NodeLife()
+    log = QueuedLog()
     scenario = str(required_param("~scenario"))
     role = str(required_param("~role"))
     world_file = str(rospy.get_param("~world", "")) or None
@@ -79,15 +99,31 @@ def main() -> None:
     except ValueError as exc:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None
+    detector = None
     if use_lidar and rospy.get_param("~launch_detector", True):
-        _launch_detector(names)
+        detector = _launch_detector(names)
+        life.take_signals()  # roslaunch's process class installed handlers of its own
+    try:
+        _run(life, log, role, names, agreement, brain, use_lidar)
+    finally:
+        if detector is not None:
+            detector.stop([])  # SIGINT, then SIGTERM, then SIGKILL: bounded
+        log.info(f"{role}: stopping ({life.reason()})")
+        log.flush()
+        life.end()
 
+
+def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames, agreement: Any,
+         brain: RobotBrain, use_lidar: bool) -> None:
+    """The node's loop: subscriptions, then a 20 Hz wall-clock loop until ``life`` ends; the
+    robot's last command is zero."""
     lock = threading.Lock()
-    latest_cloud: list[Any] = []
+    latest_cloud: list[tuple[float, Any]] = []
     sync = sync_publisher(role, 1)
     cmd_vel = rospy.Publisher(names.topic("nav/cmd_vel"), Twist, queue_size=1)
     sound = rospy.Publisher(names.topic("robotsound"), SoundRequest, queue_size=10)
     events_out = rospy.Publisher(names.topic("events"), String, queue_size=10)
+    obstacles_topic = names.topic("obstacles")
 
     network_ready = threading.Event()
     cloud_seen = threading.Event()
@@ -98,20 +134,33 @@ def main() -> None:
 
     def heard(message: String) -> None:
         nonlocal agreement
-        parsed = parse_sync(message.data)
-        if isinstance(parsed, StartProposal):
-            with lock:
-                agreement = agreement_receive(agreement, parsed)
+        parsed = parse_sync(message.data, log)
+        if not isinstance(parsed, StartProposal):
+            return
+        now = rospy.get_time()
+        with lock:
+            waiting = parsed.role in agreement.roles and parsed.role not in agreement.heard
+            agreement = agreement_receive(agreement, parsed, now)
+        reason = implausible(parsed.start, now) if waiting else None
+        if reason is not None:
+            log.warn(f"{role}: ignoring the start proposed by {parsed.role}: {reason}",
+                     every=5.0, key=f"implausible {parsed.role}")
 
     def obstacles(message: PointCloud2) -> None:
+        try:  # a malformed cloud is a scan that did not arrive
+            points = cloud_points(message)
+        except MalformedCloudError as exc:
+            log.warn(f"{role}: {obstacles_topic}: {exc}; counted as a missing scan",
+                     every=5.0, key="malformed cloud")
+            return
         with lock:
-            latest_cloud[:] = [message]
+            latest_cloud[:] = [(message.header.stamp.to_sec(), points)]
         cloud_seen.set()
 
     rospy.Subscriber(names.topic("all_ready"), Bool, all_ready, queue_size=1)
     rospy.Subscriber(SYNC_TOPIC, String, heard, queue_size=100)
     if use_lidar:
-        rospy.Subscriber(names.topic("obstacles"), PointCloud2, obstacles, queue_size=1)
+        rospy.Subscriber(obstacles_topic, PointCloud2, obstacles, queue_size=1)
     buffer = tf2_ros.Buffer()
     tf2_ros.TransformListener(buffer)
     map_frame, base_frame = names.frame("map"), names.frame("base_link")
@@ -132,9 +181,10 @@ def main() -> None:
     command = Twist()
     status = "waiting"
     start_logged = False
-    rate = rospy.Rate(PUBLISH_HZ)
+    period = 1.0 / PUBLISH_HZ
+    next_tick = time.monotonic()
     tick = 0
-    while not rospy.is_shutdown():
+    while life.running:
         now = rospy.get_time()
         if tick % round(PUBLISH_HZ / CONTROL_HZ) == 0:
             with lock:
@@ -145,21 +195,20 @@ def main() -> None:
                     # then does the robot propose a start (and its safety watch begin)
                     agreement = agreement_ready(agreement, now)
                 current = agreement
-                message = latest_cloud.pop() if latest_cloud else None
+                arrived = latest_cloud.pop() if latest_cloud else None
             proposal = current.message(now)
             if proposal is not None:
                 sync.publish(String(format_message(proposal)))
             elapsed = show_time(current, now)
             if elapsed is not None and not start_logged:
-                rospy.loginfo(f"{role}: start agreed at {current.start!r} "
-                              f"({current.strategy}), show time now {elapsed:.2f} s")
+                log.info(f"{role}: start agreed at {current.start!r} "
+                         f"({current.strategy}), show time now {elapsed:.2f} s")
                 start_logged = True
             command = Twist()
             if elapsed is not None:
                 cloud: PointCloud | None = None
-                if message is not None:
-                    stamp = message.header.stamp.to_sec() - (now - elapsed)
-                    cloud = obstacle_cloud(stamp, cloud_points(message))
+                if arrived is not None:
+                    cloud = obstacle_cloud(arrived[0] - (now - elapsed), arrived[1])
                 state, cmd, happened = brain.step(state, elapsed, look_up_pose(now), cloud)
                 command.linear.x, command.angular.z = cmd.linear, cmd.angular
                 for event in happened:
@@ -169,32 +218,39 @@ def main() -> None:
                     elif event.kind == "beep":
                         sound.publish(beep_request())
                     elif event.kind == "error":
-                        rospy.logerr(f"{role}: {event.text}; stopped for good")
+                        log.error(f"{role}: {event.text}; stopped for good")
                 if state.status != status:
-                    rospy.loginfo(f"{role}: {state.status} at show time {elapsed:.1f} s")
+                    log.info(f"{role}: {state.status} at show time {elapsed:.1f} s")
                     status = state.status
         cmd_vel.publish(command)
         tick += 1
-        try:
-            rate.sleep()
-        except rospy.ROSInterruptException:
-            break
+        next_tick += period
+        if next_tick < time.monotonic() - period:  # after a stall: no burst of ticks
+            next_tick = time.monotonic()
+        life.wait(next_tick - time.monotonic())
     cmd_vel.publish(Twist())
 
 
-def _launch_detector(names: RobotNames) -> None:
-    """Start obstacle_detection beside this node through the roslaunch API (thesis ch. 3)."""
-    import roslaunch
+def _launch_detector(names: RobotNames) -> Any:
+    """Start obstacle_detection beside this node through the roslaunch API (thesis ch. 3):
+    the node's process alone (roslaunch.nodeprocess), not a whole ROSLaunch parent, whose
+    XML-RPC server thread spins on its closed socket after ``stop()`` (the busy loop of
+    issue 10). The process runs in a session of its own; it is stopped by the caller and
+    ends by itself when this process dies (it watches its parent)."""
+    import rosgraph
+    import roslaunch.core
+    import roslaunch.nodeprocess
 
     node = roslaunch.core.Node(
         "dancebots_ros", "obstacle_detection", name="obstacle_detection",
         namespace=rospy.get_namespace(), output="log",
         args=f"_robot_name:={names.prefix}" if names.prefix else "")
-    launch = roslaunch.scriptapi.ROSLaunch()
-    launch.start()
-    process = launch.launch(node)
-    rospy.on_shutdown(process.stop)
-    rospy.on_shutdown(launch.stop)
+    node.machine = roslaunch.core.local_machine()
+    process = roslaunch.nodeprocess.create_node_process(
+        str(rospy.get_param("/run_id", "")), node, rosgraph.get_master_uri(),
+        sigint_timeout=DETECTOR_SIGINT_TIMEOUT, sigterm_timeout=1.0)
+    process.start()
+    return process
 
 
 if __name__ == "__main__":

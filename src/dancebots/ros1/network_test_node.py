@@ -6,7 +6,8 @@ name in the scenario), ``~robot_name`` (optional prefix of its topics), ``~sync_
 ``~sync_loss`` (test only: delay up to s / drop probability of every /sync message it sends,
 injected in-process), ``~sync_seed`` (default: from the role).
 Publishes ``/sync`` (std_msgs/String) at 10 Hz and ``[/robot_name]/all_ready``
-(std_msgs/Bool, latched) once every robot has echoed it.
+(std_msgs/Bool, latched) once every robot has echoed it. Ticks on the wall clock and ends on
+SIGINT/SIGTERM even without its master (:class:`dancebots.ros1.common.NodeLife`).
 """
 
 from __future__ import annotations
@@ -16,7 +17,14 @@ import threading
 import rospy
 from std_msgs.msg import Bool, String
 
-from dancebots.ros1.common import load_show, parse_sync, required_param, sync_publisher
+from dancebots.ros1.common import (
+    NodeLife,
+    QueuedLog,
+    load_show,
+    parse_sync,
+    required_param,
+    sync_publisher,
+)
 from dancebots.ros1.naming import SYNC_TOPIC, RobotNames
 from dancebots.sync import (
     EchoMessage,
@@ -29,7 +37,9 @@ RATE_HZ = 10.0
 
 
 def main() -> None:
-    rospy.init_node("network_test")
+    rospy.init_node("network_test", disable_signals=True)
+    life = NodeLife()
+    log = QueuedLog()
     plan, _ = load_show(required_param("~scenario"))
     role = str(required_param("~role"))
     names = RobotNames(str(rospy.get_param("~robot_name", "")))
@@ -45,7 +55,7 @@ def main() -> None:
 
     def heard(message: String) -> None:
         nonlocal test
-        parsed = parse_sync(message.data)
+        parsed = parse_sync(message.data, log)
         if not isinstance(parsed, EchoMessage):
             return
         with lock:
@@ -55,20 +65,19 @@ def main() -> None:
 
     rospy.Subscriber(SYNC_TOPIC, String, heard, queue_size=100)
     announced = False
-    rate = rospy.Rate(RATE_HZ)
-    while not rospy.is_shutdown():
-        with lock:
-            current = test
-        if not current.ready:
-            sync.publish(String(format_message(current.beacon())))
-        elif not announced:
-            rospy.loginfo(f"{role}: every robot answered; all ready")
-            ready.publish(Bool(True))
-            announced = True
-        try:
-            rate.sleep()
-        except rospy.ROSInterruptException:
-            break
+    try:
+        while life.wait(1.0 / RATE_HZ):
+            with lock:
+                current = test
+            if not current.ready:
+                sync.publish(String(format_message(current.beacon())))
+            elif not announced:
+                log.info(f"{role}: every robot answered; all ready")
+                ready.publish(Bool(True))
+                announced = True
+    finally:
+        log.flush()
+        life.end()
 
 
 if __name__ == "__main__":

@@ -7,7 +7,9 @@ Subscribes ``[/robot_name]/points_filtered`` (sensor_msgs/PointCloud2 in ``base_
 Publishes, for every cloud: ``[/robot_name]/stop_front`` and ``/stop_rear`` (std_msgs/Bool:
 an obstacle nearer than 55 cm to the front / rear) and ``[/robot_name]/obstacles``
 (PointCloud2: the points cropped to 4 x 4 m, 0.1 m < z < 1.5 m, flattened to z = 0, with the
-input's stamp and frame, so consumers can compensate the LIDAR's lag).
+input's stamp and frame, so consumers can compensate the LIDAR's lag). A malformed cloud is
+logged (at most every 5 s) and skipped. Ends on SIGINT/SIGTERM even without its master, and
+when its parent process (formation_member, which starts it) dies.
 """
 
 from __future__ import annotations
@@ -20,12 +22,15 @@ from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Bool
 
 from dancebots.perception.obstacles import obstacle_points, stop_flags
-from dancebots.ros1.convert import cloud_message, cloud_points
+from dancebots.ros1.common import NodeLife, QueuedLog
+from dancebots.ros1.convert import MalformedCloudError, cloud_message, cloud_points
 from dancebots.ros1.naming import RobotNames, robot_type_for_host
 
 
 def main() -> None:
-    rospy.init_node("obstacle_detection")
+    rospy.init_node("obstacle_detection", disable_signals=True)
+    life = NodeLife()
+    log = QueuedLog()
     names = RobotNames(str(rospy.get_param("~robot_name", "")))
     kind = robot_type_for_host(socket.gethostname())
     length = float(rospy.get_param(names.param("length"), kind.length))
@@ -37,8 +42,9 @@ def main() -> None:
     def detect(message: PointCloud2) -> None:
         try:
             points = obstacle_points(cloud_points(message))
-        except ValueError as exc:
-            rospy.logwarn_throttle(5.0, f"{names.topic('points_filtered')}: {exc}")
+        except MalformedCloudError as exc:
+            log.warn(f"{names.topic('points_filtered')}: {exc}; skipped", every=5.0,
+                     key="malformed cloud")
             return
         flags = stop_flags(points, length, width)
         front.publish(Bool(flags.front))
@@ -48,7 +54,12 @@ def main() -> None:
 
     rospy.Subscriber(names.topic("points_filtered"), PointCloud2, detect, queue_size=1,
                      buff_size=2**22)
-    rospy.spin()
+    try:
+        while life.wait(0.2):
+            pass
+    finally:
+        log.flush()
+        life.end()
 
 
 if __name__ == "__main__":

@@ -12,7 +12,9 @@ subscribes ``/R/nav/cmd_vel`` (geometry_msgs/Twist; a command older than 0.1 s s
 robot, the robots' 10 Hz rule); publishes TF ``R/map`` -> ``R/base_link`` (the map's origin
 is the robot's start pose) every step and ``/R/points_filtered`` (PointCloud2 in
 ``R/base_link``, 10 Hz, stamped with the scan time and delivered the LIDAR's 0.3 s later).
-The stage's clock is ROS time since the bridge started; spectators walk from then.
+The stage's clock is ROS time since the bridge started; spectators walk from then. Ends on
+SIGINT/SIGTERM (writing the record first) even without its master
+(:class:`dancebots.ros1.common.NodeLife`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from geometry_msgs.msg import TransformStamped, Twist
 from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Header
 
-from dancebots.ros1.common import load_show, required_param
+from dancebots.ros1.common import NodeLife, QueuedLog, load_show, required_param
 from dancebots.ros1.convert import cloud_message
 from dancebots.ros1.naming import RobotNames
 from dancebots.sim.kinematics import PROFILES, fresh_commands
@@ -40,7 +42,9 @@ RECORD_EVERY = 5.0  # s between writes of the record
 
 
 def main() -> None:
-    rospy.init_node("sim_bridge")
+    rospy.init_node("sim_bridge", disable_signals=True)
+    life = NodeLife()
+    log = QueuedLog()
     world_file = str(rospy.get_param("~world", "")) or None
     plan, world = load_show(str(required_param("~scenario")), world_file,
                             float(rospy.get_param("~vmax", 0.0)) or None)
@@ -93,23 +97,13 @@ def main() -> None:
                                    ).reshape(-1, 2))
         partial.replace(record_path)
 
-    rospy.on_shutdown(write_record)
-    rospy.loginfo(f"sim_bridge: {count} robots, {1 / dt:g} steps/s, LIDAR "
-                  f"{'on' if lidar else 'off'}")
+    log.info(f"sim_bridge: {count} robots, {1 / dt:g} steps/s, LIDAR "
+             f"{'on' if lidar else 'off'}")
     stop_after = float(rospy.get_param("~stop_after", 0.0))
     silenced = _silences(str(rospy.get_param("~silence", "")), robots)
-    step = 0
-    last_write = 0.0
-    while not rospy.is_shutdown():
-        now = step * dt
-        if 0 < stop_after <= now:
-            rospy.loginfo(f"sim_bridge: {stop_after:g} s are over; {len(stage.collisions)} "
-                          "contacts")
-            rospy.signal_shutdown("the show is over")
-            break
-        delay = start + now - rospy.get_time()
-        if delay > 0:
-            rospy.sleep(delay)
+
+    def advance(now: float) -> None:
+        """Publish the clouds and poses at stage time ``now`` (s), record, and step."""
         stamp = rospy.Time.from_sec(start + now)
         for i, cloud in enumerate(stage.deliveries(now)):
             if cloud is not None and now < silenced.get(i, math.inf):
@@ -124,10 +118,29 @@ def main() -> None:
         poses.append(stage.pose.copy())
         applied.append(fresh_commands(current, sent, now, stage.command_timeout))
         stage.advance(now, current, sent)
-        if now - last_write >= RECORD_EVERY:
-            write_record()
-            last_write = now
-        step += 1
+
+    step = 0
+    last_write = 0.0
+    reason = None
+    try:
+        while life.running:
+            now = step * dt
+            if 0 < stop_after <= now:
+                reason = "the show is over"
+                log.info(f"sim_bridge: {stop_after:g} s are over; {len(stage.collisions)} "
+                         "contacts")
+                break
+            if not life.wait(start + now - rospy.get_time()):
+                break
+            advance(now)
+            if now - last_write >= RECORD_EVERY:
+                write_record()
+                last_write = now
+            step += 1
+    finally:
+        write_record()
+        log.flush()
+        life.end(reason)
 
 
 def _silences(text: str, robots: tuple[str, ...]) -> dict[int, float]:

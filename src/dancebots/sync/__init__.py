@@ -2,7 +2,8 @@
 
 ``network_test``: every robot checks that it hears every other robot and is heard back (the
 echo test of the ``network_test`` node) before it says it is ready. ``start``: the robots
-agree on one start time for the virtual leader from proposals each makes when it is ready.
+agree on one start time for the virtual leader from proposals each makes when it is ready, ignoring
+implausible ones (a window around the receiver's clock).
 Messages are plain text as they travel on the shared ``/sync`` topic (std_msgs/String).
 """
 
@@ -11,20 +12,28 @@ from dancebots.sync.messages import (
     StartProposal,
     SyncMessageError,
     format_message,
+    is_role,
     parse_message,
 )
 from dancebots.sync.network_test import NetworkTest, network_test_receive, start_network_test
 from dancebots.sync.start import (
+    MAX_CLOCK_OFFSET,
+    PLAUSIBLE_AHEAD,
+    PLAUSIBLE_BEHIND,
     START_DELAY,
     START_STRATEGIES,
     StartAgreement,
     agreement_ready,
     agreement_receive,
+    implausible,
     new_agreement,
     show_time,
 )
 
 __all__ = [
+    "MAX_CLOCK_OFFSET",
+    "PLAUSIBLE_AHEAD",
+    "PLAUSIBLE_BEHIND",
     "START_DELAY",
     "START_STRATEGIES",
     "EchoMessage",
@@ -35,6 +44,8 @@ __all__ = [
     "agreement_ready",
     "agreement_receive",
     "format_message",
+    "implausible",
+    "is_role",
     "network_test_receive",
     "new_agreement",
     "parse_message",

@@ -4,17 +4,30 @@
 ``test R1 R2``         R2 heard R1 and echoes it back (R1 then knows the link works both ways)
 ``sync R1 1732.25``    R1 proposes to start at 1732.25 s (its clock, seconds since the epoch)
 
-Roles are the scenario's robot names (no spaces). Anything else is rejected with a
-:class:`SyncMessageError` that says what was expected, so a node can log it and go on.
+Roles are the scenario's robot names: plain ASCII identifiers, a letter or ``_`` then
+letters, digits, ``_``, ``.`` or ``-`` (the names the choreography language accepts for
+robots). A time is a plain decimal number (ASCII digits, optional sign, fraction and
+exponent) that is finite as a float. Anything else is rejected with a
+:class:`SyncMessageError` that says what was expected, so a node can log it and go on:
+:func:`parse_message` raises nothing else, whatever the text. Whether a well-formed time is a
+plausible start is the start agreement's business (:func:`dancebots.sync.start.implausible`),
+as it depends on the receiver's clock.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
-__all__ = ["EchoMessage", "StartProposal", "SyncMessageError", "format_message",
+__all__ = ["EchoMessage", "StartProposal", "SyncMessageError", "format_message", "is_role",
            "parse_message"]
+
+_ROLE = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
+_SECONDS = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+_SHOWN = 80
+"""Characters of a bad message quoted in its error (the rest is counted, not copied)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -34,38 +47,48 @@ class StartProposal:
 
 
 class SyncMessageError(ValueError):
-    """A /sync message that is not one of the three forms; ``text`` is what was received."""
+    """A /sync message that is not one of the three forms; ``text`` is what was received,
+    ``reason`` why it is refused."""
 
     def __init__(self, text: str, reason: str) -> None:
-        super().__init__(f"bad /sync message {text!r}: {reason}; expected 'test ROLE', "
+        super().__init__(f"bad /sync message {_shown(text)}: {reason}; expected 'test ROLE', "
                          "'test ROLE ECHOER' or 'sync ROLE SECONDS'")
         self.text = text
         self.reason = reason
 
 
+def is_role(word: str) -> bool:
+    """Is ``word`` a role name (a robot name of the choreography language)?"""
+    return _ROLE.fullmatch(word) is not None
+
+
 def parse_message(text: str) -> EchoMessage | StartProposal:
-    """The message a /sync text carries (see the module's docstring for the forms)."""
+    """The message a /sync text carries (see the module's docstring for the forms); raises
+    :class:`SyncMessageError`, and nothing else, for any other text."""
+    if not isinstance(text, str):
+        raise SyncMessageError(repr(text), f"a {type(text).__name__} is not text")
     words = text.split()
     if not words:
         raise SyncMessageError(text, "it is empty")
     kind, rest = words[0], words[1:]
     if kind == "test":
-        if len(rest) == 1:
-            return EchoMessage(rest[0])
-        if len(rest) == 2:
-            return EchoMessage(rest[0], rest[1])
-        raise SyncMessageError(text, f"'test' takes 1 or 2 roles, not {len(rest)}")
+        if len(rest) not in (1, 2):
+            raise SyncMessageError(text, f"'test' takes 1 or 2 roles, not {len(rest)}")
+        _check_roles(text, rest)
+        return EchoMessage(rest[0], rest[1] if len(rest) == 2 else None)
     if kind == "sync":
         if len(rest) != 2:
             raise SyncMessageError(text, f"'sync' takes a role and a time, not {len(rest)} words")
-        try:
-            start = float(rest[1])
-        except ValueError:
-            raise SyncMessageError(text, f"{rest[1]!r} is not a time in seconds") from None
+        _check_roles(text, rest[:1])
+        if _NONFINITE.fullmatch(rest[1]) is not None:
+            raise SyncMessageError(text, f"{_shown(rest[1])} is not a finite time")
+        if _SECONDS.fullmatch(rest[1]) is None:
+            raise SyncMessageError(text, f"{_shown(rest[1])} is not a time in seconds")
+        start = float(rest[1])
         if not math.isfinite(start):
-            raise SyncMessageError(text, f"{rest[1]!r} is not a finite time")
+            raise SyncMessageError(text, f"{_shown(rest[1])} is not a finite time")
         return StartProposal(rest[0], start)
-    raise SyncMessageError(text, f"unknown kind {kind!r}")
+    raise SyncMessageError(text, f"unknown kind {_shown(kind)}")
 
 
 def format_message(message: EchoMessage | StartProposal) -> str:
@@ -76,3 +99,17 @@ def format_message(message: EchoMessage | StartProposal) -> str:
     if message.echoed_by is None:
         return f"test {message.origin}"
     return f"test {message.origin} {message.echoed_by}"
+
+
+def _check_roles(text: str, roles: list[str]) -> None:
+    for role in roles:
+        if not is_role(role):
+            raise SyncMessageError(text, f"{_shown(role)} is not a role name (a letter or _, "
+                                   "then letters, digits, _, . or -)")
+
+
+def _shown(text: str) -> str:
+    """``text`` quoted, cut after :data:`_SHOWN` characters."""
+    if len(text) <= _SHOWN:
+        return repr(text)
+    return f"{text[:_SHOWN]!r}... ({len(text)} characters)"

@@ -15,20 +15,41 @@ waits until the start time and the virtual leader starts to move. The clocks are
     is made only when its robot is ready, nobody starts before every role is ready. A robot
     that hears the last proposal after the start time starts late and catches up: its virtual
     leader is computed from the same start.
+
+Both strategies ignore implausible proposals (:func:`implausible`): a start more than
+:data:`PLAUSIBLE_AHEAD` s after the receiver's clock or more than :data:`PLAUSIBLE_BEHIND` s
+before it. Such a proposal neither strikes its role off nor moves the start, so one stray or
+hostile ``sync R2 1e308`` cannot make the formation wait for ever; the receiver keeps waiting
+for a plausible proposal of that role (which a robot whose clock is far off never sends:
+then nobody starts, the safe failure of unsynchronised clocks).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from dancebots.sync.messages import StartProposal
 
-__all__ = ["START_DELAY", "START_STRATEGIES", "StartAgreement", "agreement_ready",
-           "agreement_receive", "new_agreement", "show_time"]
+__all__ = ["MAX_CLOCK_OFFSET", "PLAUSIBLE_AHEAD", "PLAUSIBLE_BEHIND", "START_DELAY",
+           "START_STRATEGIES", "StartAgreement", "agreement_ready", "agreement_receive",
+           "implausible", "new_agreement", "show_time"]
 
 START_DELAY = 4.0
 """Seconds between a robot's clock when it proposes and the start it proposes (thesis 4.2)."""
 START_STRATEGIES = ("thesis", "agreed")
+MAX_CLOCK_OFFSET = 1.0
+"""s: the largest offset between two robots' clocks the agreement tolerates (NTP on the
+robots' network keeps them within milliseconds; thesis 4.2)."""
+PLAUSIBLE_AHEAD = START_DELAY + MAX_CLOCK_OFFSET
+"""s: a proposal is at most this far after the receiver's clock. Every proposal is its
+sender's clock + :data:`START_DELAY` at the latest, and transmission only makes the
+receiver's clock later, so only a clock offset can add to the delay."""
+PLAUSIBLE_BEHIND = 3600.0
+"""s: a proposal is at most this far before the receiver's clock. Under ``agreed`` a robot
+repeats the proposal it made when it became ready, so a robot whose sensors come up late
+hears old proposals; an hour covers any start-up of a show, while a clock that was never
+synchronised (1970, 0 s) or a number that is no time is refused."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,10 +109,31 @@ def agreement_ready(agreement: StartAgreement, now: float) -> StartAgreement:
                  StartProposal(agreement.role, proposal))
 
 
-def agreement_receive(agreement: StartAgreement, proposal: StartProposal) -> StartAgreement:
-    """The agreement after hearing ``proposal`` on /sync (any order, any number of times).
-    Roles outside the formation are ignored; a role's first proposal is the one kept."""
+def implausible(start: float, now: float) -> str | None:
+    """Why a proposed ``start`` (s, common clock) is not plausible at the receiver's clock
+    ``now`` (s), or None when it is: it must lie in [now - PLAUSIBLE_BEHIND,
+    now + PLAUSIBLE_AHEAD]. NaN and infinities are never plausible."""
+    if not (math.isfinite(start) and math.isfinite(now)):
+        return f"{start!r} is not a finite time"
+    if start > now + PLAUSIBLE_AHEAD:
+        return (f"it is {_span(start - now)} after this robot's clock (at most "
+                f"{PLAUSIBLE_AHEAD:g} s: the {START_DELAY:g} s start delay and "
+                f"{MAX_CLOCK_OFFSET:g} s of clock offset); are the clocks synchronised?")
+    if start < now - PLAUSIBLE_BEHIND:
+        return (f"it is {_span(now - start)} before this robot's clock (at most "
+                f"{PLAUSIBLE_BEHIND:g} s); are the clocks synchronised?")
+    return None
+
+
+def agreement_receive(agreement: StartAgreement, proposal: StartProposal, now: float,
+                      ) -> StartAgreement:
+    """The agreement after hearing ``proposal`` on /sync at the receiver's clock ``now`` (s)
+    (any order, any number of times). Roles outside the formation and implausible
+    proposals (:func:`implausible`) are ignored; a role's first plausible proposal is the
+    one kept."""
     if proposal.role not in agreement.roles or proposal.role in agreement.heard:
+        return agreement
+    if implausible(proposal.start, now) is not None:
         return agreement
     if agreement.strategy == "agreed" and proposal.role == agreement.role:
         return agreement  # its own value was fixed when it became ready
@@ -103,6 +145,13 @@ def show_time(agreement: StartAgreement, now: float) -> float | None:
     is not agreed yet."""
     start = agreement.start
     return None if start is None else now - start
+
+
+def _span(seconds: float) -> str:
+    """A duration for a message: seconds, or years when it is absurd."""
+    if seconds < 1e6:
+        return f"{seconds:.1f} s"
+    return f"{seconds / 3.15576e7:.3g} years"
 
 
 def _hear(agreement: StartAgreement, proposal: StartProposal) -> StartAgreement:
