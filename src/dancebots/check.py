@@ -24,7 +24,7 @@ from dancebots.perception.obstacles import DetectorParams
 from dancebots.plan.planner import Plan, PlannedFormation, PlanParameters, build_plan
 from dancebots.scenario.model import Circle, Scenario
 from dancebots.scenario.parser import parse_scenario
-from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World, start_conflicts
+from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, World, start_conflicts
 
 __all__ = [
     "CheckOptions",
@@ -322,14 +322,19 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         shapes = _footprints(footprint_corners(offsets[:, 0], offsets[:, 1],
                                                np.zeros(len(offsets)), sizes[:, 0],
                                                sizes[:, 1]))
-        tree = shapely.STRtree(shapes)
-        first, second = _pairs_within(tree, shapes, reach)
-        pair_gaps = shapely.distance(shapes[first], shapes[second])
-        if len(first):  # every pair further apart than these is further than ``reach``
+        if len(members) * (len(members) - 1) // 2 <= _PAIR_LOOP_LIMIT:
+            first, second = np.array(list(itertools.combinations(range(len(members)), 2))).T
+            pair_gaps = shapely.distance(shapes[first], shapes[second])
             gaps.append(float(pair_gaps.min()))
         else:
-            _, nearest = tree.query_nearest(shapes, exclusive=True, return_distance=True)
-            gaps.append(float(nearest.min()))
+            tree = shapely.STRtree(shapes)
+            first, second = _pairs_within(tree, shapes, reach)
+            pair_gaps = shapely.distance(shapes[first], shapes[second])
+            if len(first):  # every pair further apart than these is further than ``reach``
+                gaps.append(float(pair_gaps.min()))
+            else:
+                _, nearest = tree.query_nearest(shapes, exclusive=True, return_distance=True)
+                gaps.append(float(nearest.min()))
         for a, b, gap in zip(first.tolist(), second.tolist(), pair_gaps.tolist(), strict=True):
             if gap < options.clearance:
                 _warn(plan, (formation.span.line, formation.span.col),
@@ -384,9 +389,9 @@ def _pairs_within(tree: shapely.STRtree, shapes: NDArray[np.object_],
 
 
 _PAIR_LOOP_LIMIT = 2000
-"""Up to this many pairs of robots that ever follow different leaders, they are compared at
-every sample directly; above it, a sweep along each sample's sorted positions finds the near
-ones."""
+"""Up to this many pairs of robots (of a formation, or that ever follow different leaders),
+every pair is compared; above it, near pairs are found first (an STRtree in a formation, a
+sweep along each sample's sorted positions across formations)."""
 
 
 def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: FloatArray,
@@ -395,8 +400,8 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
     follow different leaders and their centres are nearer than their radii (m) plus
     ``margin``; poses (R, T, 3), which (R, T)."""
     count = which.shape[0]
-    _, group = np.unique(which, axis=0, return_inverse=True)
-    group = group.reshape(-1)
+    histories: dict[bytes, int] = {}  # robots with the same formation at every sample
+    group = np.array([histories.setdefault(row.tobytes(), len(histories)) for row in which])
     sizes = np.bincount(group)
     cross = (count * count - int((sizes * sizes).sum())) // 2
     if cross == 0:
@@ -560,12 +565,12 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
             world.robots[[w.name for w in world.robots].index(name)] for name in plan.robots)])
     else:
         starts = _slot_starts(plan, placed)
-    outside = _check_starts(plan, world, types, starts, diagnostics)
+    at_start = _check_starts(plan, world, types, starts, diagnostics)
     if samples is None:
         times = _sample_times(plan, period)
         samples = (times, np.stack([plan.desired_poses(r, times) for r in plan.robots]),
                    np.stack([plan.formation_indices(r, times) for r in plan.robots]))
-    _check_world(plan, world, placed, types, *samples, diagnostics, outside)
+    _check_world(plan, world, placed, types, *samples, diagnostics, at_start)
     return ShowPlacement(placed, starts, tuple(diagnostics))
 
 
@@ -578,15 +583,16 @@ def _slot_starts(plan: Plan, transform: Pose) -> FloatArray:
                      slots[:, 2] + transform.theta], axis=1)
 
 
-def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType],
-                  starts: FloatArray, diagnostics: list[Diagnostic]) -> frozenset[str]:
+def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], starts: FloatArray,
+                  diagnostics: list[Diagnostic]) -> frozenset[tuple[str, str | None]]:
     """Errors for robots that cannot start where they stand (:func:`start_conflicts`); returns
-    the robots that start outside the room. Start poses from the world are reported at their
-    [[robots]] entry, slots of the first formation at that formation."""
+    (robot, None) for those that start outside the room and (robot, obstacle label) for those
+    that start in an obstacle. Start poses from the world are reported at their [[robots]]
+    entry, slots of the first formation at that formation."""
     robots = plan.robots
     from_world = world is not None and bool(world.robots)
     first = plan.formations[0].span
-    outside: set[str] = set()
+    reported: set[tuple[str, str | None]] = set()
 
     def error(robot: int, message: str, hint: str) -> None:
         if world is not None and from_world:
@@ -605,7 +611,7 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType],
     for conflict in start_conflicts(types, starts, room, obstacles, spectators):
         name = robots[conflict.robot]
         if conflict.kind == "room" and world is not None:
-            outside.add(name)
+            reported.add((name, None))
             error(conflict.robot, f"{name} starts outside the room of {world.path}",
                   "its footprint must lie inside the room at the start: move the start poses "
                   "or use a bigger room")
@@ -615,6 +621,7 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType],
                   "the world): the simulator would hold both where they stand")
         elif conflict.kind == "obstacle":
             obstacle = obstacles[conflict.other]
+            reported.add((name, _label(world, obstacle)))
             error(conflict.robot, f"{name} starts in obstacle '{obstacle.name}'"
                   + source.format(obstacle.line), "move the show's start off the obstacle, "
                   "or give the robots start poses in the world")
@@ -623,7 +630,12 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType],
             error(conflict.robot, f"{name} starts where spectator '{spectator.name}' stands"
                   + source.format(spectator.line), "move the show's start or the spectator's "
                   "first waypoint")
-    return frozenset(outside)
+    return frozenset(reported)
+
+
+def _label(world: World | None, obstacle: Obstacle) -> str:
+    """How warnings name an obstacle: its name and where the world file defines it."""
+    return f"{obstacle.name} ({world.path if world else '?'}:{obstacle.line})"
 
 
 @dataclass(frozen=True, slots=True)
@@ -651,14 +663,15 @@ def world_violations(plan: Plan, world: World, transform: Pose,
 
 def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
                  times: FloatArray, poses: FloatArray, which: NDArray[np.int64],
-                 diagnostics: list[Diagnostic], outside: frozenset[str] = frozenset()) -> None:
+                 diagnostics: list[Diagnostic],
+                 at_start: frozenset[tuple[str, str | None]] = frozenset()) -> None:
     """Leaving the room is an error (the simulator refuses the show); entering an obstacle
-    is a warning. ``outside``: robots already reported as starting outside the room, whose
-    violation from the first sample on is not repeated."""
+    is a warning. ``at_start``: (robot, None or obstacle label) already reported at the start
+    (:func:`_check_starts`), whose violation from the first sample on is not repeated."""
     for v in _world_violations(plan, world, transform, types, times, poses, which):
+        if (v.robot, v.obstacle) in at_start and v.start == float(times[0]):
+            continue
         if v.obstacle is None:
-            if v.robot in outside and v.start == float(times[0]):
-                continue
             diagnostics.append(Diagnostic(
                 plan.scenario.path, v.line, v.col, Severity.ERROR,
                 f"{v.robot} leaves the room from t = {v.start:.1f} s to {v.end:.1f} s",
@@ -707,5 +720,5 @@ def _world_violations(plan: Plan, world: World, transform: Pose, types: Sequence
                 corners = footprint_corners(x[i, check], y[i, check], theta[i, check],
                                             kind.length, kind.width)
                 hit[check] = shapely.intersects(shape, shapely.polygons(corners))
-            add(i, f"{obstacle.name} ({world.path}:{obstacle.line})", hit)
+            add(i, _label(world, obstacle), hit)
     return sorted(found, key=lambda v: (v.start, v.robot))
