@@ -45,6 +45,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _caused_by_interrupt(error: BaseException) -> bool:
+    """Does a KeyboardInterrupt lie in the chain of causes of ``error``?"""
+    seen: set[int] = set()
+    cause: BaseException | None = error
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``dancebots ARGS``; returns the exit status (argparse exits 2 on bad arguments)."""
     if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
@@ -54,6 +66,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         status: int = args.handler(args)
         return status
     except KeyboardInterrupt:
+        print("dancebots: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except SystemError as error:  # Ctrl-C inside a numba kernel surfaces as a SystemError
+        if not _caused_by_interrupt(error):
+            raise
         print("dancebots: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # e.g. `dancebots demo | head`: the reader is gone
