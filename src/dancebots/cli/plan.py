@@ -28,7 +28,7 @@ FORMATS = ("png", "svg", "pdf")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_show_arguments(parser)
-    parser.add_argument("--png", required=True, metavar="OUT",
+    parser.add_argument("--out", "--png", dest="out", required=True, metavar="FILE",
                         help="image file to write (.png; .svg and .pdf by their extension); "
                         "an existing file is replaced only if dancebots plan wrote it")
 
@@ -57,17 +57,17 @@ def run(args: argparse.Namespace) -> int:
         print_diagnostics(placement, show.sources)
         if has_errors(placement):
             return EXIT_INVALID
-    kind = _image_format(args.png)
+    kind = _image_format(args.out)
     metadata = {"Software" if kind == "png" else "Creator": CREATOR}
     figure = plot_plan(plan, world, transform)
     try:
-        write_file(Path(args.png), lambda path: figure.savefig(
+        write_file(Path(args.out), lambda path: figure.savefig(
             path, dpi=120, format=kind, metadata=metadata), CREATOR.encode())
     except OutputError as exc:
         return fail(NAME, str(exc))
     finally:
         plt.close(figure)
-    print(f"wrote {args.png}")
+    print(f"wrote {args.out}")
     return EXIT_OK
 
 

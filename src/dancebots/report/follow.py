@@ -9,7 +9,6 @@ compares with it directly; the distance error is gap - stand-off.
 from __future__ import annotations
 
 import csv
-import json
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -20,7 +19,7 @@ from numpy.typing import NDArray
 
 from dancebots.sim.queue import LEADER, QueueResult
 
-__all__ = ["FollowerMetrics", "QueueMetrics", "animate_queue", "metrics_json", "plot_queue",
+__all__ = ["FollowerMetrics", "QueueMetrics", "animate_queue", "plot_queue",
            "queue_metrics", "surface_gaps", "write_queue_log"]
 
 FloatArray = NDArray[np.float64]
@@ -232,7 +231,3 @@ def write_queue_log(result: QueueResult, handle: TextIO) -> None:
                 *("" if math.isnan(v) else f"{v:.4f}" for v in target),
                 *(f"{v:.4f}" for v in result.ahead[i, k]), f"{gaps[i, k]:.4f}",
                 int(lost[i, k]), int(kidnapped[i, k])])
-
-
-def metrics_json(metrics: QueueMetrics) -> str:
-    return json.dumps(metrics.to_json(), indent=2) + "\n"
