@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
 
 from dancebots.check import CheckOptions, CheckReport, check_plan, compile_scenario
+from dancebots.geometry import Pose
 from dancebots.world import World, load_world, parse_world
 
 
@@ -77,13 +79,20 @@ def test_world_types_set_the_limits(data: Path) -> None:
     assert (transform.x, transform.y, transform.theta) == pytest.approx((2.0, 3.0, 0.0))
 
 
-def test_leaving_the_room_and_entering_an_obstacle(data: Path) -> None:
-    world = load_world(str(data / "worlds" / "two_robots.toml"))
-    found = messages(check("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 3 45\nmove 9 0\n",
-                           world))
-    assert any(m.startswith("5: R1 enters pillar (") for m in found), found
-    assert any(m.startswith("5: R1 leaves the room from t = ") for m in found), found
-    assert any(m.startswith("5: R2 leaves the room from t = ") for m in found), found
+def test_leaving_the_room_is_an_error_entering_an_obstacle_a_warning(data: Path) -> None:
+    world, _ = parse_world((data / "worlds" / "two_robots.toml").read_text(), "two.toml")
+    assert world is not None
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 3 45\nmove 9 0\n", world)
+    found = [(d.severity.value, d.line, d.message, d.hint) for d in report.diagnostics
+             if "room" in d.message or "pillar" in d.message]
+    assert found == [
+        ("warning", 5, "R1 enters pillar (two.toml:5) from t = 16.2 s to 23.0 s",
+         "steer the formation around the obstacle"),
+        ("error", 5, "R2 leaves the room from t = 30.9 s to 40.2 s",
+         "move the show's start poses, use a bigger room, or shorten the moves"),
+        ("error", 5, "R1 leaves the room from t = 33.8 s to 40.2 s",
+         "move the show's start poses, use a bigger room, or shorten the moves"),
+    ]
 
 
 def test_robot_far_from_its_slot(data: Path) -> None:
@@ -103,8 +112,10 @@ def test_world_without_some_robots_is_an_error() -> None:
     world, _ = parse_world('[[robots]]\nname = "R1"\nx = 1\ny = 1\n', "w.toml")
     assert world is not None
     report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
-    assert [d.headline() for d in report.diagnostics] == [
-        "w.toml: error: the world places R1 but not R2"]
+    assert [(d.headline(), d.hint) for d in report.diagnostics] == [
+        ("show.dance:1:1: error: the world places R1 but not R2 (w.toml:1)",
+         "give every robot of the scenario a [[robots]] entry in w.toml, or none to let the "
+         "show be centred in the room")]
 
 
 def test_world_without_robots_centres_the_show(examples: Path) -> None:
@@ -112,3 +123,73 @@ def test_world_without_robots_centres_the_show(examples: Path) -> None:
     report = check((examples / "thesis_7_1.dance").read_text(), world)
     assert report.world_transform is not None
     assert not any("leaves the room" in d.message for d in report.diagnostics)
+
+
+def headlines(report: CheckReport) -> list[tuple[str, str | None]]:
+    return [(d.headline(), d.hint) for d in report.diagnostics if d.is_error]
+
+
+def test_robots_overlapping_in_the_first_formation_cannot_start() -> None:
+    # SIM robots are 0.6 m wide: 0.3 m apart they overlap; 0.6 m apart they touch, which the
+    # simulator allows (a zero gap is no overlap)
+    report = check("robots R1 R2 R3\nrow R1,R2,R3 0 0.3\nmove 1 0\n")
+    assert headlines(report) == [
+        ("show.dance:2:1: error: R1 and R2 overlap at their start poses", OVERLAP_HINT),
+        ("show.dance:2:1: error: R2 and R3 overlap at their start poses", OVERLAP_HINT),
+    ]
+    assert headlines(check("robots R1 R2\nrow R1,R2 0 0.6\nmove 1 0\n")) == []
+    # only the start counts: robots that meet later are a warning, and a collision in the run
+    later = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\nrow R1,R2 0 0.3\nmove 1 0\n")
+    assert headlines(later) == []
+
+
+OVERLAP_HINT = ("place them further apart (in the first formation or the world): the simulator "
+                "would hold both where they stand")
+ROOM_HINT = ("its footprint must lie inside the room at the start: move the start poses or use "
+             "a bigger room")
+
+
+def test_a_centred_show_too_big_for_the_room_starts_outside_it() -> None:
+    world, _ = parse_world("[room]\nsize = 1.5\n", "w.toml")
+    assert world is not None
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
+    # the starts are reported once, not again as leaving the room from t = 0
+    assert headlines(report) == [
+        ("show.dance:2:1: error: R1 starts outside the room of w.toml", ROOM_HINT),
+        ("show.dance:2:1: error: R2 starts outside the room of w.toml", ROOM_HINT),
+    ]
+
+
+def test_a_centred_show_starting_on_an_obstacle_or_a_visitor() -> None:
+    # the show is centred in the 10 m room: R1's slot at (5, 5.6), R2's at (5, 4.4)
+    world, _ = parse_world(
+        '[room]\nsize = 10\n[[obstacles]]\nname = "pillar"\n'
+        'polygon = [[4.5, 5.4], [5.5, 5.4], [5.5, 6.4]]\n[[spectators]]\nname = "child"\n'
+        'path = [[5, 4.4], [9, 4.4]]\n', "w.toml")
+    assert world is not None
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
+    assert headlines(report) == [
+        ("show.dance:2:1: error: R1 starts in obstacle 'pillar' (w.toml:3)",
+         "move the show's start off the obstacle, or give the robots start poses in the world"),
+        ("show.dance:2:1: error: R2 starts where spectator 'child' stands (w.toml:6)",
+         "move the show's start or the spectator's first waypoint"),
+    ]
+    # the start in the pillar is not repeated as a warning from t = 0
+    assert not any(d.message.startswith("R1 enters pillar") for d in report.diagnostics)
+
+
+def test_a_world_that_places_the_robots_is_checked_where_it_places_them() -> None:
+    """A World built without the loader's checks (as a test or a tool may) still gets them
+    from check, positioned at the robot's [[robots]] entry."""
+    text = '[[robots]]\nname = "R1"\nx = 5\ny = 5\n[[robots]]\nname = "R2"\nx = 5\ny = 5.3\n'
+    world, diagnostics = parse_world(text, "w.toml")
+    assert world is None
+    assert [d.headline() for d in diagnostics] == [
+        "w.toml:7:1: error: robots 'R1' and 'R2' overlap at their start poses"]
+    valid, _ = parse_world(text.replace("5.3", "3.8"), "w.toml")
+    assert valid is not None
+    overlapping = World(valid.path, valid.room, valid.wall_height, (), (
+        valid.robots[0], dataclasses.replace(valid.robots[1], start=Pose(5.0, 5.3, 0.0))))
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", overlapping)
+    assert headlines(report) == [
+        ("w.toml:5:1: error: R1 and R2 overlap at their start poses", OVERLAP_HINT)]

@@ -249,6 +249,7 @@ def test_spectator_paths_must_stay_in_the_room_and_off_obstacles(spectator: str,
             f'[[spectators]]\nname = "a"\n{spectator}\n')
     world, diagnostics = parse_world(text, "w.toml")
     assert [d.message for d in diagnostics] == ([problem] if problem else [])
+    assert (world is None) == (problem is not None)
     assert all((d.line, d.col) == (8, 1) for d in diagnostics)  # at its 'path'
 
 

@@ -1,18 +1,20 @@
 """Where a simulated show takes place: the arena and every robot's start pose.
 
 Pure: a plan and an optional world in, an :class:`Arena` and a :class:`Placement` out, or a
-:class:`SetupError` with a one-line message that says what to do.
+:class:`SetupError` with a one-line message and the diagnostics behind it. What the setup
+refuses is decided by :func:`dancebots.check.place_show`, the function ``check`` reports with,
+so a show that checks without errors always sets up.
 """
 
 from __future__ import annotations
 
-import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.check import place_plan_in_world, robot_types, world_violations
+from dancebots.check import place_show, robot_types
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import Pose, footprint_corners
 from dancebots.plan.planner import Plan
@@ -24,7 +26,19 @@ FloatArray = NDArray[np.float64]
 
 
 class SetupError(Exception):
-    """The show cannot be simulated as asked; ``str(error)`` is a one-line explanation."""
+    """The show cannot be simulated as asked; ``str(error)`` is a one-line explanation and
+    ``diagnostics`` the positioned errors behind it (empty when it has none)."""
+
+    def __init__(self, message: str, diagnostics: Sequence[Diagnostic] = ()) -> None:
+        super().__init__(message)
+        self.diagnostics = tuple(diagnostics)
+
+    @classmethod
+    def from_diagnostics(cls, errors: Sequence[Diagnostic]) -> SetupError:
+        """The first error's headline, and how many more there are."""
+        more = len(errors) - 1
+        return cls(errors[0].headline() + (f" (and {more} more: see `dancebots check`)"
+                                           if more > 0 else ""), errors)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -51,14 +65,6 @@ class Placement:
     show_to_world: Pose
 
 
-def _slots(plan: Plan, transform: Pose) -> FloatArray:
-    slots = np.stack([plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots])
-    c, s = math.cos(transform.theta), math.sin(transform.theta)
-    return np.stack([transform.x + c * slots[:, 0] - s * slots[:, 1],
-                     transform.y + s * slots[:, 0] + c * slots[:, 1],
-                     slots[:, 2] + transform.theta], axis=1)
-
-
 def open_arena(plan: Plan, types: list[RobotType], margin: float = 2.0) -> Arena:
     """A square-cornered room around everything the show's desired footprints cover, plus a
     margin in m, with its corners on whole metres."""
@@ -80,32 +86,18 @@ def prepare_show(plan: Plan, world: World | None,
                  default_type: RobotType = DEFAULT_ROBOT_TYPE) -> tuple[Arena, Placement]:
     """The arena and start poses. Without a world the robots start on the slots of the first
     formation in an open arena; with one they start where it says (or, if it places no robot,
-    on their slots with the show centred in the room), and the show must fit in the room."""
+    on their slots with the show centred in the room). Raises :class:`SetupError` with the
+    errors of :func:`dancebots.check.place_show` (the show leaves the room, robots start on
+    each other, ...)."""
     types = robot_types(plan, world, default_type)
+    placed = place_show(plan, world, types)
+    if placed.errors:
+        raise SetupError.from_diagnostics(placed.errors)
+    assert placed.transform is not None  # no errors: the show is placed
+    assert placed.starts is not None
     if world is None:
-        identity = Pose(0.0, 0.0, 0.0)
-        return open_arena(plan, types), Placement(plan.robots, tuple(types),
-                                                  _slots(plan, identity), identity)
-    named = [r.name for r in world.robots]
-    missing = [r for r in plan.robots if r not in named]
-    if named and missing:
-        raise SetupError(f"the scenario's robots {' '.join(missing)} are not in the world "
-                         f"{world.path} (it has {' '.join(named)}); add a [[robots]] entry "
-                         "for each")
-    problems: list[Diagnostic] = []
-    transform = place_plan_in_world(plan, world, problems)
-    if transform is None:  # pragma: no cover - the missing-robot case is handled above
-        raise SetupError(problems[0].message if problems else "cannot place the show")
-    leaving = [v for v in world_violations(plan, world, transform, types) if v.obstacle is None]
-    if leaving:
-        first = leaving[0]
-        raise SetupError(f"the show does not fit in the room of {world.path}: {first.robot} "
-                         f"would leave it at t = {first.start:.1f} s ({plan.scenario.path}:"
-                         f"{first.line}); move the start poses or use a bigger room")
-    if named:
-        starts = np.array([[p.start.x, p.start.y, p.start.theta] for p in (
-            world.robot(r) for r in plan.robots) if p is not None])
+        arena = open_arena(plan, types)
     else:
-        starts = _slots(plan, transform)
-    arena = Arena(world.room, world.wall_height, world.obstacles, world.path, world.spectators)
-    return arena, Placement(plan.robots, tuple(types), starts, transform)
+        arena = Arena(world.room, world.wall_height, world.obstacles, world.path,
+                      world.spectators)
+    return arena, Placement(plan.robots, tuple(types), placed.starts, placed.transform)
