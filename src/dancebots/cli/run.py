@@ -155,7 +155,7 @@ def _simulate_and_write(args: argparse.Namespace, show: LoadedShow,
     compile_first = kernels_to_compile()
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
-                      "run on this machine only, about 20 s)", style="yellow", highlight=False)
+                      "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
     config = SimConfig(profile=CORE_PROFILES[args.profile], seed=args.seed, lidar=lidar,
                        detector=args.detector, force_steering=args.force_steering,
