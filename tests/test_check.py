@@ -109,11 +109,13 @@ def test_robot_far_from_its_slot(data: Path) -> None:
 
 
 def test_world_without_some_robots_is_an_error() -> None:
-    world, _ = parse_world('[[robots]]\nname = "R1"\nx = 1\ny = 1\n', "w.toml")
+    world, _ = parse_world('[room]\nsize = 5\n[[robots]]\nname = "R1"\nx = 1\ny = 1\n',
+                           "w.toml")
     assert world is not None
-    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
+    # at the scenario's robots line, naming the world's first robot entry
+    report = check("# two robots\n  robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
     assert [(d.headline(), d.hint) for d in report.diagnostics] == [
-        ("show.dance:1:1: error: the world places R1 but not R2 (w.toml:1)",
+        ("show.dance:2:3: error: the world places R1 but not R2 (w.toml:3)",
          "give every robot of the scenario a [[robots]] entry in w.toml, or none to let the "
          "show be centred in the room")]
 
