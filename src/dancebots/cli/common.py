@@ -98,7 +98,8 @@ def in_range(low: float, high: float, integer: bool = False) -> Callable[[str], 
             kind = "an integer" if integer else "a number"
             raise argparse.ArgumentTypeError(f"{text!r} is not {kind}") from None
         if not (math.isfinite(value) and low <= value <= high):
-            raise argparse.ArgumentTypeError(f"{text} is outside {low:g} to {high:g}")
+            bounds = (f"{int(low)} to {int(high)}" if integer else f"{low:g} to {high:g}")
+            raise argparse.ArgumentTypeError(f"{text} is outside {bounds}")
         return value
 
     parse.__name__ = "integer" if integer else "number"  # argparse names it in errors

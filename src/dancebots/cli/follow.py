@@ -63,7 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(the obstacle course, default) or 'crossing' (the course with a "
                         "person crossing the queue)")
     parser.add_argument("--robots", type=in_range(1, 20, integer=True), default=3,
-                        help="followers, 1 to 20 (default 3)")
+                        metavar="N", help="followers, 1 to 20 (default 3)")
     parser.add_argument("--leader", choices=LEADERS, default="person",
                         help="person: the world's 'leader' walks its path (default); robot: a "
                         "robot drives that path, timed as the person walks it")
@@ -82,7 +82,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="ideal: commands act at once; realistic: inertia, lag and noise "
                         "(default: ideal)")
     parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
-                        help="seed of the noise of the realistic profile (default 0)")
+                        metavar="N", help="seed of the noise of the realistic profile (default 0)")
     parser.add_argument("--out", metavar="DIR", help="output directory (default "
                         "out/follow-DETECTOR-CONTROLLER); same rules as `dancebots run --out`")
     parser.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")

@@ -67,7 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="ideal: commands act at once (thesis 2D); realistic: inertia, lag "
                         "and noise (default: ideal)")
     parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
-                        help="seed of the noise of the realistic profile (default 0)")
+                        metavar="N", help="seed of the noise of the realistic profile (default 0)")
     parser.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
     parser.add_argument("--sound", action="store_true",
                         help="also write sound.wav: the robots' speech and beeps on the show's "
