@@ -195,3 +195,13 @@ def test_a_world_that_places_the_robots_is_checked_where_it_places_them() -> Non
     report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", overlapping)
     assert headlines(report) == [
         ("w.toml:5:1: error: R1 and R2 overlap at their start poses", OVERLAP_HINT)]
+
+
+def test_a_world_robot_the_scenario_lacks_is_left_out_with_a_warning() -> None:
+    world, _ = parse_world('[[robots]]\nname = "R1"\nx = 2\ny = 5.6\n[[robots]]\nname = "R2"\n'
+                           'x = 2\ny = 4.4\n[[robots]]\nname = "X"\nx = 5\ny = 2\n', "w.toml")
+    assert world is not None
+    report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
+    assert [(d.headline(), d.hint) for d in report.diagnostics] == [
+        ("w.toml:9:1: warning: the world's robot X is not in the scenario: it is left out of "
+         "the show", "remove its [[robots]] entry, or add it to the scenario's robots line")]

@@ -558,6 +558,11 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
         _check_starts(plan, None, types, starts, diagnostics)
         return ShowPlacement(transform, starts, tuple(diagnostics))
     placed = place_plan_in_world(plan, world, diagnostics, start_tolerance)
+    for extra in (r for r in world.robots if r.name not in plan.robots):
+        diagnostics.append(Diagnostic(
+            world.path, extra.line, 1, Severity.WARNING,
+            f"the world's robot {extra.name} is not in the scenario: it is left out of the show",
+            "remove its [[robots]] entry, or add it to the scenario's robots line"))
     if placed is None:
         return ShowPlacement(None, None, tuple(diagnostics))
     if world.robots:
