@@ -571,8 +571,8 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
     else:
         starts = _slot_starts(plan, placed)
     at_start = _check_starts(plan, world, types, starts, diagnostics)
-    if samples is None:
-        times = _sample_times(plan, period)
+    if samples is None:  # sampled as check_plan samples (coarser for very long shows)
+        times = _sample_times(plan, _sample_period(plan, period, []))
         samples = (times, np.stack([plan.desired_poses(r, times) for r in plan.robots]),
                    np.stack([plan.formation_indices(r, times) for r in plan.robots]))
     _check_world(plan, world, placed, types, *samples, diagnostics, at_start)

@@ -296,3 +296,21 @@ def test_start_conflicts_are_the_simulators_contacts(
     _, problems = parse_world(world_text(size, named, boxes, visitors), "w.toml")
     about_robots = [d for d in problems if d.message.startswith(("robot '", "robots '"))]
     assert bool(about_robots) == bool(conflicts), problems
+
+
+def test_setup_samples_a_long_show_as_check_does(monkeypatch: pytest.MonkeyPatch) -> None:
+    """check samples very long shows more coarsely; setup must decide on the same samples, or
+    a show could pass one and not the other (the times in the messages tell them apart)."""
+    import dancebots.check
+
+    monkeypatch.setattr(dancebots.check, "MAX_ROBOT_SAMPLES", 200)
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 1.2\nmove 12 0\n")
+    world, _ = parse_world('[room]\nsize = 10\n[[robots]]\nname = "R1"\nx = 1\ny = 5.6\n'
+                           '[[robots]]\nname = "R2"\nx = 1\ny = 4.4\n', "small.toml")
+    assert world is not None
+    errors = errors_of(plan, world)
+    assert [d.message for d in errors] == ["R1 leaves the room from t = 24.5 s to 34.2 s",
+                                           "R2 leaves the room from t = 24.5 s to 34.2 s"]
+    refused = setup_error(plan, world)
+    assert refused is not None
+    assert refused.diagnostics == errors
