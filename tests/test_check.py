@@ -172,7 +172,8 @@ def test_a_centred_show_starting_on_an_obstacle_or_a_visitor() -> None:
     report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
     assert headlines(report) == [
         ("show.dance:2:1: error: R1 starts in obstacle 'pillar' (w.toml:3)",
-         "move the show's start off the obstacle, or give the robots start poses in the world"),
+         "move its start off the obstacle (the world's start poses, or the show's first "
+         "formation)"),
         ("show.dance:2:1: error: R2 starts where spectator 'child' stands (w.toml:6)",
          "move the show's start or the spectator's first waypoint"),
     ]

@@ -37,7 +37,6 @@ __all__ = [
     "place_plan_in_world",
     "place_show",
     "robot_types",
-    "world_violations",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -565,9 +564,9 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
             "remove its [[robots]] entry, or add it to the scenario's robots line"))
     if placed is None:
         return ShowPlacement(None, None, tuple(diagnostics))
-    if world.robots:
-        starts = np.array([[r.start.x, r.start.y, r.start.theta] for r in (
-            world.robots[[w.name for w in world.robots].index(name)] for name in plan.robots)])
+    if world.robots:  # every robot of the plan has one (else placed is None)
+        poses = {r.name: r.start for r in world.robots}
+        starts = np.array([[poses[n].x, poses[n].y, poses[n].theta] for n in plan.robots])
     else:
         starts = _slot_starts(plan, placed)
     at_start = _check_starts(plan, world, types, starts, diagnostics)
@@ -612,12 +611,13 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
     room = world.room if world is not None else None
     obstacles = world.obstacles if world is not None else ()
     spectators = world.spectators if world is not None else ()
-    source = f" ({world.path}:{{}})" if world is not None else ""
+    world_path = world.path if world is not None else ""
+    source = f" ({world_path}:{{}})"
     for conflict in start_conflicts(types, starts, room, obstacles, spectators):
         name = robots[conflict.robot]
-        if conflict.kind == "room" and world is not None:
+        if conflict.kind == "room":
             reported.add((name, None))
-            error(conflict.robot, f"{name} starts outside the room of {world.path}",
+            error(conflict.robot, f"{name} starts outside the room of {world_path}",
                   "its footprint must lie inside the room at the start: move the start poses "
                   "or use a bigger room")
         elif conflict.kind == "robot":
@@ -626,10 +626,10 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
                   "the world): the simulator would hold both where they stand")
         elif conflict.kind == "obstacle":
             obstacle = obstacles[conflict.other]
-            reported.add((name, _label(world, obstacle)))
+            reported.add((name, _label(world_path, obstacle)))
             error(conflict.robot, f"{name} starts in obstacle '{obstacle.name}'"
-                  + source.format(obstacle.line), "move the show's start off the obstacle, "
-                  "or give the robots start poses in the world")
+                  + source.format(obstacle.line), "move its start off the obstacle (the "
+                  "world's start poses, or the show's first formation)")
         elif conflict.kind == "spectator":
             spectator = spectators[conflict.other]
             error(conflict.robot, f"{name} starts where spectator '{spectator.name}' stands"
@@ -638,9 +638,9 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
     return frozenset(reported)
 
 
-def _label(world: World | None, obstacle: Obstacle) -> str:
-    """How warnings name an obstacle: its name and where the world file defines it."""
-    return f"{obstacle.name} ({world.path if world else '?'}:{obstacle.line})"
+def _label(world_path: str, obstacle: Obstacle) -> str:
+    """How messages name an obstacle: its name and where the world file defines it."""
+    return f"{obstacle.name} ({world_path}:{obstacle.line})"
 
 
 @dataclass(frozen=True, slots=True)
@@ -654,16 +654,6 @@ class WorldViolation:
     end: float
     line: int
     col: int
-
-
-def world_violations(plan: Plan, world: World, transform: Pose,
-                     types: Sequence[RobotType], period: float = 0.1) -> list[WorldViolation]:
-    """Where the plan, placed in the world by ``transform``, leaves the room or enters an
-    obstacle (robot footprints at their desired poses, sampled every ``period`` s)."""
-    times = _sample_times(plan, period)
-    poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])
-    which = np.stack([plan.formation_indices(r, times) for r in plan.robots])
-    return _world_violations(plan, world, transform, types, times, poses, which)
 
 
 def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
@@ -725,5 +715,5 @@ def _world_violations(plan: Plan, world: World, transform: Pose, types: Sequence
                 corners = footprint_corners(x[i, check], y[i, check], theta[i, check],
                                             kind.length, kind.width)
                 hit[check] = shapely.intersects(shape, shapely.polygons(corners))
-            add(i, _label(world, obstacle), hit)
+            add(i, _label(world.path, obstacle), hit)
     return sorted(found, key=lambda v: (v.start, v.robot))
