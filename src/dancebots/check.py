@@ -334,44 +334,73 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
             else:
                 _, nearest = tree.query_nearest(shapes, exclusive=True, return_distance=True)
                 gaps.append(float(nearest.min()))
+        n_close = n_behind = 0
         for a, b, gap in zip(first.tolist(), second.tolist(), pair_gaps.tolist(), strict=True):
             if gap < options.clearance:
-                _warn(plan, (formation.span.line, formation.span.col),
-                      f"{members[a]} and {members[b]} are {gap:.2f} m apart in this formation "
-                      f"(clearance {options.clearance:g} m)",
-                      "increase the spacing or the row distance", diagnostics)
+                n_close += 1
+                if n_close <= _PAIR_WARNINGS:
+                    _warn(plan, (formation.span.line, formation.span.col),
+                          f"{members[a]} and {members[b]} are {gap:.2f} m apart in this "
+                          f"formation (clearance {options.clearance:g} m)",
+                          "increase the spacing or the row distance", diagnostics)
                 continue
             behind = _gap_in_corridor(offsets[a], offsets[b], sizes[a], sizes[b],
                                       options.detection)
             if behind is not None and behind < options.detection.stop_distance:
+                n_behind += 1
+                if n_behind > _PAIR_WARNINGS:
+                    continue
                 front, back = (a, b) if offsets[a][0] > offsets[b][0] else (b, a)
                 _warn(plan, (formation.span.line, formation.span.col),
                       f"{members[back]} follows {members[front]} at {behind:.2f} m, nearer "
                       f"than the {options.detection.stop_distance:g} m stop distance: its "
                       "LIDAR will hold it whenever the formation closes up",
                       "increase the row distance", diagnostics)
+        if n_close > _PAIR_WARNINGS or n_behind > _PAIR_WARNINGS:
+            _warn(plan, (formation.span.line, formation.span.col),
+                  f"in all, {n_close} pairs of robots of this formation are closer than the "
+                  f"clearance and {n_behind} follow each other nearer than the stop "
+                  f"distance (the first {_PAIR_WARNINGS} of each are listed)",
+                  "increase the spacing or the row distance", diagnostics)
     radius = np.array([math.hypot(t.length, t.width) / 2 for t in types])
     margin = max(options.clearance, 1.0)
-    for i, j, candidates in _apart_candidates(poses, which, radius, margin):
-        at_i, at_j = poses[i, candidates], poses[j, candidates]
-        shape_i = _footprints(footprint_corners(at_i[:, 0], at_i[:, 1], at_i[:, 2],
-                                                types[i].length, types[i].width))
-        shape_j = _footprints(footprint_corners(at_j[:, 0], at_j[:, 1], at_j[:, 2],
-                                                types[j].length, types[j].width))
-        distance = shapely.distance(shape_i, shape_j)
-        gaps.append(float(distance.min()))
-        close = np.zeros(len(times), dtype=bool)
-        close[candidates] = distance < options.clearance
-        gap_at = np.full(len(times), np.inf)
-        gap_at[candidates] = distance
-        for a, b in _runs(close):
-            formation = plan.formations[int(which[i, a])]
-            _warn(plan, _line_at(formation, float(times[a])),
-                  f"{robots[i]} and {robots[j]} come within {gap_at[a:b].min():.2f} m of each "
-                  f"other (clearance {options.clearance:g} m) from t = {times[a]:.1f} s to "
-                  f"{times[b - 1]:.1f} s",
+    table = _apart_candidates(poses, which, radius, margin)  # (n, 3): i, j, sample
+    if not len(table):
+        return min(gaps) if gaps else None
+    i, j, k = table.T
+    size = np.array([(t.length, t.width) for t in types])
+    shape_i = _footprints(footprint_corners(poses[i, k, 0], poses[i, k, 1], poses[i, k, 2],
+                                            size[i, 0], size[i, 1]))
+    shape_j = _footprints(footprint_corners(poses[j, k, 0], poses[j, k, 1], poses[j, k, 2],
+                                            size[j, 0], size[j, 1]))
+    distance = shapely.distance(shape_i, shape_j)
+    gaps.append(float(distance.min()))
+    close = np.flatnonzero(distance < options.clearance)
+    # runs: close rows of one pair at consecutive samples (rows are sorted by pair, then time)
+    i, j, k, distance = i[close], j[close], k[close], distance[close]
+    new = np.ones(len(close), dtype=bool)
+    new[1:] = (i[1:] != i[:-1]) | (j[1:] != j[:-1]) | (k[1:] != k[:-1] + 1)
+    starts = np.flatnonzero(new)
+    if not len(starts):
+        return min(gaps)
+    ends = np.append(starts[1:], len(close))
+    nearest = np.minimum.reduceat(distance, starts)
+    for n, (a, b) in enumerate(zip(starts.tolist(), ends.tolist(), strict=True)):
+        if n == _CROSS_WARNINGS:
+            _warn(plan, (plan.scenario.robots_span.line, plan.scenario.robots_span.col),
+                  f"in all, robots of different formations come closer than the clearance "
+                  f"{len(starts)} times (the first {_CROSS_WARNINGS} are listed)",
                   "their paths cross: move the formations further apart or let one wait",
                   diagnostics)
+            break
+        first, last = int(k[a]), int(k[b - 1])
+        formation = plan.formations[int(which[i[a], first])]
+        _warn(plan, _line_at(formation, float(times[first])),
+              f"{robots[i[a]]} and {robots[j[a]]} come within {nearest[n]:.2f} m of each "
+              f"other (clearance {options.clearance:g} m) from t = {times[first]:.1f} s to "
+              f"{times[last]:.1f} s",
+              "their paths cross: move the formations further apart or let one wait",
+              diagnostics)
     return min(gaps) if gaps else None
 
 
@@ -387,6 +416,12 @@ def _pairs_within(tree: shapely.STRtree, shapes: NDArray[np.object_],
     return a[order].astype(np.int64), b[order].astype(np.int64)
 
 
+_PAIR_WARNINGS = 20
+"""At most this many pairs of one formation are reported by name for each kind of problem."""
+_MAX_CANDIDATES = 250_000
+"""At most this many (pair, sample) candidates of robots of different formations are kept."""
+_CROSS_WARNINGS = 100
+"""At most this many close passes of robots of different formations are reported by name."""
 _PAIR_LOOP_LIMIT = 2000
 """Up to this many pairs of robots (of a formation, or that ever follow different leaders),
 every pair is compared; above it, near pairs are found first (an STRtree in a formation, a
@@ -394,17 +429,17 @@ sweep along each sample's sorted positions across formations)."""
 
 
 def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: FloatArray,
-                      margin: float) -> Iterator[tuple[int, int, NDArray[np.int64]]]:
-    """Pairs of robots (i < j, lexicographic order) with the sample indices at which they
-    follow different leaders and their centres are nearer than their radii (m) plus
-    ``margin``; poses (R, T, 3), which (R, T)."""
+                      margin: float) -> NDArray[np.int64]:
+    """Rows (i, j, k), sorted: robots i < j follow different leaders at sample k and their
+    centres are nearer than their radii (m) plus ``margin``; poses (R, T, 3), which (R, T)."""
     count = which.shape[0]
     histories: dict[bytes, int] = {}  # robots with the same formation at every sample
     group = np.array([histories.setdefault(row.tobytes(), len(histories)) for row in which])
     sizes = np.bincount(group)
     cross = (count * count - int((sizes * sizes).sum())) // 2
+    found = [np.zeros((0, 3), dtype=np.int64)]
     if cross == 0:
-        return
+        return found[0]
     if cross <= _PAIR_LOOP_LIMIT:
         for i, j in itertools.combinations(range(count), 2):
             if group[i] == group[j]:
@@ -412,10 +447,9 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
             apart = which[i] != which[j]
             centre = np.hypot(poses[i, :, 0] - poses[j, :, 0], poses[i, :, 1] - poses[j, :, 1])
             candidates = np.flatnonzero(apart & (centre < radius[i] + radius[j] + margin))
-            if candidates.size:
-                yield i, j, candidates
-        return
-    found = [np.zeros((0, 3), dtype=np.int64)]
+            found.append(np.stack([np.full(candidates.size, i), np.full(candidates.size, j),
+                                   candidates], axis=1).astype(np.int64))
+        return np.concatenate(found)
     reach = 2.0 * float(radius.max()) + margin
     x, y = poses[:, :, 0].T, poses[:, :, 1].T  # (T, R)
     # sweep and prune: per sample, robots sorted along the axis on which they spread most;
@@ -435,13 +469,10 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
         lo, hi, k = lo[keep], hi[keep], k[keep]
         keep = np.hypot(x[k, lo] - x[k, hi], y[k, lo] - y[k, hi]) < radius[lo] + radius[hi] + margin
         found.append(np.stack([lo[keep], hi[keep], k[keep]], axis=1).astype(np.int64))
+        if sum(len(rows) for rows in found) > _MAX_CANDIDATES:
+            break  # robots piled on each other: the pairs found so far make the point
     table = np.concatenate(found)
-    table = table[np.lexsort((table[:, 2], table[:, 1], table[:, 0]))]
-    if not len(table):
-        return
-    starts = np.flatnonzero(np.any(np.diff(table[:, :2], axis=0) != 0, axis=1)) + 1
-    for rows in np.split(table, starts):
-        yield int(rows[0, 0]), int(rows[0, 1]), rows[:, 2]
+    return table[np.lexsort((table[:, 2], table[:, 1], table[:, 0]))]
 
 
 def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
@@ -617,9 +648,9 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
         name = robots[conflict.robot]
         if conflict.kind == "room":
             reported.add((name, None))
-            error(conflict.robot, f"{name} starts outside the room of {world_path}",
-                  "its footprint must lie inside the room at the start: move the start poses "
-                  "or use a bigger room")
+            error(conflict.robot, f"{name} starts outside the room of {world_path} or "
+                  "against its wall", "its footprint must lie inside the room, clear of the "
+                  "walls, at the start: move the start poses or use a bigger room")
         elif conflict.kind == "robot":
             error(conflict.other, f"{name} and {robots[conflict.other]} overlap at their "
                   "start poses", "place them further apart (in the first formation or "
@@ -627,7 +658,7 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
         elif conflict.kind == "obstacle":
             obstacle = obstacles[conflict.other]
             reported.add((name, _label(world_path, obstacle)))
-            error(conflict.robot, f"{name} starts in obstacle '{obstacle.name}'"
+            error(conflict.robot, f"{name} starts in or against obstacle '{obstacle.name}'"
                   + source.format(obstacle.line), "move its start off the obstacle (the "
                   "world's start poses, or the show's first formation)")
         elif conflict.kind == "spectator":
