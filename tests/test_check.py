@@ -147,8 +147,8 @@ def test_robots_overlapping_in_the_first_formation_cannot_start() -> None:
 
 OVERLAP_HINT = ("place them further apart (in the first formation or the world): the simulator "
                 "would hold both where they stand")
-ROOM_HINT = ("its footprint must lie inside the room at the start: move the start poses or use "
-             "a bigger room")
+ROOM_HINT = ("its footprint must lie inside the room, clear of the walls, at the start: move the "
+             "start poses or use a bigger room")
 
 
 def test_a_centred_show_too_big_for_the_room_starts_outside_it() -> None:
@@ -157,8 +157,10 @@ def test_a_centred_show_too_big_for_the_room_starts_outside_it() -> None:
     report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
     # the starts are reported once, not again as leaving the room from t = 0
     assert headlines(report) == [
-        ("show.dance:2:1: error: R1 starts outside the room of w.toml", ROOM_HINT),
-        ("show.dance:2:1: error: R2 starts outside the room of w.toml", ROOM_HINT),
+        ("show.dance:2:1: error: R1 starts outside the room of w.toml or against its wall",
+         ROOM_HINT),
+        ("show.dance:2:1: error: R2 starts outside the room of w.toml or against its wall",
+         ROOM_HINT),
     ]
 
 
@@ -171,7 +173,7 @@ def test_a_centred_show_starting_on_an_obstacle_or_a_visitor() -> None:
     assert world is not None
     report = check("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n", world)
     assert headlines(report) == [
-        ("show.dance:2:1: error: R1 starts in obstacle 'pillar' (w.toml:3)",
+        ("show.dance:2:1: error: R1 starts in or against obstacle 'pillar' (w.toml:3)",
          "move its start off the obstacle (the world's start poses, or the show's first "
          "formation)"),
         ("show.dance:2:1: error: R2 starts where spectator 'child' stands (w.toml:6)",
@@ -206,3 +208,55 @@ def test_a_world_robot_the_scenario_lacks_is_left_out_with_a_warning() -> None:
     assert [(d.headline(), d.hint) for d in report.diagnostics] == [
         ("w.toml:9:1: warning: the world's robot X is not in the scenario: it is left out of "
          "the show", "remove its [[robots]] entry, or add it to the scenario's robots line")]
+
+
+def test_robots_piled_in_a_formation_are_named_twenty_times_then_counted() -> None:
+    names = [f"R{i}" for i in range(30)]
+    report = check("robots " + " ".join(names) + "\nrow " + ",".join(names) + " 0 0\n")
+    mine = [m for m in messages(report) if "overlap at their start" not in m]
+    assert len(mine) == 21
+    assert mine[0] == "2: R0 and R1 are 0.00 m apart in this formation (clearance 0.2 m)"
+    assert mine[-1] == ("2: in all, 435 pairs of robots of this formation are closer than the "
+                        "clearance and 0 follow each other nearer than the stop distance (the "
+                        "first 20 of each are listed)")
+
+
+def test_a_long_show_of_many_robots_is_sampled_more_coarsely_and_says_so() -> None:
+    names = [f"R{i}" for i in range(1000)]
+    report = check("robots " + " ".join(names) + "\nrow " + ",".join(names) + " 0 1.2\n"
+                   "move 100 0\n")
+    [warning] = report.diagnostics
+    assert (warning.line, warning.col) == (1, 1)
+    assert warning.message == ("1000 robots over 286 s: check samples their places every "
+                               "0.21 s instead of every 0.1 s")
+    assert warning.hint == ("a brief contact between samples may go unreported: shorten the "
+                            "show or check parts of it with fewer robots")
+
+
+CROSSING = """robots A B C D
+groups
+g1 A C
+g2 B D
+start
+square A,B;C,D 1 1
+column A;C 1 0
+column B;D 1 0
+newVL
+move 3 -60 g1
+move 3 60 g2
+move 2 0 g1
+move 2 0 g2
+"""
+
+
+def test_the_sweep_across_formations_finds_what_comparing_every_pair_finds(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The spatial search used for many robots gives the very report of the pair loop."""
+    import dancebots.check as check_module
+
+    every_pair = check(CROSSING)
+    monkeypatch.setattr(check_module, "_PAIR_LOOP_LIMIT", -1)
+    swept = check(CROSSING)
+    assert swept.diagnostics == every_pair.diagnostics
+    assert swept.min_clearance == every_pair.min_clearance
+    assert any(m.startswith("10: A and B come within 0.00 m") for m in messages(swept))
