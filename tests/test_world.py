@@ -182,12 +182,13 @@ def test_every_error_of_an_impossible_world(data: Path) -> None:
          "give each obstacle its own name"),
         ("impossible.toml:12:1: error: obstacle 'pillar' is not inside the room",
          "move its corners inside the room, or make the room larger"),
-        ("impossible.toml:16:1: error: robot 'R1' starts outside the room",
-         "its SIM footprint (1.2 x 0.6 m) must lie inside the room: move x, y or turn it"),
+        ("impossible.toml:16:1: error: robot 'R1' starts outside the room or against its wall",
+         "its SIM footprint (1.2 x 0.6 m) must lie inside the room, clear of the walls: move "
+         "x, y or turn it"),
         ("impossible.toml:26:1: error: robots 'R2' and 'R3' overlap at their start poses",
          "place them further apart: the simulator would hold both where they stand"),
-        ("impossible.toml:32:1: error: robot 'R4' starts in obstacle 'pillar'",
-         "move it off the obstacle"),
+        ("impossible.toml:32:1: error: robot 'R4' starts in or against obstacle 'pillar'",
+         "move it off the obstacle: its footprint must not touch it"),
         ("impossible.toml:37:1: error: robot 'R5' starts where spectator 'child' stands",
          "move the robot or the spectator's first waypoint"),
         ("impossible.toml:45:1: error: spectator 'child' is defined twice",
@@ -206,13 +207,17 @@ ROBOT = '[[robots]]\nname = "{}"\ntype = "{}"\nx = {}\ny = {}\nyaw_deg = {}\n'
 
 
 @pytest.mark.parametrize(("robots", "problem"), [
-    # SIM 1.2 x 0.6 m: x from 0.6 to 10.073 fits the 10.673 m room with yaw 0
-    ([("A", "SIM", 0.6, 5, 0)], None),
-    ([("A", "SIM", 0.5999, 5, 0)], "robot 'A' starts outside the room"),
-    ([("A", "SIM", 5, 10.673 - 0.3, 0)], None),
-    ([("A", "SIM", 5, 10.673 - 0.2999, 0)], "robot 'A' starts outside the room"),
+    # SIM 1.2 x 0.6 m: x from 0.6 to 10.073 fits the 10.673 m room with yaw 0, but against
+    # the wall is refused too (the simulator would count it a contact)
+    ([("A", "SIM", 0.6001, 5, 0)], None),
+    ([("A", "SIM", 0.6, 5, 0)], "robot 'A' starts outside the room or against its wall"),
+    ([("A", "SIM", 0.5999, 5, 0)], "robot 'A' starts outside the room or against its wall"),
+    ([("A", "SIM", 5, 10.673 - 0.3001, 0)], None),
+    ([("A", "SIM", 5, 10.673 - 0.2999, 0)],
+     "robot 'A' starts outside the room or against its wall"),
     # turned by 90 degrees it is 0.6 m wide along x
-    ([("A", "SIM", 0.3, 5, 90)], None),
+    ([("A", "SIM", 0.3001, 5, 90)], None),
+    ([("A", "SIM", 0.3, 5, 90)], "robot 'A' starts outside the room or against its wall"),
     # side by side 0.6 m apart: touching is allowed, 0.1 mm of overlap is not
     ([("A", "SIM", 3, 3, 0), ("B", "SIM", 3, 3.6, 0)], None),
     ([("A", "SIM", 3, 3, 0), ("B", "SIM", 3, 3.5999, 0)],

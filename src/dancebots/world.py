@@ -146,16 +146,19 @@ def square_room(size: float) -> NDArray[np.float64]:
 
 
 CONTACT_MARGIN = 1e-6
-"""m: how far a start footprint may reach into a wall, an obstacle, another robot or a
-visitor before it counts as overlapping it. Touching is allowed (the thesis's rows touch
-end to end); the margin absorbs rounding, so a touching robot is never refused for 1e-16 m."""
+"""m: the rounding allowance of the start-pose tests. Robots may touch each other (the
+thesis's rows touch end to end; the simulator counts a zero gap as no overlap) and may reach
+into each other by up to this much; a wall, an obstacle or a visitor they must keep clear of
+by at least this much (the simulator counts touching an obstacle as a contact, and a wall
+touched at an angle turns into one by rounding)."""
 
 
 @dataclass(frozen=True, slots=True)
 class StartConflict:
     """Why robot ``robot`` (an index into the start poses) cannot start where it stands:
-    ``kind`` "room" (its footprint is not inside the room), or it overlaps "robot",
-    "obstacle" or "spectator" number ``other`` (an index; -1 for "room")."""
+    ``kind`` "room" (its footprint is not inside the room, clear of the walls), "robot" (it
+    overlaps robot ``other``), "obstacle" or "spectator" (it touches or overlaps obstacle or
+    spectator ``other``); ``other`` is -1 for "room"."""
 
     robot: int
     kind: str
@@ -166,33 +169,35 @@ def start_conflicts(types: Sequence[RobotType], starts: NDArray[np.float64],
                     room: NDArray[np.float64] | None, obstacles: Sequence[Obstacle] = (),
                     spectators: Sequence[Spectator] = ()) -> list[StartConflict]:
     """Every reason the robots cannot start at ``starts`` (R, 3) (x, y, yaw in the world frame,
-    m and rad): a footprint that leaves ``room`` (N, 2; None: no walls), or overlaps an
-    obstacle, another robot or a spectator's disc at its first waypoint, each by more than
-    :data:`CONTACT_MARGIN`. The simulator would hold such a robot where it stands. Sorted by
-    robot; a pair of robots comes once (robot < other)."""
+    m and rad): a footprint not inside ``room`` (N, 2; None: no walls) clear of its walls, a
+    footprint that overlaps another robot's, or one that touches an obstacle or a spectator's
+    disc at its first waypoint (within :data:`CONTACT_MARGIN`). The simulator would hold such
+    a robot where it stands. Sorted by robot; a pair of robots comes once (robot < other)."""
     if len(types) == 0:
         return []
     lengths = np.array([t.length for t in types])
     widths = np.array([t.width for t in types])
     shapes = shapely.polygons(footprint_corners(starts[:, 0], starts[:, 1], starts[:, 2],
                                                 lengths, widths))
-    # the footprints less the margin all round (the centre of one smaller than the margin)
-    cores = shapely.buffer(shapes, -CONTACT_MARGIN, join_style="mitre")
-    cores = np.where(shapely.is_empty(cores), shapely.centroid(shapes), cores)
     found: list[StartConflict] = []
     if room is not None:
-        outside = ~shapely.contains(shapely.Polygon(room), cores)
+        grown = shapely.buffer(shapes, CONTACT_MARGIN, join_style="mitre")
+        outside = ~shapely.contains(shapely.Polygon(room), grown)
         found.extend(StartConflict(i, "room", -1) for i in np.flatnonzero(outside).tolist())
-    tree = shapely.STRtree(cores)
-    near = tree.query(cores, predicate="intersects")  # (2, P): pairs of indices
+    # robots: the footprints less the margin all round (the centre of one smaller than that)
+    cores = shapely.buffer(shapes, -CONTACT_MARGIN, join_style="mitre")
+    cores = np.where(shapely.is_empty(cores), shapely.centroid(shapes), cores)
+    near = shapely.STRtree(cores).query(cores, predicate="intersects")  # (2, P) index pairs
     found.extend(StartConflict(i, "robot", j) for i, j in sorted(zip(
         near[0].tolist(), near[1].tolist(), strict=True)) if i < j)
+    tree = shapely.STRtree(shapes)
     for k, obstacle in enumerate(obstacles):
-        hit = tree.query(shapely.Polygon(obstacle.polygon), predicate="intersects")
+        hit = tree.query(shapely.Polygon(obstacle.polygon), predicate="dwithin",
+                         distance=CONTACT_MARGIN)
         found.extend(StartConflict(int(i), "obstacle", k) for i in np.sort(hit).tolist())
     for k, spectator in enumerate(spectators):
         hit = tree.query(shapely.Point(spectator.waypoints[0]), predicate="dwithin",
-                         distance=spectator.radius)
+                         distance=spectator.radius + CONTACT_MARGIN)
         found.extend(StartConflict(int(i), "spectator", k) for i in np.sort(hit).tolist())
     return sorted(found, key=lambda c: c.robot)
 
@@ -380,10 +385,10 @@ class _World:
             robot = robots[conflict.robot]
             where = self.at("robots", robot.line, "x")
             if conflict.kind == "room":
-                self.error(where, f"robot '{robot.name}' starts outside the room",
-                           f"its {robot.type.name} footprint ({robot.type.length:g} x "
-                           f"{robot.type.width:g} m) must lie inside the room: move x, y or "
-                           "turn it")
+                self.error(where, f"robot '{robot.name}' starts outside the room or against "
+                           "its wall", f"its {robot.type.name} footprint ({robot.type.length:g} "
+                           f"x {robot.type.width:g} m) must lie inside the room, clear of the "
+                           "walls: move x, y or turn it")
             elif conflict.kind == "robot":
                 other = robots[conflict.other]
                 self.error(self.at("robots", other.line, "x"), f"robots '{robot.name}' and "
@@ -391,9 +396,9 @@ class _World:
                            "place them further apart: the simulator would hold both where "
                            "they stand")
             elif conflict.kind == "obstacle":
-                self.error(where, f"robot '{robot.name}' starts in obstacle "
+                self.error(where, f"robot '{robot.name}' starts in or against obstacle "
                            f"'{obstacles[conflict.other].name}'",
-                           "move it off the obstacle")
+                           "move it off the obstacle: its footprint must not touch it")
             else:
                 self.error(where, f"robot '{robot.name}' starts where spectator "
                            f"'{spectators[conflict.other].name}' stands",

@@ -125,8 +125,10 @@ def test_the_bundled_open_day_show_sets_up() -> None:
 
 TYPES = [BUILTIN_ROBOT_TYPES[name] for name in ("SIM", "HUSKY", "TRADR", "TURTLEBOT3")]
 SHRINK = 1e-5
-"""m: the simulator's contact tests run on footprints this much smaller all round (accepted
-starts) so that the check's 1e-6 m margin for touching is allowed for, and no more."""
+"""m: the check lets robots reach 1e-6 m into each other (touching is allowed) and keeps them
+1e-6 m off walls, obstacles and visitors; the simulator's tests run on footprints this much
+smaller (robot pairs of accepted starts) or larger (walls, obstacles and visitors of refused
+ones) to allow for that margin, and no more."""
 
 yaw = st.sampled_from([0, 30, 45, 90, 180, -90])
 Box = tuple[float, float, float, float]  # x, y, width, height (m)
@@ -238,15 +240,18 @@ def test_check_without_errors_is_exactly_a_show_that_sets_up(case: tuple[str, st
     if errors:
         return
     arena, placement = prepare_show(plan, world)
-    # and the simulator's own tests find the robots free at their start poses
-    lengths = np.array([t.length for t in placement.types]) - 2 * SHRINK
-    widths = np.array([t.width for t in placement.types]) - 2 * SHRINK
+    # and the simulator's own tests find the robots free at their start poses: clear of the
+    # walls, obstacles and visitors, and apart (or touching) each other
+    lengths = np.array([t.length for t in placement.types])
+    widths = np.array([t.width for t in placement.types])
     corners = _footprints(placement.starts, lengths, widths)
     reach = 0.5 * np.hypot(lengths, widths)
-    assert overlapping_pairs(corners, reach) == []
     assert Boundaries(arena.room, [o.polygon for o in arena.obstacles]).contacts(
         corners, reach) == []
     assert _disc_contacts(placement.starts, lengths, widths, _discs(arena.spectators)) == []
+    small_l, small_w = lengths - 2 * SHRINK, widths - 2 * SHRINK
+    assert overlapping_pairs(_footprints(placement.starts, small_l, small_w),
+                             0.5 * np.hypot(small_l, small_w)) == []
 
 
 @settings(max_examples=300, deadline=None)
@@ -254,8 +259,8 @@ def test_check_without_errors_is_exactly_a_show_that_sets_up(case: tuple[str, st
 def test_start_conflicts_are_the_simulators_contacts(
         layout: tuple[float, list[tuple[str, float, float, int]], list[Box], list[Visitor]]
 ) -> None:
-    """Both ways: no conflict means no contact in the simulator's tests (on footprints SHRINK
-    smaller), and each conflict is a contact there (on the true footprints)."""
+    """Both ways: no conflict means no contact in the simulator's tests, and each conflict is
+    a contact there (within SHRINK)."""
     size, robots, boxes, visitors = layout
     scene = World("w.toml", square_room(size), 2.0, tuple(
         Obstacle(f"box {k}", np.array([[x, y], [x + w, y], [x + w, y + h], [x, y + h]]), 1.0, 1)
@@ -272,8 +277,10 @@ def test_start_conflicts_are_the_simulators_contacts(
     boundaries = Boundaries(scene.room, [o.polygon for o in scene.obstacles])
     discs = _discs(scene.spectators)
     corners = _footprints(starts, lengths, widths)
-    contacts = set(boundaries.contacts(corners, 0.5 * np.hypot(lengths, widths)))
-    visitors_hit = set(_disc_contacts(starts, lengths, widths, discs))
+    big_l, big_w = lengths + 2 * SHRINK, widths + 2 * SHRINK
+    contacts = set(boundaries.contacts(_footprints(starts, big_l, big_w),
+                                       0.5 * np.hypot(big_l, big_w)))
+    visitors_hit = set(_disc_contacts(starts, big_l, big_w, discs))
     for conflict in conflicts:
         i, k = conflict.robot, conflict.other
         if conflict.kind == "robot":
@@ -285,12 +292,12 @@ def test_start_conflicts_are_the_simulators_contacts(
         else:
             assert (i, k) in visitors_hit, conflict
     if not conflicts:
+        reach = 0.5 * np.hypot(lengths, widths)
+        assert boundaries.contacts(corners, reach) == []
+        assert _disc_contacts(starts, lengths, widths, discs) == []
         small_l, small_w = lengths - 2 * SHRINK, widths - 2 * SHRINK
-        inner = _footprints(starts, small_l, small_w)
-        reach = 0.5 * np.hypot(small_l, small_w)
-        assert overlapping_pairs(inner, reach) == []
-        assert boundaries.contacts(inner, reach) == []
-        assert _disc_contacts(starts, small_l, small_w, discs) == []
+        assert overlapping_pairs(_footprints(starts, small_l, small_w),
+                                 0.5 * np.hypot(small_l, small_w)) == []
     # the world loader reports these robots exactly when there are conflicts
     named = [(f"R{k}", *robot) for k, robot in enumerate(robots)]
     _, problems = parse_world(world_text(size, named, boxes, visitors), "w.toml")
@@ -314,3 +321,18 @@ def test_setup_samples_a_long_show_as_check_does(monkeypatch: pytest.MonkeyPatch
     refused = setup_error(plan, world)
     assert refused is not None
     assert refused.diagnostics == errors
+
+
+@pytest.mark.parametrize("degrees", [90, 180, -90])
+def test_against_a_wall_is_a_contact_in_the_simulator_so_a_conflict(degrees: int) -> None:
+    """Why touching a wall is refused although touching another robot is not: turned, a
+    robot against the wall is in contact by rounding, and held there for the whole show."""
+    kind = BUILTIN_ROBOT_TYPES["SIM"]
+    half = (kind.width if abs(degrees) == 90 else kind.length) / 2
+    starts = np.array([[half, 5.0, np.radians(degrees)]])
+    corners = _footprints(starts, np.array([kind.length]), np.array([kind.width]))
+    room = square_room(10.0)
+    assert Boundaries(room, []).contacts(corners, np.array([0.7])) == [(0, -1)]
+    assert [c.kind for c in start_conflicts([kind], starts, room)] == ["room"]
+    clear = starts + np.array([[2 * SHRINK, 0.0, 0.0]])
+    assert start_conflicts([kind], clear, room) == []
