@@ -84,9 +84,9 @@ def _empty(namespaces: list[str], grace: float) -> list[tuple[str, int, str]]:
 
 
 @contextmanager
-def hosts(robots: tuple[str, ...]) -> Iterator[Hosts]:
+def hosts(robots: tuple[str, ...], grace: float = LEFT_GRACE) -> Iterator[Hosts]:
     """Create the namespaces and links for ``robots``; remove them afterwards, failing when
-    a process still runs inside one ``LEFT_GRACE`` s after the block ended."""
+    a process still runs inside one ``grace`` s after the block ended."""
     run = os.getpid() % 200 + 20
     tag = f"db{os.getpid() % 100000}"
     master = f"{tag}-m"
@@ -119,12 +119,12 @@ def hosts(robots: tuple[str, ...]) -> Iterator[Hosts]:
         yield Hosts(master, master_address, namespaces, addresses, links)
         completed = True
     finally:
-        left = _empty(created, LEFT_GRACE)
+        left = _empty(created, grace)
         for namespace in reversed(created):  # deleting a namespace deletes its veth ends
             subprocess.run(["ip", "netns", "delete", namespace], capture_output=True,
                            check=False)
         if left and completed:
             listing = "\n".join(f"  {ns} {pid}: {command[:200]}" for ns, pid, command in left)
             raise AssertionError(f"{len(left)} process(es) still ran inside the test's network "
-                                 f"namespaces {LEFT_GRACE:g} s after the test (now killed):\n"
+                                 f"namespaces {grace:g} s after the test (now killed):\n"
                                  f"{listing}")

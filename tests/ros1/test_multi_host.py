@@ -104,14 +104,17 @@ def check_cut_off_member_idles_and_ends(namespace: str) -> None:
     before, started = cpu_seconds(), time.monotonic()
     time.sleep(3.0)
     share = (cpu_seconds() - before) / (time.monotonic() - started)
+    print(f"the cut-off formation_member used {share:.1%} of a core over 3 s")
     assert share < IDLE_CPU, f"the cut-off formation_member uses {share:.0%} of a core"
     detectors = [pid for pid, command in namespace_processes(namespace)
                  if "nodes/obstacle_detection" in command]
     os.kill(member, signal.SIGTERM)
-    deadline = time.monotonic() + TERM_WITHIN
+    sent = time.monotonic()
+    deadline = sent + TERM_WITHIN
     while time.monotonic() < deadline and any(
             pid in (member, *detectors) for pid, _ in namespace_processes(namespace)):
         time.sleep(0.1)
+    print(f"it ended {time.monotonic() - sent:.1f} s after SIGTERM")
     left = [(pid, command) for pid, command in namespace_processes(namespace)
             if pid in (member, *detectors)]
     assert not left, f"still running {TERM_WITHIN:g} s after SIGTERM: {left}"

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tests.ros1.conftest import Master
+from tests.ros1.conftest import Master, stop
 from tests.ros1.show import (
     SCENARIO_7_1,
     START_ALLOWANCE,
@@ -33,6 +33,7 @@ from dancebots.report.metrics import spacing_change
 
 pytestmark = pytest.mark.ros
 
+FLOOD = Path(__file__).with_name("flood_malformed_clouds.py")
 SPACING_TOLERANCE = 0.10
 FINAL_TOLERANCE = 0.15
 
@@ -86,24 +87,48 @@ def test_a_robot_whose_nodes_are_killed_stops_and_the_other_finishes(roscore: Ma
     assert gap <= FINAL_TOLERANCE  # R2 finished its part of the show
 
 
-def test_silent_points_filtered_puts_the_robot_into_the_error_state(roscore: Master,
-                                                                   tmp_path: Path) -> None:
+def test_silent_then_malformed_clouds_put_the_robot_into_the_error_state(
+        roscore: Master, tmp_path: Path) -> None:
+    """From its first cloud on, a broken driver floods R1's ``obstacles`` at 20 Hz with
+    malformed PointCloud2 messages (empty data, sizes that do not fit, missing fields) beside
+    the good ones of obstacle_detection; R1's points_filtered falls silent at 15 s (bridge
+    fault injection). A malformed cloud is a missing scan: R1 drives its show on the good
+    clouds, reports "no LIDAR data" 0.3 s after the last good one and stops for good; its
+    formation_member (a required node) never crashes: it runs until it is stopped."""
     duration = plan_of(SCENARIO_7_1).duration
     show = RosShow(roscore, tmp_path)
+    flooder = None
     try:
         record_path = show.start_bridge(SCENARIO_7_1, duration + START_ALLOWANCE,
                                         silence="R1@15")
         for role in ("R1", "R2"):
             show.start_robot(SCENARIO_7_1, role)
+        with open(tmp_path / "flood.log", "wb") as log:
+            flooder = subprocess.Popen([sys.executable, str(FLOOD), "R1"], env=roscore.env,
+                                       stdout=log, stderr=subprocess.STDOUT,
+                                       start_new_session=True)
         show.wait_bridge(duration + START_ALLOWANCE + 30)
+        assert show.processes["R1"].poll() is None, "R1's formation.launch ended early"
     finally:
+        if flooder is not None:
+            stop(flooder)
         show.stop_all()
     record = Record.load(record_path)
     r1 = record.index("R1")
     start = record.times[0]
     log = show.log("R1")
-    assert "R1: no LIDAR data for" in log
+    flooding = re.search(r"flooding (\S+)", (tmp_path / "flood.log").read_text())
+    assert flooding is not None
+    error = re.search(r"\[ERROR\] \[(\S+)\]: R1: no LIDAR data for", log)
+    assert error is not None, log[-3000:]
+    # the error comes from the silence at 15 s (+ 0.3 s + a tick), not from the flood that
+    # began seconds before it
+    assert start + 15.0 < float(error.group(1)) < start + 16.0
+    assert float(error.group(1)) > float(flooding.group(1)) + 5.0
     assert "stopped for good" in log
+    assert "counted as a missing scan" in log  # the malformed clouds arrived and were read
+    assert "Traceback" not in log
+    assert "has died" not in log
     # the last cloud left the bridge just before 15 s; 0.3 s later the brain is in error and
     # its zero command reaches the bridge within a tick
     late = record.times > start + 15.0 + 0.3 + 0.2

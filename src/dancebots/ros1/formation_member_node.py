@@ -58,6 +58,7 @@ from dancebots.ros1.convert import MalformedCloudError, cloud_points, obstacle_c
 from dancebots.ros1.naming import SYNC_TOPIC, RobotNames, robot_type_for_host
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
+    StartAgreement,
     StartProposal,
     agreement_ready,
     agreement_receive,
@@ -113,8 +114,8 @@ def main() -> None:
         life.end()
 
 
-def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames, agreement: Any,
-         brain: RobotBrain, use_lidar: bool) -> None:
+def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
+         agreement: StartAgreement, brain: RobotBrain, use_lidar: bool) -> None:
     """The node's loop: subscriptions, then a 20 Hz wall-clock loop until ``life`` ends; the
     robot's last command is zero."""
     lock = threading.Lock()
