@@ -69,14 +69,13 @@ def open_arena(plan: Plan, types: list[RobotType], margin: float = 2.0) -> Arena
     """A square-cornered room around everything the show's desired footprints cover, plus a
     margin in m, with its corners on whole metres."""
     times = np.arange(0.0, plan.duration + 0.5, 0.5)
-    points = []
-    for robot, kind in zip(plan.robots, types, strict=True):
-        poses = plan.desired_poses(robot, times)
-        points.append(footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], kind.length,
-                                        kind.width).reshape(-1, 2))
-    every = np.concatenate(points)
-    low = np.floor(every.min(axis=0) - margin)
-    high = np.ceil(every.max(axis=0) + margin)
+    low, high = np.full(2, np.inf), np.full(2, -np.inf)
+    for robot, kind in zip(plan.robots, types, strict=True):  # one robot at a time: memory
+        poses = plan.desired_poses(robot, times)                # O(samples), not O(R samples)
+        corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], kind.length,
+                                    kind.width).reshape(-1, 2)
+        low, high = np.minimum(low, corners.min(axis=0)), np.maximum(high, corners.max(axis=0))
+    low, high = np.floor(low - margin), np.ceil(high + margin)
     room = np.array([[low[0], low[1]], [high[0], low[1]], [high[0], high[1]],
                      [low[0], high[1]]])
     return Arena(room, 2.0, (), None)
