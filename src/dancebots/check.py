@@ -516,10 +516,13 @@ def place_plan_in_world(plan: Plan, world: World, diagnostics: list[Diagnostic],
             "let the show be centred in the room"))
         return None
     if not present:
-        every = np.concatenate([plan.desired_poses(r, _sample_times(plan, 1.0))[:, :2]
-                                for r in plan.robots])
+        times = _sample_times(plan, 1.0)
+        low, high = np.full(2, np.inf), np.full(2, -np.inf)
+        for robot in plan.robots:  # one robot at a time: memory O(samples)
+            points = plan.desired_poses(robot, times)[:, :2]
+            low, high = np.minimum(low, points.min(axis=0)), np.maximum(high, points.max(axis=0))
         room_centre = 0.5 * (world.room.min(axis=0) + world.room.max(axis=0))
-        show_centre = 0.5 * (every.min(axis=0) + every.max(axis=0))
+        show_centre = 0.5 * (low + high)
         shift = room_centre - show_centre
         return Pose(float(shift[0]), float(shift[1]), 0.0)
     slots = {r: plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots}
