@@ -368,6 +368,8 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=2.0, help="s per input (wall)")
     parser.add_argument("--memory-mb", type=int, default=1024,
                         help="address-space limit of each worker, MiB")
+    parser.add_argument("--save", type=Path, metavar="DIR",
+                        help="write every failing input to DIR (one file per input)")
     parser.add_argument("--self-test", action="store_true",
                         help="first plant a hang, a memory hog and a traceback and check that "
                         "each is reported")
@@ -406,6 +408,13 @@ def main() -> int:
         if outcome.status != "ok":
             counts[outcome.status] += 1
             failures.setdefault(outcome.signature, (item, outcome))
+            if args.save is not None:
+                args.save.mkdir(parents=True, exist_ok=True)
+                name = f"{done:06d}-{outcome.status}.{item.kind}"
+                (args.save / name).write_text(item.text, encoding="utf-8",
+                                              errors="surrogateescape")
+                if item.world is not None:
+                    (args.save / (name + ".world.toml")).write_text(item.world, encoding="utf-8")
         if done % 10_000 == 0:
             rate = done / (time.monotonic() - began)
             print(f"  {done} inputs, {rate:.0f}/s, {sum(counts.values())} failures",

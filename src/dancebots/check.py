@@ -364,7 +364,14 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
                   "increase the spacing or the row distance", diagnostics)
     radius = np.array([math.hypot(t.length, t.width) / 2 for t in types])
     margin = max(options.clearance, 1.0)
-    table = _apart_candidates(poses, which, radius, margin)  # (n, 3): i, j, sample
+    table, complete = _apart_candidates(poses, which, radius, margin)  # (n, 3): i, j, sample
+    if not complete:
+        where = plan.scenario.robots_span
+        _warn(plan, (where.line, where.col),
+              "so many robots are piled on each other that check compared only some of the "
+              "robots of different formations",
+              "spread the robots out: give the formations spacings and row distances",
+              diagnostics)
     if not len(table):
         return min(gaps) if gaps else None
     i, j, k = table.T
@@ -420,6 +427,9 @@ _PAIR_WARNINGS = 20
 """At most this many pairs of one formation are reported by name for each kind of problem."""
 _MAX_CANDIDATES = 250_000
 """At most this many (pair, sample) candidates of robots of different formations are kept."""
+_MAX_SWEEP = 20_000_000
+"""At most this many position comparisons are made to find them (robots piled on each other
+would otherwise cost robots squared times samples)."""
 _CROSS_WARNINGS = 100
 """At most this many close passes of robots of different formations are reported by name."""
 _PAIR_LOOP_LIMIT = 2000
@@ -429,9 +439,11 @@ sweep along each sample's sorted positions across formations)."""
 
 
 def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: FloatArray,
-                      margin: float) -> NDArray[np.int64]:
+                      margin: float) -> tuple[NDArray[np.int64], bool]:
     """Rows (i, j, k), sorted: robots i < j follow different leaders at sample k and their
-    centres are nearer than their radii (m) plus ``margin``; poses (R, T, 3), which (R, T)."""
+    centres are nearer than their radii (m) plus ``margin``; poses (R, T, 3), which (R, T).
+    And whether they are all there (false when robots piled on each other made the search
+    stop at :data:`_MAX_CANDIDATES` rows or :data:`_MAX_SWEEP` comparisons)."""
     count = which.shape[0]
     histories: dict[bytes, int] = {}  # robots with the same formation at every sample
     group = np.array([histories.setdefault(row.tobytes(), len(histories)) for row in which])
@@ -439,7 +451,7 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
     cross = (count * count - int((sizes * sizes).sum())) // 2
     found = [np.zeros((0, 3), dtype=np.int64)]
     if cross == 0:
-        return found[0]
+        return found[0], True
     if cross <= _PAIR_LOOP_LIMIT:
         for i, j in itertools.combinations(range(count), 2):
             if group[i] == group[j]:
@@ -449,7 +461,7 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
             candidates = np.flatnonzero(apart & (centre < radius[i] + radius[j] + margin))
             found.append(np.stack([np.full(candidates.size, i), np.full(candidates.size, j),
                                    candidates], axis=1).astype(np.int64))
-        return np.concatenate(found)
+        return np.concatenate(found), True
     reach = 2.0 * float(radius.max()) + margin
     x, y = poses[:, :, 0].T, poses[:, :, 1].T  # (T, R)
     # sweep and prune: per sample, robots sorted along the axis on which they spread most;
@@ -459,7 +471,12 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
     u = np.where((spread_x >= spread_y)[:, None], x, y)
     order = np.argsort(u, axis=1, kind="stable")
     u = np.take_along_axis(u, order, axis=1)
+    complete, work = True, 0
     for d in range(1, count):
+        work += u.shape[0] * (count - d)
+        if work > _MAX_SWEEP:
+            complete = False
+            break
         k, at = np.nonzero(u[:, d:] - u[:, :-d] < reach)
         if not k.size:
             break
@@ -470,9 +487,10 @@ def _apart_candidates(poses: FloatArray, which: NDArray[np.int64], radius: Float
         keep = np.hypot(x[k, lo] - x[k, hi], y[k, lo] - y[k, hi]) < radius[lo] + radius[hi] + margin
         found.append(np.stack([lo[keep], hi[keep], k[keep]], axis=1).astype(np.int64))
         if sum(len(rows) for rows in found) > _MAX_CANDIDATES:
-            break  # robots piled on each other: the pairs found so far make the point
+            complete = False
+            break
     table = np.concatenate(found)
-    return table[np.lexsort((table[:, 2], table[:, 1], table[:, 0]))]
+    return table[np.lexsort((table[:, 2], table[:, 1], table[:, 0]))], complete
 
 
 def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
