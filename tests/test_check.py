@@ -260,3 +260,16 @@ def test_the_sweep_across_formations_finds_what_comparing_every_pair_finds(
     assert swept.diagnostics == every_pair.diagnostics
     assert swept.min_clearance == every_pair.min_clearance
     assert any(m.startswith("10: A and B come within 0.00 m") for m in messages(swept))
+
+
+def test_a_search_cut_short_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    import dancebots.check as check_module
+
+    monkeypatch.setattr(check_module, "_PAIR_LOOP_LIMIT", -1)
+    monkeypatch.setattr(check_module, "_MAX_SWEEP", 1)
+    report = check(CROSSING)
+    [cut] = [d for d in report.diagnostics if "piled" in d.message]
+    assert (cut.line, cut.col) == (1, 1)
+    assert cut.message == ("so many robots are piled on each other that check compared only "
+                           "some of the robots of different formations")
+    assert cut.hint == "spread the robots out: give the formations spacings and row distances"
