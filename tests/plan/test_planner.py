@@ -222,3 +222,19 @@ def test_step_budget_is_finite_for_any_duration() -> None:
     assert _step_budget(math.inf, 0.05, 100) == 100
     assert _step_budget(math.nan, 0.05, 100) == 100
     assert _step_budget(1.0, 0.05, 10_000) == 2441
+
+
+def test_a_leader_slower_than_the_minimum_linear_speed_still_reaches_its_waypoints() -> None:
+    """vmax 0.01 m/s: eq. 4.1a's 0.7 vmax (7 mm/s) is below its 0.1 m/s floor; the step
+    budget allows for the slower leader (it was "does not reach the waypoint")."""
+    plan = plan_of("robots A B\nrow A,B 0 1.2\nmove 2 30\n", PlanParameters(vmax=0.01))
+    assert plan.duration == pytest.approx(270.0, abs=20.0)
+
+
+def test_a_leader_that_never_moves_is_refused_with_a_hint_that_says_so() -> None:
+    scenario, _ = parse_scenario("robots A\nrow A 0 0\nmove 2 0\n", "slow.dance")
+    assert scenario is not None
+    plan, [diagnostic] = build_plan(scenario, PlanParameters(vmax=5e-324))
+    assert plan is None
+    assert diagnostic.hint == ("a move of 2 m never ends at the leader's speed of 4.94066e-324 "
+                               "m/s: shorten the moves")

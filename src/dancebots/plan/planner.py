@@ -401,12 +401,13 @@ def _check_nominal_duration(path: str, ideal: Pose, program: Sequence[Move | Cir
 def _too_long(path: str, instruction: Move | Circle, begin: float, duration: float,
               params: PlanParameters) -> Diagnostic:
     """The show passes ``max_duration`` during ``instruction`` (begun at ``begin`` s)."""
+    takes = f"takes at least {duration:.4g} s" if math.isfinite(duration) else "never ends"
     if isinstance(instruction, Move):
-        hint = (f"a move of {instruction.distance:g} m takes at least {duration:.4g} s at the "
-                f"leader's speed of {leader_speed(params.vmax):g} m/s: shorten the moves")
+        hint = (f"a move of {instruction.distance:g} m {takes} at the leader's speed of "
+                f"{leader_speed(params.vmax):g} m/s: shorten the moves")
     else:
-        hint = (f"this arc takes {duration:.4g} s: use a smaller angle or a larger angular "
-                "speed")
+        hint = (f"this arc {takes.replace(' at least', '')}: use a smaller angle or a larger "
+                "angular speed")
     return Diagnostic(path, instruction.span.line, instruction.span.col, Severity.ERROR,
                       f"the show would last longer than {params.max_duration / 3600:g} h: "
                       f"this instruction starts at {begin:.0f} s", hint,
@@ -510,7 +511,8 @@ def _run_leader(
         if isinstance(instruction, Move):
             goal = ideal.compose(Pose(0.0, 0.0, instruction.angle))
             goal = goal.compose(Pose(instruction.distance, 0.0, 0.0))
-            budget = _step_budget(math.hypot(goal.x - x, goal.y - y) / MIN_LINEAR, dt, left)
+            slowest = min(MIN_LINEAR, leader_speed(params.vmax))  # eq. 4.1a's lowest speed
+            budget = _step_budget(math.hypot(goal.x - x, goal.y - y) / slowest, dt, left)
             for _ in range(budget):
                 here = Pose(x, y, theta)
                 gx, gy = here.to_local(goal.x, goal.y)
