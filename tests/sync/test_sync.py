@@ -22,6 +22,7 @@ from dancebots.sync import (
     agreement_receive,
     format_message,
     implausible,
+    is_role,
     network_test_receive,
     new_agreement,
     parse_message,
@@ -316,3 +317,10 @@ def test_a_flooding_intruder_does_not_change_the_start(launches: list[float], ho
     assert start is not None
     last_ready = max(robot.ready_at for robot in robots if robot.ready_at is not None)
     assert EPOCH + last_ready <= start <= EPOCH + last_ready + START_DELAY
+
+
+@given(st.text(alphabet="aZ_09.-é١$ \n", max_size=6))
+def test_roles_are_exactly_the_names_the_choreography_language_accepts(name: str) -> None:
+    from dancebots.scenario.parser import _IDENT  # the language's robot names
+
+    assert is_role(name) == (_IDENT.match(name) is not None)
