@@ -69,6 +69,7 @@ class _State:
     robots: tuple[str, ...] | None = None
     robots_known: bool = False  # False after a broken robots line: no unknown-robot errors
     robots_span: Span = field(default_factory=lambda: Span(1))
+    robot_set: frozenset[str] = frozenset()  # the robots, for lookups in O(1)
     groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
     instructions: list[Instruction] = field(default_factory=list)
     formations: list[frozenset[str]] = field(default_factory=list)  # active formations
@@ -207,6 +208,7 @@ def _parse_robots(state: _State, line: int, tokens: Sequence[_Token]) -> None:
                     "name the robots: `robots R1 R2 R3 R4`")
         ok = False
     state.robots = tuple(roles)
+    state.robot_set = frozenset(roles)
     state.robots_known = ok
 
 
@@ -237,7 +239,7 @@ def _parse_group(state: _State, line: int, tokens: Sequence[_Token]) -> None:
 
 def _known_robot(state: _State, line: int, token: _Token | tuple[str, int]) -> bool:
     text, col = (token.text, token.col) if isinstance(token, _Token) else token
-    if state.robots is None or text in state.robots:
+    if state.robots is None or text in state.robot_set:
         return True
     if not state.robots_known:
         return False
