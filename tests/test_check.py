@@ -273,3 +273,44 @@ def test_a_search_cut_short_says_so(monkeypatch: pytest.MonkeyPatch) -> None:
     assert cut.message == ("so many robots are piled on each other that check compared only "
                            "some of the robots of different formations")
     assert cut.hint == "spread the robots out: give the formations spacings and row distances"
+
+
+CORPUS_ROOT = Path(__file__).resolve().parent.parent
+CORPUS_WORLDS = sorted([*CORPUS_ROOT.glob("examples/worlds/*.toml"),
+                        *CORPUS_ROOT.glob("tests/data/worlds/*.toml"),
+                        *CORPUS_ROOT.glob("src/dancebots/data/*.toml")])
+
+
+@pytest.mark.xfail(raises=KeyError, strict=False,
+                   reason="check_plan raises KeyError when the world places other robots than "
+                   "the scenario's (_place_show, being reworked for issue 10 part 3)")
+@pytest.mark.parametrize("world_path", [None, *CORPUS_WORLDS],
+                         ids=lambda p: "no world" if p is None else p.name)
+def test_every_diagnostic_of_the_corpus_has_a_real_position(world_path: Path | None) -> None:
+    """Each choreography of the corpus, alone and in each corpus world: every diagnostic of
+    the compiler, the world loader and check points at line >= 1, column >= 1 of its file."""
+    from dancebots.diagnostics import DiagnosticError, source_lines
+
+    sources = sorted([*CORPUS_ROOT.glob("examples/*.dance"),
+                      *CORPUS_ROOT.glob("tests/data/scenarios/*/*.dance"),
+                      *CORPUS_ROOT.glob("src/dancebots/data/*.dance")])
+    texts = {str(p): p.read_bytes().decode("utf-8", errors="replace") for p in sources}
+    world = None
+    if world_path is not None:
+        texts[str(world_path)] = world_path.read_text(encoding="utf-8")
+        try:
+            world = load_world(str(world_path))
+        except DiagnosticError as exc:
+            found = list(exc.diagnostics)
+        else:
+            found = []
+    else:
+        found = []
+    for source in sources:
+        _, plan, diagnostics = compile_scenario(texts[str(source)], str(source))
+        found += diagnostics
+        if plan is not None and (world_path is None or world is not None):
+            found += check_plan(plan, world).diagnostics
+    for d in found:
+        assert 1 <= d.line <= max(1, len(source_lines(texts[d.path]))), d.headline()
+        assert d.col >= 1, d.headline()
