@@ -8,6 +8,7 @@ rad/s. The room's and obstacles' coordinates are in the *world frame*. Every pro
 
 from __future__ import annotations
 
+import bisect
 import math
 import re
 import tomllib
@@ -234,9 +235,14 @@ class _Locator:
             match = re.match(r"\s*(\[\[?)\s*([^\]]+?)\s*\]", line)
             if match:
                 self.headers.append((number, match.group(2).replace(" ", "")))
+        # indexes, so that finding a key costs the length of its table, not of the file
+        self.header_lines = [n for n, _ in self.headers]
+        self.by_name: dict[str, list[int]] = {}
+        for number, header in self.headers:
+            self.by_name.setdefault(header, []).append(number)
 
     def table(self, name: str, occurrence: int = 0) -> int:
-        found = [n for n, header in self.headers if header == name]
+        found = self.by_name.get(name, [])
         return found[occurrence] if occurrence < len(found) else 1
 
     def key(self, table: str | None, key: str, occurrence: int = 0) -> tuple[int, int]:
@@ -244,8 +250,9 @@ class _Locator:
         if not table and self.headers:
             end = self.headers[0][0]
         else:
-            later = [n for n, _ in self.headers if n > start]
-            end = later[0] if later else len(self.lines) + 1
+            later = bisect.bisect_right(self.header_lines, start)
+            end = self.header_lines[later] if later < len(self.header_lines) else (
+                len(self.lines) + 1)
         pattern = re.compile(rf"\s*\"?{re.escape(key)}\"?\s*=")
         for number in range(start, min(end, len(self.lines) + 1)):
             line = self.lines[number - 1]
