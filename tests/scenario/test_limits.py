@@ -93,3 +93,18 @@ def test_every_newline_convention_counts_lines_alike(newline: str) -> None:
     text = newline.join(["robots A B", "row A,B 0 1.2", "move -1 0", ""])
     _, _, diagnostics = compile_scenario(text, "nl.dance")
     assert [(d.line, d.col) for d in diagnostics] == [(3, 6)]
+
+
+def test_only_the_first_hundred_unknown_names_get_a_suggestion() -> None:
+    """A "did you mean" search compares a name with every robot: after 100 of them the
+    unknown names are reported without one, so a file of unknown names stays cheap."""
+    names = [f"R{i}" for i in range(1000)]
+    text = "robots " + " ".join(names) + "\nrow " + ",".join(f"R{i}x" for i in range(150)) + \
+        " 0 1.2\n"
+    _, diagnostics = parse_scenario(text, "typos.dance")
+    unknown = [d for d in diagnostics if d.message.startswith("unknown robot")]
+    assert len(unknown) == 150
+    listing = "the robots are " + " ".join(names[:20]) + " and 980 more"
+    assert unknown[0].hint == "did you mean 'R0'? " + listing
+    assert unknown[99].hint == "did you mean 'R99'? " + listing
+    assert unknown[100].hint == listing

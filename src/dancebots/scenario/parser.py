@@ -29,6 +29,8 @@ MAX_ARC_DEGREES = 36000.0
 """Largest accepted central angle of a circle in degrees (100 turns)."""
 MIN_RADIUS = 0.01
 """Smallest accepted circle radius in m (|r|): a tighter arc is a turn on the spot."""
+MAX_SUGGESTIONS = 100
+"""At most this many unknown names of a file get a "did you mean" hint."""
 MAX_ROBOTS = 1000
 """Most robots a show may list: the cost of checking grows with robots x show length."""
 
@@ -70,6 +72,17 @@ class _State:
     robots_known: bool = False  # False after a broken robots line: no unknown-robot errors
     robots_span: Span = field(default_factory=lambda: Span(1))
     robot_set: frozenset[str] = frozenset()  # the robots, for lookups in O(1)
+    suggestions: int = 0  # "did you mean" searches made (each costs the names it compares)
+
+    def close_match(self, name: str, known: Sequence[str]) -> str | None:
+        """The known name most like ``name`` for a "did you mean" hint; None when there is
+        none, or after :data:`MAX_SUGGESTIONS` searches (a file of thousands of unknown
+        names would otherwise cost names x known names)."""
+        if self.suggestions >= MAX_SUGGESTIONS:
+            return None
+        self.suggestions += 1
+        close = difflib.get_close_matches(name, known, n=1)
+        return close[0] if close else None
     groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
     instructions: list[Instruction] = field(default_factory=list)
     formations: list[frozenset[str]] = field(default_factory=list)  # active formations
@@ -243,10 +256,10 @@ def _known_robot(state: _State, line: int, token: _Token | tuple[str, int]) -> b
         return True
     if not state.robots_known:
         return False
-    close = difflib.get_close_matches(text, state.robots, n=1)
-    hint = f"did you mean '{close[0]}'? " if close else ""
+    close = state.close_match(text, state.robots)
+    hint = f"did you mean '{close}'? " if close else ""
     state.error(line, col, f"unknown robot '{text}'",
-                f"{hint}the robots are {' '.join(state.robots)}", col + len(text))
+                f"{hint}the robots are {_listing(state.robots)}", col + len(text))
     return False
 
 
@@ -306,6 +319,12 @@ def _number(state: _State, line: int, text: str, col: int, what: str, *, low: fl
         state.error(line, col, f"{what} must be at most {_fmt(high)}, not {text}", None, end)
         return None
     return value
+
+
+def _listing(names: Sequence[str], shown: int = 20) -> str:
+    """The first ``shown`` names separated by spaces, and how many more there are."""
+    more = f" and {len(names) - shown} more" if len(names) > shown else ""
+    return " ".join(names[:shown]) + more
 
 
 def _values(count: int) -> str:
@@ -550,15 +569,15 @@ def _resolve_group(state: _State, line: int, token: _Token | None,
         return None
     name = token.text
     if name not in state.groups:
-        if name in (state.robots or ()):
+        if name in state.robot_set:
             state.error(line, token.col, f"'{name}' is a robot, not a group",
                         "instructions move groups; define a group of this robot in the groups "
                         "section", token.end)
             return None
         known = list(state.groups)
-        close = difflib.get_close_matches(name, known, n=1)
-        hint = (f"did you mean '{close[0]}'? " if close else "") + (
-            f"the groups are {' '.join(known)}" if known else
+        close = state.close_match(name, known)
+        hint = (f"did you mean '{close}'? " if close else "") + (
+            f"the groups are {_listing(known)}" if known else
             "define it in a groups section closed by `start`")
         state.error(line, token.col, f"unknown group {_quote(name)}", hint, token.end)
         return None
