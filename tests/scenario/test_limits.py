@@ -108,3 +108,13 @@ def test_only_the_first_hundred_unknown_names_get_a_suggestion() -> None:
     assert unknown[0].hint == "did you mean 'R0'? " + listing
     assert unknown[99].hint == "did you mean 'R99'? " + listing
     assert unknown[100].hint == listing
+
+
+def test_a_list_of_active_formations_is_cut_short() -> None:
+    names = [f"R{i}" for i in range(12)]
+    text = ("robots " + " ".join(names) + "\nrow " + ",".join(names) + " 0 1.2\n"
+            + "".join(f"row R{i} 0 0\n" for i in range(7)) + "move 1 0\n")
+    _, diagnostics = parse_scenario(text, "split.dance")
+    assert diagnostics[-1].message == (
+        "8 formations are active (R7 R8 R9 R10 R11 | R0 | R1 | R2 | R3 | and 3 more); name the "
+        "group this instruction moves")

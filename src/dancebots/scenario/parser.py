@@ -560,7 +560,7 @@ def _resolve_group(state: _State, line: int, token: _Token | None,
             return None, tuple(r for r in (state.robots or ()) if r in only)
         if state.uncertain:
             return None
-        listing = " | ".join(" ".join(_ordered(state, f)) for f in state.formations)
+        listing = _formations_listing(state)
         names = _group_names_for(state)
         state.error(line, 1, f"{len(state.formations)} formations are active ({listing}); "
                     "name the group this instruction moves",
@@ -586,7 +586,7 @@ def _resolve_group(state: _State, line: int, token: _Token | None,
         return name, _ordered(state, members)
     if state.uncertain:
         return None
-    listing = " | ".join(" ".join(_ordered(state, f)) for f in state.formations)
+    listing = _formations_listing(state)
     state.error(line, token.col, f"group '{name}' ({' '.join(state.groups[name])}) is not a "
                 f"formation here; the formations are {listing}",
                 f"describe a formation of exactly {' '.join(state.groups[name])} before moving "
@@ -599,7 +599,17 @@ def _ordered(state: _State, robots: frozenset[str]) -> tuple[str, ...]:
 
 
 def _group_names_for(state: _State) -> list[str]:
-    return [g for g, members in state.groups.items() if frozenset(members) in state.formations]
+    active = set(state.formations)
+    return [g for g, members in state.groups.items() if frozenset(members) in active]
+
+
+def _formations_listing(state: _State, shown: int = 5) -> str:
+    """The active formations' robots, ``a b | c d``: at most ``shown`` formations of at most
+    8 robots each (a message stays short, and cheap, however many robots a show has)."""
+    parts = [_listing(_ordered(state, f), 8) for f in state.formations[:shown]]
+    if len(state.formations) > shown:
+        parts.append(f"and {len(state.formations) - shown} more")
+    return " | ".join(parts)
 
 
 def _parse_move(state: _State, line: int, tokens: Sequence[_Token]) -> None:
