@@ -314,3 +314,21 @@ def test_every_diagnostic_of_the_corpus_has_a_real_position(world_path: Path | N
     for d in found:
         assert 1 <= d.line <= max(1, len(source_lines(texts[d.path]))), d.headline()
         assert d.col >= 1, d.headline()
+
+
+@pytest.mark.parametrize(("spacing", "row_distance"), [("0.7", "1.5"), ("1.2", "1.25"),
+                                                       ("0.85", "3"), ("2", "2")])
+def test_the_index_in_a_large_formation_finds_what_comparing_every_pair_finds(
+        monkeypatch: pytest.MonkeyPatch, spacing: str, row_distance: str) -> None:
+    """70 robots (2,415 pairs, past the pair-loop limit): the STRtree gives the very warnings,
+    in the same order, and the same smallest gap as comparing every pair."""
+    import dancebots.check as check_module
+
+    names = [f"R{i}" for i in range(70)]
+    rows = ";".join(",".join(names[r * 10:(r + 1) * 10]) for r in range(7))
+    text = f"robots {' '.join(names)}\nsquare {rows} {row_distance} {spacing}\nmove 1 0\n"
+    indexed = check(text)
+    monkeypatch.setattr(check_module, "_PAIR_LOOP_LIMIT", 10**9)
+    every_pair = check(text)
+    assert indexed.diagnostics == every_pair.diagnostics
+    assert indexed.min_clearance == every_pair.min_clearance

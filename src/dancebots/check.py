@@ -327,8 +327,7 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
             gaps.append(float(pair_gaps.min()))
         else:
             tree = shapely.STRtree(shapes)
-            first, second = _pairs_within(tree, shapes, reach)
-            pair_gaps = shapely.distance(shapes[first], shapes[second])
+            first, second, pair_gaps = _pairs_within(tree, shapes, reach)
             if len(first):  # every pair further apart than these is further than ``reach``
                 gaps.append(float(pair_gaps.min()))
             else:
@@ -411,16 +410,22 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
     return min(gaps) if gaps else None
 
 
-def _pairs_within(tree: shapely.STRtree, shapes: NDArray[np.object_],
-                  distance: float) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+def _pairs_within(tree: shapely.STRtree, shapes: NDArray[np.object_], distance: float,
+                  ) -> tuple[NDArray[np.int64], NDArray[np.int64], FloatArray]:
     """Index pairs (a < b), in lexicographic order, of the shapes (indexed by ``tree``) that
-    are at most ``distance`` (m) apart."""
-    found = tree.query(shapes, predicate="dwithin", distance=distance)
-    a, b = found[0], found[1]
+    are at most ``distance`` (m) apart, and their distances (m): the tree pairs the shapes
+    whose bounding boxes, grown by ``distance``, overlap; one exact distance each decides."""
+    low = shapely.bounds(shapes)
+    boxes = shapely.box(low[:, 0] - distance, low[:, 1] - distance, low[:, 2] + distance,
+                        low[:, 3] + distance)
+    a, b = tree.query(boxes)
     keep = a < b
     a, b = a[keep], b[keep]
     order = np.lexsort((b, a))
-    return a[order].astype(np.int64), b[order].astype(np.int64)
+    a, b = a[order].astype(np.int64), b[order].astype(np.int64)
+    gaps = shapely.distance(shapes[a], shapes[b])
+    near = gaps <= distance
+    return a[near], b[near], gaps[near]
 
 
 _PAIR_WARNINGS = 20
