@@ -8,6 +8,7 @@ between the robots. Run: ``.venv/bin/python benchmarks/bench_lag_compensation.py
 
 from __future__ import annotations
 
+import argparse
 import statistics
 from pathlib import Path
 
@@ -19,6 +20,8 @@ SCENARIO = Path(__file__).resolve().parent.parent / "examples" / "crash_7_2_2.da
 
 
 def main() -> None:
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     _, plan, diagnostics = compile_scenario(SCENARIO.read_text(), SCENARIO.name)
     assert plan is not None, diagnostics
     arena, placement = prepare_show(plan, None)

@@ -9,6 +9,7 @@ positions are.
 
 from __future__ import annotations
 
+import argparse
 import subprocess
 import sys
 import tempfile
@@ -25,6 +26,8 @@ SPACING = 1.2
 
 
 def main() -> None:
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     _, plan, diagnostics = compile_scenario(SCENARIO.read_text(), str(SCENARIO))
     assert plan is not None, diagnostics
     pure = simulate(plan, *prepare_show(plan, None), SimConfig())

@@ -10,6 +10,8 @@ front). Deterministic (ideal profile, seed 0). Results: docs/leader-follower.md.
 
 from __future__ import annotations
 
+import argparse
+
 from dancebots.cli.common import bundled
 from dancebots.report.follow import queue_metrics
 from dancebots.sim.queue import QueueConfig, simulate_queue
@@ -21,6 +23,8 @@ PAIRINGS = [("a1", "pid", "first"), ("a1", "pid", "tuned"), ("a1", "vo", "first"
 
 
 def main() -> None:
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     print("course    detector  controller  median error m (F1 F2 F3)   lost s   kidnappings  "
           "contacts  queue")
     for course in ("follow_course.toml", "follow_crossing.toml"):
