@@ -155,3 +155,35 @@ def test_console_script_runs() -> None:
     out = subprocess.run([sys.executable, "-m", "dancebots.cli", "--version"], check=True,
                          capture_output=True, text=True)
     assert out.stdout.startswith("dancebots ")
+
+
+@pytest.mark.parametrize("name", ["plan.jpg", "plan"])
+def test_plan_needs_a_known_image_extension(capsys: Capture, examples: Path, tmp_path: Path,
+                                            name: str) -> None:
+    target = tmp_path / name
+    status, _, err = run(capsys, "plan", str(examples / "thesis_7_3.dance"), "--out",
+                         str(target))
+    assert status == 2
+    assert err == (f"dancebots plan: error: {target}: give a file name that ends in .png, "
+                   ".svg or .pdf (the image's format)\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("command", ["run", "follow"])
+def test_json_output_says_when_nothing_ran(capsys: Capture, tmp_path: Path,
+                                           command: str) -> None:
+    """Scripts reading --json get JSON on stdout even when the input is refused."""
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[room\n")
+    args = ["--world", str(bad)] if command == "follow" else [str(tmp_path / "none.dance")]
+    status, out, err = run(capsys, command, *args, "--json", "--out", str(tmp_path / "o"))
+    assert status == 2
+    report = json.loads(out)
+    assert report["ran"] is False
+    assert report["diagnostics"][0]["severity"] == "error"
+    assert err.startswith(str(tmp_path))
+    status, out, _ = run(capsys, command, *([] if command == "follow" else [
+        str(Path(__file__).parents[2] / "examples" / "thesis_7_3.dance")]), "--json",
+        "--out", ".")
+    assert status == 2
+    assert json.loads(out)["error"].startswith("--out . is the working directory")

@@ -45,6 +45,7 @@ __all__ = [
     "print_diagnostics",
     "print_verdict",
     "progress",
+    "refuse",
     "short_path",
     "stage_output",
     "write_file",
@@ -109,6 +110,22 @@ def in_range(low: float, high: float, integer: bool = False) -> Callable[[str], 
 def fail(command: str, message: str) -> int:
     """Print ``dancebots COMMAND: error: MESSAGE`` on stderr; returns EXIT_INVALID."""
     print(f"dancebots {command}: error: {message}", file=sys.stderr)
+    return EXIT_INVALID
+
+
+def refuse(command: str, json_output: bool, message: str | None = None,
+           diagnostics: Sequence[Diagnostic] = (),
+           sources: Mapping[str, list[str]] | None = None) -> int:
+    """Refuse to run: the diagnostics (with their source lines) or ``dancebots COMMAND:
+    error: MESSAGE`` on stderr and, for ``--json``, ``{"ran": false, "error": ...,
+    "diagnostics": [...]}`` on stdout; returns EXIT_INVALID."""
+    if diagnostics:
+        print_diagnostics(diagnostics, sources or {})
+    if message is not None:
+        fail(command, message)
+    if json_output:
+        print(json.dumps({"ran": False, "error": message,
+                          "diagnostics": [d.to_json() for d in diagnostics]}, indent=2))
     return EXIT_INVALID
 
 

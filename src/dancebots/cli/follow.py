@@ -10,21 +10,20 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
     EXIT_FAILED,
-    EXIT_INVALID,
     EXIT_OK,
     OutputError,
     bundled,
-    fail,
     in_range,
-    print_diagnostics,
     print_verdict,
     progress,
+    refuse,
     short_path,
     stage_output,
 )
@@ -109,8 +108,8 @@ def run(args: argparse.Namespace) -> int:
         world = load_world(world_path)
     except DiagnosticError as exc:
         text, _ = read_source_file(world_path)
-        print_diagnostics(exc.diagnostics, {world_path: source_lines(text or "")})
-        return EXIT_INVALID
+        return refuse(NAME, args.json, diagnostics=exc.diagnostics,
+                      sources={world_path: source_lines(text or "")})
     config = QueueConfig(robots=int(args.robots), detector=args.detector,
                          controller=args.controller, standoff=args.standoff,
                          profile=CORE_PROFILES[args.profile], seed=int(args.seed),
@@ -119,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         staged = stage_output(target, NAME)
     except OutputError as exc:
-        return fail(NAME, str(exc))
+        return refuse(NAME, args.json, str(exc))
     console = Console(stderr=True, soft_wrap=True)
     try:
         started = time.perf_counter()
@@ -128,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
                 result = simulate_queue(world, config, update)
         except SetupError as exc:
             staged.abandon()
-            return fail(NAME, str(exc))
+            return refuse(NAME, args.json, str(exc))
         wall = time.perf_counter() - started
         metrics = queue_metrics(result)
         verdict = queue_verdict(metrics)
@@ -139,8 +138,9 @@ def run(args: argparse.Namespace) -> int:
         staged.abandon()
         raise
     if args.json:
-        print(json.dumps({"output": str(target), "files": written, "wall_s": round(wall, 3),
-                          "verdict": verdict.to_json(), "metrics": metrics.to_json()},
+        print(json.dumps({"ran": True, "output": str(target), "files": written,
+                          "wall_s": round(wall, 3), "verdict": verdict.to_json(),
+                          "metrics": {**metrics.to_json(), "verdict": verdict.to_json()}},
                          indent=2))
     else:
         _summary(metrics, verdict, wall, target, written, world_path)
@@ -180,7 +180,7 @@ def _summary(metrics: QueueMetrics, verdict: Verdict, wall: float, target: Path,
     from rich.console import Console
     from rich.table import Table
 
-    out = Console(soft_wrap=True)
+    out = Console(soft_wrap=True, width=None if sys.stdout.isatty() else 120)
     table = Table(title=f"{world}: detector {metrics.detector}, controller "
                   f"{metrics.controller}, stand-off {metrics.standoff:g} m",
                   title_justify="left")

@@ -41,6 +41,10 @@ def run(args: argparse.Namespace) -> int:
     print_diagnostics(show.diagnostics, show.sources)
     if show.plan is None or not show.valid:
         return EXIT_INVALID
+    kind = os.path.splitext(args.out)[1].lower().lstrip(".")
+    if kind not in FORMATS:
+        return fail(NAME, f"{args.out}: give a file name that ends in .png, .svg or .pdf "
+                    "(the image's format)")
     plan, world = show.plan, show.world
     import matplotlib
 
@@ -57,7 +61,6 @@ def run(args: argparse.Namespace) -> int:
         print_diagnostics(placement, show.sources)
         if has_errors(placement):
             return EXIT_INVALID
-    kind = _image_format(args.out)
     metadata = {"Software" if kind == "png" else "Creator": CREATOR}
     figure = plot_plan(plan, world, transform)
     try:
@@ -69,8 +72,3 @@ def run(args: argparse.Namespace) -> int:
         plt.close(figure)
     print(f"wrote {args.out}")
     return EXIT_OK
-
-
-def _image_format(path: str) -> str:
-    extension = os.path.splitext(path)[1].lower().lstrip(".")
-    return extension if extension in FORMATS else "png"

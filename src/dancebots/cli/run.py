@@ -10,24 +10,24 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
     EXIT_FAILED,
-    EXIT_INVALID,
     EXIT_OK,
     OutputError,
     StagedOutput,
     add_show_arguments,
     bundled,
-    fail,
     in_range,
     positive,
     print_diagnostics,
     print_verdict,
     progress,
+    refuse,
     short_path,
     stage_output,
 )
@@ -105,26 +105,25 @@ def run(args: argparse.Namespace) -> int:
             args.world = short_path(bundled("open_day.toml"))
     show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions())
     if not show.valid or show.plan is None:
-        print_diagnostics(show.diagnostics, show.sources)
-        return EXIT_INVALID
+        return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
     from dancebots.sim.setup import SetupError, prepare_show
 
     try:
         arena, placement = prepare_show(show.plan, show.world)
     except SetupError as exc:
-        return fail(NAME, str(exc))
+        return refuse(NAME, args.json, str(exc))
     console = Console(stderr=True, soft_wrap=True)
     if args.sound:
         from dancebots.report.sound import espeak_available
 
         if not espeak_available():
-            return fail(NAME, "--sound needs espeak-ng (Debian package espeak-ng; "
+            return refuse(NAME, args.json, "--sound needs espeak-ng (Debian package espeak-ng; "
                         "scripts/dev.sh installs it)")
     target = Path(args.out) if args.out else Path("out") / Path(args.scenario).stem
     try:
         staged = stage_output(target, NAME)
     except OutputError as exc:
-        return fail(NAME, str(exc))
+        return refuse(NAME, args.json, str(exc))
     try:
         return _simulate_and_write(args, show, (arena, placement), staged, console)
     except BaseException:
@@ -171,9 +170,10 @@ def _simulate_and_write(args: argparse.Namespace, show: LoadedShow,
                              not args.no_animation, args.sound)
     staged.commit(written, __version__)
     if args.json:
-        print(json.dumps({"output": str(staged.target), "files": written,
+        print(json.dumps({"ran": True, "output": str(staged.target), "files": written,
                           "wall_s": round(wall, 3), "verdict": verdict.to_json(),
-                          "metrics": metrics.to_json()}, indent=2))
+                          "metrics": {**metrics.to_json(), "verdict": verdict.to_json()}},
+                         indent=2))
     else:
         _summary(result, metrics, verdict, wall, staged.target, written)
     return EXIT_OK if verdict.clean else EXIT_FAILED
@@ -220,7 +220,7 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     from rich.console import Console
     from rich.table import Table
 
-    out = Console(soft_wrap=True)
+    out = Console(soft_wrap=True, width=None if sys.stdout.isatty() else 120)
     table = Table(title=f"{result.plan.scenario.path} ({metrics.profile} profile, seed "
                   f"{metrics.seed})", title_justify="left")
     for column in ("robot", "RMS error m", "max error m", "final error m",
