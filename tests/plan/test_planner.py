@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from dancebots.diagnostics import Diagnostic
 from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
@@ -238,3 +240,27 @@ def test_a_leader_that_never_moves_is_refused_with_a_hint_that_says_so() -> None
     assert plan is None
     assert diagnostic.hint == ("a move of 2 m never ends at the leader's speed of 4.94066e-324 "
                                "m/s: shorten the moves")
+
+
+@pytest.mark.parametrize("turn", ["move 0 180", "move 0 -150", "move 0 90", "move 0.12 16"])
+def test_a_tight_arc_after_a_turn_on_the_spot_is_reached(turn: str) -> None:
+    """The leader faces back along the arc (or is off it by a good part of its radius): it
+    recovers by eq. 4.1 towards a point at most 1 rad ahead; it used to orbit for ever and
+    report "does not reach the end of this arc"."""
+    plan = plan_of(f"robots A B\nrow A,B 0 1.2\n{turn}\ncircle -0.3 383 1.15\n")
+    assert plan.duration < 15.0
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.sampled_from(["", "move 0 {a}", "move 0.5 {a}", "circle 0.5 {b} 2"]),
+       st.integers(-360, 360), st.integers(1, 400),
+       st.floats(0.1, 3.0), st.sampled_from([1.0, -1.0]), st.integers(1, 720),
+       st.floats(0.01, 10.0))
+def test_every_circle_after_any_turn_is_reached(prefix: str, a: int, b: int, radius: float,
+                                                sign: float, angle: int, omega: float) -> None:
+    text = (f"robots A B\nrow A,B 0 1.2\n{prefix.format(a=a, b=b)}\n"
+            f"circle {sign * radius:.3f} {angle} {omega:.3f}\n")
+    scenario, diagnostics = parse_scenario(text, "arc.dance")
+    assert scenario is not None, diagnostics
+    plan, diagnostics = build_plan(scenario)
+    assert plan is not None, diagnostics

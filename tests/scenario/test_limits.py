@@ -29,8 +29,8 @@ def only_error(text: str) -> Diagnostic:
     ("circle 1 90 -0", 13, "the angular speed must be greater than 0, not -0"),
     ("circle 1 90 nan", 13, "the angular speed must be a finite number, not 'nan'"),
     ("circle 1 90 1e308", 13, "the angular speed must be at most 10, not 1e308"),
-    ("circle 1e-300 90 1", 8, "the circle radius must be at least 0.01 m in size, not 1e-300"),
-    ("circle -5e-324 90 1", 8, "the circle radius must be at least 0.01 m in size, not -5e-324"),
+    ("circle 1e-300 90 1", 8, "the circle radius must be at least 0.1 m in size, not 1e-300"),
+    ("circle -5e-324 90 1", 8, "the circle radius must be at least 0.1 m in size, not -5e-324"),
     ("circle -0 90 1", 8, "the circle radius must not be 0"),
     ("circle 1 0 1", 10, "the central angle must be greater than 0, not 0"),
     ("move 1" + "0" * 400 + " 0", 6, "the move distance 1" + "0" * 400 + " is too large"),
@@ -49,7 +49,7 @@ def test_hostile_numbers_have_a_hint_where_one_helps() -> None:
 
 def test_tiny_positive_numbers_are_harmless_where_zero_is_allowed() -> None:
     _, plan, diagnostics = compile_scenario(
-        "robots A B\nrow A,B 5e-324 1.2\nmove 5e-324 1e-300\ncircle 0.01 1e-300 10\n",
+        "robots A B\nrow A,B 5e-324 1.2\nmove 5e-324 1e-300\ncircle 0.1 1e-300 10\n",
         "tiny.dance")
     assert plan is not None, diagnostics
     assert plan.duration < 1.0

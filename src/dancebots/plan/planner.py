@@ -48,6 +48,9 @@ FloatArray = NDArray[np.float64]
 
 ARC_CARROT_LENGTH = 0.5
 """Arc recovery aims this far (m, along the arc) ahead of the leader's own angle on the arc."""
+ARC_REVERSED = 0.75 * math.pi
+"""A leader on the arc whose heading is further than this (rad) from the arc's direction of
+travel faces back along it (after `move 0 180`): it recovers by eq. 4.1 like one off the arc."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -476,8 +479,10 @@ def _run_leader(
     until the leader has swept the central angle around the centre. Eq. 4.3 assumes the leader
     starts near the arc with the arc's heading (thesis ch. 4.2); after `move 0 90` or a sharp
     corner it may not, and its saturated turn rate then spins the leader in place for ever. So
-    while the leader is more than ``arc_recovery_distance`` off the arc it steers by eq. 4.1
-    towards the point ``ARC_CARROT_LENGTH`` ahead on the arc (an addition to the thesis).
+    while the leader is more than ``arc_recovery_distance`` (or half the radius) off the arc,
+    or faces back along it (more than ``ARC_REVERSED`` from its direction), it steers by
+    eq. 4.1 towards the point ``ARC_CARROT_LENGTH`` (at most 1 rad) ahead on the arc (an
+    addition to the thesis).
     """
     dt = params.step
     times: list[float] = []
@@ -538,10 +543,14 @@ def _run_leader(
                 if progress >= instruction.angle:
                     break
                 off_arc = abs(math.hypot(x - cx, y - cy) - radius)
-                if off_arc <= params.arc_recovery_distance:
+                backwards = abs(wrap_angle(theta - (phi + sign * 0.5 * math.pi))) > ARC_REVERSED
+                if off_arc <= min(params.arc_recovery_distance, 0.5 * radius) \
+                        and not backwards:
                     advance(*arc_command(instruction.radius, omega, math.hypot(x - cx, y - cy)))
-                else:  # far off the arc (eq. 4.3 would spin): eq. 4.1 towards a point on it
-                    ahead = min(progress + ARC_CARROT_LENGTH / radius, instruction.angle)
+                else:  # far off the arc (eq. 4.3 would spin) or facing back along it (eq. 4.3
+                    # would drive it round the wrong way): eq. 4.1 towards a point on the arc
+                    ahead = min(progress + min(ARC_CARROT_LENGTH / radius, 1.0),
+                                instruction.angle)  # at most 1 rad ahead on a tight arc
                     carrot = phi_start + sign * ahead
                     gx, gy = Pose(x, y, theta).to_local(cx + radius * math.cos(carrot),
                                                         cy + radius * math.sin(carrot))

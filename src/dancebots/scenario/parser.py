@@ -27,8 +27,10 @@ MIN_OMEGA = 0.001
 """Smallest accepted desired angular speed of a circle in rad/s (a turn in 105 min)."""
 MAX_ARC_DEGREES = 36000.0
 """Largest accepted central angle of a circle in degrees (100 turns)."""
-MIN_RADIUS = 0.01
-"""Smallest accepted circle radius in m (|r|): a tighter arc is a turn on the spot."""
+MIN_RADIUS = 0.1
+"""Smallest accepted circle radius in m (|r|). The leader's tightest turn has the radius
+MIN_LINEAR / ANGULAR_LIMIT = 0.1 / (pi / 2) = 0.064 m (eq. 4.1a, 4.1b): a leader that must
+steer back onto a tighter arc could only orbit it."""
 MAX_SUGGESTIONS = 100
 """At most this many unknown names of a file get a "did you mean" hint."""
 MAX_ROBOTS = 1000
