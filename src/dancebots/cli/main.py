@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import _thread
 import argparse
 import os
 import signal
@@ -57,10 +58,20 @@ def _caused_by_interrupt(error: BaseException) -> bool:
     return False
 
 
+def _interrupt_after_finalizer(unraisable: sys.UnraisableHookArgs) -> None:
+    """Ctrl-C that lands in a finalizer (``__del__``, e.g. numba's llvmlite) would be printed
+    as "Exception ignored" and lost: re-deliver it to the main thread's next Python step."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt):
+        _thread.interrupt_main()
+        return
+    sys.__unraisablehook__(unraisable)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``dancebots ARGS``; returns the exit status (argparse exits 2 on bad arguments)."""
     if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C: KeyboardInterrupt
+        sys.unraisablehook = _interrupt_after_finalizer
     try:
         args = build_parser().parse_args(argv)
         status: int = args.handler(args)
