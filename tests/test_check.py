@@ -281,9 +281,6 @@ CORPUS_WORLDS = sorted([*CORPUS_ROOT.glob("examples/worlds/*.toml"),
                         *CORPUS_ROOT.glob("src/dancebots/data/*.toml")])
 
 
-@pytest.mark.xfail(raises=KeyError, strict=False,
-                   reason="check_plan raises KeyError when the world places other robots than "
-                   "the scenario's (_place_show, being reworked for issue 10 part 3)")
 @pytest.mark.parametrize("world_path", [None, *CORPUS_WORLDS],
                          ids=lambda p: "no world" if p is None else p.name)
 def test_every_diagnostic_of_the_corpus_has_a_real_position(world_path: Path | None) -> None:
@@ -332,3 +329,32 @@ def test_the_index_in_a_large_formation_finds_what_comparing_every_pair_finds(
     every_pair = check(text)
     assert indexed.diagnostics == every_pair.diagnostics
     assert indexed.min_clearance == every_pair.min_clearance
+
+
+def test_a_world_of_other_robots_centres_the_show(data: Path) -> None:
+    """The world places R1 and R2, the show has A and B: the show is centred in the room and
+    the world's robots are reported as left out (this raised a KeyError)."""
+    _, plan, problems = compile_scenario("robots A B\nrow A,B 0 1.2\nmove 1 0\n", "s.dance")
+    assert plan is not None
+    assert problems == []
+    world = load_world(str(data / "worlds" / "two_robots.toml"))
+    report = check_plan(plan, world)
+    assert [d.message for d in report.diagnostics if d.is_error] == []
+    left_out = [d for d in report.diagnostics if "is not in the scenario" in d.message]
+    assert [d.message for d in left_out] == [
+        "the world's robot R1 is not in the scenario: it is left out of the show",
+        "the world's robot R2 is not in the scenario: it is left out of the show"]
+    assert all(d.line >= 1 and d.col >= 1 for d in report.diagnostics)
+
+
+def test_a_pile_of_robots_names_twenty_overlaps_and_counts_the_rest() -> None:
+    names = [f"R{i}" for i in range(30)]
+    text = f"robots {' '.join(names)}\nrow {','.join(names)} 0 0\nmove 1 0\n"
+    _, plan, _ = compile_scenario(text, "pile.dance")
+    assert plan is not None
+    errors = [d for d in check_plan(plan).diagnostics if d.is_error]
+    overlaps = [d for d in errors if d.message.endswith("overlap at their start poses")]
+    assert len(overlaps) == 21
+    assert overlaps[0].message == ("... and 415 more pairs of robots overlap at their start "
+                                   "poses")  # 30 * 29 / 2 = 435 pairs, 20 named
+    assert all((d.line, d.col) == (2, 1) for d in errors)

@@ -621,7 +621,7 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
             "remove its [[robots]] entry, or add it to the scenario's robots line"))
     if placed is None:
         return ShowPlacement(None, None, tuple(diagnostics))
-    if world.robots:  # every robot of the plan has one (else placed is None)
+    if any(r.name in plan.robots for r in world.robots):  # then all have one (else None)
         poses = {r.name: r.start for r in world.robots}
         starts = np.array([[poses[n].x, poses[n].y, poses[n].theta] for n in plan.robots])
     else:
@@ -644,6 +644,11 @@ def _slot_starts(plan: Plan, transform: Pose) -> FloatArray:
                      slots[:, 2] + transform.theta], axis=1)
 
 
+MAX_START_OVERLAPS = 20
+"""Pairs of robots overlapping at their start poses that are named one by one; the rest are
+counted in one more error (a pile of 1,000 robots has 499,500 pairs)."""
+
+
 def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], starts: FloatArray,
                   diagnostics: list[Diagnostic]) -> frozenset[tuple[str, str | None]]:
     """Errors for robots that cannot start where they stand (:func:`start_conflicts`); returns
@@ -651,7 +656,7 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
     that start in an obstacle. Start poses from the world are reported at their [[robots]]
     entry, slots of the first formation at that formation."""
     robots = plan.robots
-    from_world = world is not None and bool(world.robots)
+    from_world = world is not None and any(world.robot(r) is not None for r in robots)
     first = plan.formations[0].span
     reported: set[tuple[str, str | None]] = set()
 
@@ -670,7 +675,15 @@ def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], s
     spectators = world.spectators if world is not None else ()
     world_path = world.path if world is not None else ""
     source = f" ({world_path}:{{}})"
-    for conflict in start_conflicts(types, starts, room, obstacles, spectators):
+    conflicts = start_conflicts(types, starts, room, obstacles, spectators)
+    overlaps = [c for c in conflicts if c.kind == "robot"]
+    if len(overlaps) > MAX_START_OVERLAPS:  # a pile of robots: name a few, count the rest
+        shown = overlaps[MAX_START_OVERLAPS - 1]
+        conflicts = [c for c in conflicts if c.kind != "robot"] + overlaps[:MAX_START_OVERLAPS]
+        error(shown.other, f"... and {len(overlaps) - MAX_START_OVERLAPS} more pairs of robots "
+              "overlap at their start poses", "place the robots further apart (in the first "
+              "formation or the world)")
+    for conflict in conflicts:
         name = robots[conflict.robot]
         if conflict.kind == "room":
             reported.add((name, None))

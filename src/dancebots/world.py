@@ -189,8 +189,10 @@ def start_conflicts(types: Sequence[RobotType], starts: NDArray[np.float64],
     cores = shapely.buffer(shapes, -CONTACT_MARGIN, join_style="mitre")
     cores = np.where(shapely.is_empty(cores), shapely.centroid(shapes), cores)
     near = shapely.STRtree(cores).query(cores, predicate="intersects")  # (2, P) index pairs
-    found.extend(StartConflict(i, "robot", j) for i, j in sorted(zip(
-        near[0].tolist(), near[1].tolist(), strict=True)) if i < j)
+    near = near[:, near[0] < near[1]]
+    near = near[:, np.lexsort((near[1], near[0]))]
+    found.extend(map(StartConflict, near[0].tolist(), ["robot"] * near.shape[1],
+                     near[1].tolist()))
     tree = shapely.STRtree(shapes)
     for k, obstacle in enumerate(obstacles):
         hit = tree.query(shapely.Polygon(obstacle.polygon), predicate="dwithin",
