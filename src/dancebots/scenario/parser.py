@@ -275,12 +275,13 @@ def _parse_instruction(state: _State, line: int, tokens: Sequence[_Token]) -> No
         _parse_new_vl(state, line, tokens)
         return
     if keyword in ("move", "circle"):
-        if not state.placed:
-            if not state.uncertain:
-                state.error(line, head.col, "the first instruction must be a formation",
-                            "place the robots first, e.g. `row "
-                            + ",".join((state.robots or ("R1", "R2"))[:4]) + " 0 1.2`", head.end)
+        if not state.placed and not state.uncertain:
+            state.error(line, head.col, "the first instruction must be a formation",
+                        "place the robots first, e.g. `row "
+                        + ",".join((state.robots or ("R1", "R2"))[:4]) + " 0 1.2`", head.end)
             return
+        # after a broken formation its own arguments are still checked (the group it moves
+        # is not resolved: _resolve_group is silent while the formations are uncertain)
         state.block = []
         if keyword == "move":
             _parse_move(state, line, tokens)
