@@ -160,8 +160,10 @@ def read_text_source(path: str, data: bytes) -> tuple[str | None, list[Diagnosti
         ]
 
 
-def read_source_file(path: str) -> tuple[str | None, list[Diagnostic]]:
-    """Read and decode a text input file; every failure is a diagnostic, never an exception."""
+def read_source_file(path: str, missing_hint: str = "check the path; `dancebots demo` prints "
+                     "an example") -> tuple[str | None, list[Diagnostic]]:
+    """Read and decode a text input file; every failure is a diagnostic, never an exception.
+    missing_hint: the hint when there is no such file (the default suits scenarios)."""
 
     def fail(message: str, hint: str | None = None) -> tuple[None, list[Diagnostic]]:
         return None, [Diagnostic(path, 0, 0, Severity.ERROR, message, hint)]
@@ -170,7 +172,7 @@ def read_source_file(path: str) -> tuple[str | None, list[Diagnostic]]:
         with open(path, "rb") as handle:
             data = handle.read(MAX_INPUT_BYTES + 1)
     except FileNotFoundError:
-        return fail("no such file", "check the path; `dancebots demo` prints an example")
+        return fail("no such file", missing_hint)
     except IsADirectoryError:
         return fail("is a directory, not a file", "give the path of a file inside it")
     except PermissionError:

@@ -216,9 +216,13 @@ def spectator_route(spectator: Spectator) -> shapely.Geometry:
     return shapely.LineString(points)
 
 
+MISSING_WORLD_HINT = ("check the path; docs/worlds.md describes world files, and "
+                      "examples/worlds/ holds some")
+
+
 def load_world(path: str) -> World:
     """Read and validate a world file; raises :class:`DiagnosticError` with every problem."""
-    text, diagnostics = read_source_file(path)
+    text, diagnostics = read_source_file(path, MISSING_WORLD_HINT)
     if text is None:
         raise DiagnosticError(diagnostics)
     world, diagnostics = parse_world(text, path)

@@ -187,3 +187,16 @@ def test_json_output_says_when_nothing_ran(capsys: Capture, tmp_path: Path,
         "--out", ".")
     assert status == 2
     assert json.loads(out)["error"].startswith("--out . is the working directory")
+
+
+def test_a_missing_world_file_gets_a_world_hint(capsys: Capture, examples: Path) -> None:
+    status, _, err = run(capsys, "check", str(examples / "thesis_7_1.dance"), "--world",
+                         "nosuch.toml")
+    assert status == 2
+    assert err.splitlines()[:2] == [
+        "nosuch.toml: error: no such file",
+        "  hint: check the path; docs/worlds.md describes world files, and examples/worlds/ "
+        "holds some"]
+    status, _, err = run(capsys, "follow", "--world", "nosuch")
+    assert status == 2
+    assert err.splitlines()[1].endswith("; or name a bundled world: course, crossing")

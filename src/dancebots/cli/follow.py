@@ -12,6 +12,7 @@ import argparse
 import json
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -107,6 +108,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         world = load_world(world_path)
     except DiagnosticError as exc:
+        if not Path(world_path).exists():
+            bundled_names = ", ".join(BUNDLED_WORLDS)
+            exc = DiagnosticError([replace(d, hint=f"{d.hint}; or name a bundled world: "
+                                           f"{bundled_names}") for d in exc.diagnostics])
         text, _ = read_source_file(world_path)
         return refuse(NAME, args.json, diagnostics=exc.diagnostics,
                       sources={world_path: source_lines(text or "")})
