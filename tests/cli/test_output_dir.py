@@ -5,6 +5,7 @@ A user's files sit next to runs in every test; each test proves they survive, by
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 from pathlib import Path
@@ -181,9 +182,111 @@ def test_a_failed_run_leaves_the_earlier_run_intact(
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr("dancebots.report.runlog.write_log", broken)
-    with pytest.raises(OSError, match="No space left"):
-        main(["run", *FAST, "--out", str(out)])
+    assert main(["run", *FAST, "--out", str(out)]) == 2
+    assert capsys.readouterr().err.endswith(
+        f"dancebots run: error: cannot write the outputs to {out}: No space left on device; "
+        "nothing there was changed\n")
     assert snapshot(tmp_path) == before  # no staging directory left either
+
+
+def test_a_user_file_with_an_output_name_is_refused_before_simulating(
+        capsys: Capture, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    out = tmp_path / "run"
+    fake_run(out, {"metrics.json": "{}\n"})
+    (out / "animation.gif").write_text("MY OWN GIF")
+    (tmp_path / "elsewhere.txt").write_text("mine")
+    (out / "sound.wav").symlink_to(tmp_path / "elsewhere.txt")
+    before = snapshot(tmp_path)
+    monkeypatch.setattr("dancebots.sim.simulator.simulate", None)  # must not be reached
+    assert main(["run", *FAST, "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        f"dancebots run: error: {out / 'animation.gif'} is not a file of the earlier run (its "
+        f"{MANIFEST} does not list it), and this run would write it; move it away or choose "
+        "another --out\n")
+    assert snapshot(tmp_path) == before
+
+
+def test_a_file_changed_during_the_run_is_not_replaced(
+        capsys: Capture, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The user edits the earlier run's log while the new run simulates: nothing is replaced,
+    and the new run's files are kept beside, in a directory the message names."""
+    from dancebots.report import metrics
+
+    out = tmp_path / "run"
+    fake_run(out, {"metrics.json": "{}\n", "log.csv": "t\n"})
+    original = metrics.run_metrics
+
+    def edit_meanwhile(result: object) -> object:
+        (out / "log.csv").write_text("t\nmy edit\n")
+        return original(result)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(metrics, "run_metrics", edit_meanwhile)
+    assert main(["run", *FAST, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.splitlines()[-1]
+    assert err.startswith(f"dancebots run: error: {out / 'log.csv'} was changed or made during "
+                          f"the run, so nothing in {out} was replaced; the new run's files are "
+                          f"in {out / 'unsaved-run-'}")
+    assert (out / "log.csv").read_text() == "t\nmy edit\n"
+    assert (out / "metrics.json").read_text() == "{}\n"
+    kept = next(out.glob("unsaved-run-*"))
+    assert {p.name for p in kept.iterdir()} >= {"log.csv", "metrics.json", MANIFEST}
+
+
+def test_a_directory_made_by_someone_else_during_the_run_is_left_alone(
+        capsys: Capture, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from dancebots.report import metrics
+
+    out = tmp_path / "run"
+    original = metrics.run_metrics
+
+    def made_meanwhile(result: object) -> object:
+        out.mkdir()
+        (out / "theirs.txt").write_text("another run's")
+        return original(result)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(metrics, "run_metrics", made_meanwhile)
+    assert main(["run", *FAST, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.splitlines()[-1]
+    assert err.startswith(f"dancebots run: error: {out} was made by someone else during the "
+                          "run, so the new run was not moved there; its files are in "
+                          f"{tmp_path / 'run.unsaved-'}")
+    assert [p.name for p in out.iterdir()] == ["theirs.txt"]
+    assert (next(tmp_path.glob("run.unsaved-*")) / "metrics.json").exists()
+
+
+def test_the_manifest_is_never_written_through_a_link(capsys: Capture, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    fake_run(out, {"metrics.json": "{}\n"})
+    (tmp_path / "victim.txt").write_text("precious")
+    for name in (f".{MANIFEST}.tmp", f".{MANIFEST}.x.tmp"):
+        (out / name).symlink_to(tmp_path / "victim.txt")
+    assert main(["run", *FAST, "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert (tmp_path / "victim.txt").read_text() == "precious"
+    assert json.loads((out / MANIFEST).read_text())["command"] == "run"
+
+
+def test_a_swallowed_ctrl_c_still_stops_the_run_before_it_replaces_anything(
+        capsys: Capture, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A Ctrl-C that a library swallowed (it landed in a finalizer) is noted by the handler:
+    the run stops at its next step, exits 130 and leaves the earlier run as it was."""
+    from dancebots.cli import common
+    from dancebots.report import metrics
+
+    out = tmp_path / "run"
+    fake_run(out, {"metrics.json": "{}\n"})
+    before = snapshot(tmp_path)
+    original = metrics.run_metrics
+
+    def swallowed(result: object) -> object:
+        with contextlib.suppress(KeyboardInterrupt):  # as a finalizer would lose it
+            common.on_interrupt(2, None)
+        return original(result)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(metrics, "run_metrics", swallowed)
+    assert main(["run", *FAST, "--out", str(out)]) == 130
+    assert capsys.readouterr().err.endswith("dancebots: interrupted\n")
+    assert snapshot(tmp_path) == before
 
 
 def test_a_failed_first_run_leaves_nothing(
@@ -238,14 +341,21 @@ def test_plan_replaces_its_own_image_and_refuses_others(capsys: Capture, tmp_pat
     for name, kind in (("plan.svg", "svg"), ("plan.pdf", "pdf")):
         assert main(["plan", scenario, "--png", str(tmp_path / name)]) == 0, kind
         assert main(["plan", scenario, "--png", str(tmp_path / name)]) == 0, kind
-    (tmp_path / "photo.png").write_bytes(b"\x89PNG\r\n\x1a\nsomeone else's")
     capsys.readouterr()
-    assert main(["plan", scenario, "--png", str(tmp_path / "photo.png")]) == 2
-    assert capsys.readouterr().err == (
-        f"dancebots plan: error: {tmp_path / 'photo.png'} exists and was not written by "
-        "dancebots; remove it or choose another name\n")
-    assert (tmp_path / "photo.png").read_bytes() == b"\x89PNG\r\n\x1a\nsomeone else's"
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+    for name, content in (("photo.png", b"\x89PNG\r\n\x1a\nsomeone else's"),
+                          ("notes.svg", b"<svg><text>notes on dancebots plan</text></svg>")):
+        (tmp_path / name).write_bytes(content)
+        assert main(["plan", scenario, "--png", str(tmp_path / name)]) == 2
+        assert capsys.readouterr().err == (
+            f"dancebots plan: error: {tmp_path / name} exists and was not written by "
+            "dancebots (or was changed since); remove it or choose another name\n")
+        assert (tmp_path / name).read_bytes() == content
+    with open(image, "ab") as handle:  # its own image, edited since: no longer its own
+        handle.write(b"an edit")
+    assert main(["plan", scenario, "--png", str(image)]) == 2
+    assert capsys.readouterr().err.startswith(f"dancebots plan: error: {image} exists and was")
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == [
+        ".dancebots-images.json"]
 
 
 @pytest.mark.parametrize("kind", ["directory", "link"])
@@ -272,6 +382,6 @@ def test_write_file_reports_without_its_temporary_name(tmp_path: Path) -> None:
         raise OSError(13, "Permission denied", str(path))
 
     with pytest.raises(OutputError) as error:
-        write_file(locked / "plan.png", fail, b"dancebots plan")
+        write_file(locked / "plan.png", fail, __version__)
     assert str(error.value) == f"cannot write {locked / 'plan.png'}: Permission denied"
     assert os.listdir(locked) == []

@@ -36,6 +36,9 @@ def test_an_orphaned_grandchild_in_its_own_session_fails_the_test_and_is_killed(
 def test_processes_that_end_in_time_pass() -> None:
     with no_process_left("the probe", grace=10.0) as tag:
         subprocess.Popen(["sleep", "2"], start_new_session=True)
+        deadline = time.monotonic() + 1.0  # /proc/PID/environ may read empty while it execs
+        while not tagged_processes(tag) and time.monotonic() < deadline:
+            time.sleep(0.01)
         assert len(tagged_processes(tag)) == 1
     assert tagged_processes(tag) == []
 

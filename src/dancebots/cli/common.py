@@ -41,11 +41,15 @@ __all__ = [
     "bundled",
     "fail",
     "in_range",
+    "interrupted",
+    "on_interrupt",
     "positive",
     "print_diagnostics",
     "print_verdict",
     "progress",
+    "raise_if_interrupted",
     "refuse",
+    "reset_interrupt",
     "short_path",
     "stage_output",
     "write_file",
@@ -150,11 +154,45 @@ def print_verdict(console: Console, verdict: Verdict, noun: str) -> None:
         console.print(f"  - {failure}", style="red", highlight=False)
 
 
+# --- interrupts ----------------------------------------------------------------------------
+
+_interrupted = False
+
+
+def on_interrupt(signum: int, frame: object) -> None:
+    """The SIGINT handler while a command runs: remember it and raise KeyboardInterrupt. The
+    flag survives where the exception is swallowed (in a finalizer, or by a library), so
+    :func:`raise_if_interrupted` still stops the command at its next step."""
+    global _interrupted
+    _interrupted = True
+    raise KeyboardInterrupt
+
+
+def reset_interrupt() -> None:
+    global _interrupted
+    _interrupted = False
+
+
+def interrupted() -> bool:
+    """Was Ctrl-C pressed since the command started?"""
+    return _interrupted
+
+
+def raise_if_interrupted() -> None:
+    """Raise KeyboardInterrupt if Ctrl-C was pressed (and swallowed somewhere) meanwhile."""
+    if _interrupted:
+        raise KeyboardInterrupt
+
+
 @contextlib.contextmanager
 def progress(console: Console, label: str) -> Iterator[Callable[[float, float], None]]:
-    """A rich progress bar on a terminal; nothing when output is redirected."""
+    """A rich progress bar on a terminal; nothing when output is redirected. Each update
+    also stops the work if Ctrl-C was pressed."""
     if not console.is_terminal:
-        yield lambda done, total: None
+        def quiet(done: float, total: float) -> None:
+            raise_if_interrupted()
+
+        yield quiet
         return
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
@@ -164,6 +202,7 @@ def progress(console: Console, label: str) -> Iterator[Callable[[float, float], 
         task = bar.add_task(label, total=1.0)
 
         def update(done: float, total: float) -> None:
+            raise_if_interrupted()
             bar.update(task, completed=done, total=total)
 
         yield update
@@ -190,9 +229,8 @@ def _is_working_directory_or_above(target: Path) -> bool:
     return there == here or there in here.parents
 
 
-def _read_manifest(directory: Path) -> dict[str, list[str]]:
-    """The files of an earlier run in ``directory`` (name -> accepted SHA-256s)."""
-    path = directory / MANIFEST
+def _read_record(path: Path, what: str) -> dict[str, list[str]]:
+    """A JSON record ``{"files": {name: [sha256, ...]}}`` of files dancebots wrote."""
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
         files = data["files"]
@@ -207,23 +245,38 @@ def _read_manifest(directory: Path) -> dict[str, list[str]]:
             result[name] = list(digests)
         return result
     except (OSError, ValueError, KeyError, TypeError):
-        raise OutputError(f"{path} is not a manifest dancebots can read, so dancebots does "
+        raise OutputError(f"{path} is not a {what} dancebots can read, so dancebots does "
                           "not know which files there are its own; choose another --out") \
             from None
 
 
-def _previous_files(target: Path) -> dict[str, list[str]]:
-    """Check that the earlier run's files in ``target`` are as dancebots left them."""
-    previous = _read_manifest(target)
-    for name, digests in previous.items():
-        path = target / name
-        if not os.path.lexists(path):
-            continue
-        if path.is_symlink() or not path.is_file() or _sha256(path) not in digests:
-            raise OutputError(f"{path} was changed since dancebots wrote it; move it away "
-                              "(dancebots replaces only its own unchanged files) or choose "
-                              "another --out")
-    return previous
+def _ours(path: Path, digests: Sequence[str]) -> bool:
+    """Is ``path`` a regular file (not a link) whose content dancebots wrote?"""
+    return (not path.is_symlink() and path.is_file() and _sha256(path) in digests)
+
+
+def _foreign(directory: Path, names: Sequence[str], record: Mapping[str, list[str]],
+             ) -> Path | None:
+    """The first of ``names`` in ``directory`` that exists and is not dancebots's own
+    unchanged file (per ``record``), or None."""
+    for name in names:
+        path = directory / name
+        if os.path.lexists(path) and not _ours(path, record.get(name, ())):
+            return path
+    return None
+
+
+def _write_json(path: Path, data: Any) -> None:
+    """Write JSON atomically through a new temporary file (never through a link)."""
+    handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(json.dumps(data, indent=2) + "\n")
+        os.chmod(name, 0o666 & ~_umask())
+        os.replace(name, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(name)
 
 
 @dataclass(frozen=True, slots=True)
@@ -242,13 +295,27 @@ class StagedOutput:
         """Move the staged files into the target. A target that did not exist is renamed
         into place at once; in an earlier run's directory each file replaces its namesake
         (the earlier run's files stay intact until the new run is complete) and files of
-        the earlier run that this one did not write are removed. Nothing else is touched."""
+        the earlier run that this one did not write are removed. Nothing else is touched:
+        if a file at one of these names was changed or created during the run, nothing is
+        replaced and the new files are kept beside it (an :class:`OutputError` says where)."""
         new = {name: [_sha256(self.staging / name)] for name in written}
         manifest = {"dancebots": version, "command": self.command, "files": new}
         if self.previous is None:
             _write_json(self.staging / MANIFEST, manifest)
-            self.staging.rename(self.target)
+            try:
+                self.staging.rename(self.target)
+            except OSError:
+                kept = self._keep(self.target.parent / f"{self.target.name}.unsaved-")
+                raise OutputError(f"{self.target} was made by someone else during the run, "
+                                  f"so the new run was not moved there; its files are in "
+                                  f"{kept}") from None
             return
+        changed = _foreign(self.target, written, self.previous)
+        if changed is not None:
+            _write_json(self.staging / MANIFEST, manifest)  # the kept run is a run directory
+            kept = self._keep(self.target / "unsaved-run-")
+            raise OutputError(f"{changed} was changed or made during the run, so nothing in "
+                              f"{self.target} was replaced; the new run's files are in {kept}")
         # a crash from here on leaves files that the manifest still calls ours
         interim = {name: sorted({*self.previous.get(name, []), *new.get(name, [])})
                    for name in {*self.previous, *new}}
@@ -257,11 +324,18 @@ class StagedOutput:
             os.replace(self.staging / name, self.target / name)
         for name, digests in self.previous.items():
             old = self.target / name
-            if name not in new and old.is_file() and not old.is_symlink() and \
-                    _sha256(old) in digests:
+            if name not in new and _ours(old, digests):
                 old.unlink()
         _write_json(self.target / MANIFEST, manifest)
         shutil.rmtree(self.staging)
+
+    def _keep(self, prefix: Path) -> Path:
+        """Move the staging directory to a new visible directory named ``prefix...``."""
+        kept = Path(tempfile.mkdtemp(prefix=prefix.name, dir=prefix.parent))
+        for entry in self.staging.iterdir():
+            os.replace(entry, kept / entry.name)
+        self.staging.rmdir()
+        return kept
 
     def abandon(self) -> None:
         """Remove the staging directory and the parents :func:`stage_output` created."""
@@ -271,19 +345,15 @@ class StagedOutput:
                 directory.rmdir()  # only if still empty
 
 
-def _write_json(path: Path, data: Any) -> None:
-    temporary = path.with_name(f".{path.name}.tmp")
-    temporary.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
-    os.replace(temporary, path)
-
-
-def stage_output(target: Path, command: str) -> StagedOutput:
+def stage_output(target: Path, command: str, names: Sequence[str] = ()) -> StagedOutput:
     """Check that ``target`` may receive a run's outputs and make the staging directory.
 
-    Refused with an :class:`OutputError`: the working directory or one above it, a symbolic
-    link, something that is not a directory, a non-empty directory without a dancebots
-    manifest, an earlier run whose files were changed since, and a place that cannot be
-    written. Missing parents are created (and removed again by :meth:`StagedOutput.abandon`).
+    names: every file name the command may write there. Refused with an
+    :class:`OutputError`: the working directory or one above it, a symbolic link, something
+    that is not a directory, a non-empty directory without a dancebots manifest, an earlier
+    run whose files were changed since, a file at one of ``names`` that dancebots did not
+    write, and a place that cannot be written. Missing parents are created (and removed
+    again by :meth:`StagedOutput.abandon`).
     """
     shown = str(target)
     if _is_working_directory_or_above(target):
@@ -297,8 +367,18 @@ def stage_output(target: Path, command: str) -> StagedOutput:
         if not target.is_dir():
             raise OutputError(f"--out {shown} exists and is not a directory; choose another "
                               "--out")
-        if (target / MANIFEST).exists():
-            previous = _previous_files(target)
+        if os.path.lexists(target / MANIFEST):
+            previous = _read_record(target / MANIFEST, "manifest")
+            changed = _foreign(target, list(previous), previous)
+            if changed is not None:
+                raise OutputError(f"{changed} was changed since dancebots wrote it; move it "
+                                  "away (dancebots replaces only its own unchanged files) or "
+                                  "choose another --out")
+            clash = _foreign(target, names, previous)
+            if clash is not None:
+                raise OutputError(f"{clash} is not a file of the earlier run (its "
+                                  f"{MANIFEST} does not list it), and this run would write "
+                                  "it; move it away or choose another --out")
         elif any(target.iterdir()):
             hint = (" (it looks like a run of an older dancebots: delete it if you no longer "
                     "need it)" if (target / "metrics.json").exists() else "")
@@ -322,9 +402,7 @@ def stage_output(target: Path, command: str) -> StagedOutput:
         home = target if previous is not None else target.parent
         prefix = ".dancebots-partial-" if previous is not None else f".{target.name}.partial-"
         staging = Path(tempfile.mkdtemp(prefix=prefix, dir=home))
-        umask = os.umask(0)
-        os.umask(umask)
-        staging.chmod(0o777 & ~umask)  # mkdtemp makes it private; a run's outputs are not
+        staging.chmod(0o777 & ~_umask())  # mkdtemp makes it private; a run's outputs are not
     except OSError as exc:
         for directory in created:
             with contextlib.suppress(OSError):
@@ -334,30 +412,32 @@ def stage_output(target: Path, command: str) -> StagedOutput:
     return StagedOutput(target, staging, command, previous, tuple(created))
 
 
-def write_file(path: Path, write: Callable[[Path], None], marker: bytes) -> None:
+IMAGE_RECORD = ".dancebots-images.json"
+"""Beside images that ``dancebots plan`` wrote: their names and SHA-256, so that only its own
+unchanged images are ever replaced."""
+
+
+def write_file(path: Path, write: Callable[[Path], None], version: str) -> None:
     """Write one file through a temporary file beside it, replaced into place when complete.
 
-    An existing file is replaced only if dancebots wrote it (its content holds ``marker``);
-    directories, symbolic links and other people's files are refused with an
-    :class:`OutputError`.
+    An existing file is replaced only if dancebots wrote it and nobody changed it since (its
+    SHA-256 is in the directory's :data:`IMAGE_RECORD`); directories, symbolic links and
+    other files are refused with an :class:`OutputError`.
     """
     shown = str(path)
     if path.is_symlink():
         raise OutputError(f"{shown} is a symbolic link; give the path of a file")
     if path.is_dir():
         raise OutputError(f"{shown} is a directory; give a file name, e.g. {path / 'plan.png'}")
-    if path.exists():
-        try:
-            with open(path, "rb") as handle:
-                ours = marker in handle.read(64 * 1024 * 1024)
-        except OSError as exc:
-            raise OutputError(f"cannot read {shown}: {exc.strerror or exc}") from None
-        if not ours:
-            raise OutputError(f"{shown} exists and was not written by dancebots; remove it or "
-                              "choose another name")
     directory = path.parent if str(path.parent) else Path(".")
     if not directory.is_dir():
         raise OutputError(f"cannot write {shown}: the directory {directory} does not exist")
+    record_path = directory / IMAGE_RECORD
+    record = (_read_record(record_path, "record of images") if os.path.lexists(record_path)
+              else {})
+    if os.path.lexists(path) and not _ours(path, record.get(path.name, ())):
+        raise OutputError(f"{shown} exists and was not written by dancebots (or was changed "
+                          "since); remove it or choose another name")
     try:
         handle_number, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
                                                dir=directory)
@@ -368,7 +448,10 @@ def write_file(path: Path, write: Callable[[Path], None], marker: bytes) -> None
     try:
         write(temporary)
         temporary.chmod(0o666 & ~_umask())
+        digest = _sha256(temporary)
         os.replace(temporary, path)
+        _write_json(record_path, {"dancebots": version, "files": {
+            **record, path.name: [digest]}})
     except OSError as exc:
         raise OutputError(f"cannot write {shown}: {exc.strerror or exc}") from None
     finally:

@@ -24,6 +24,7 @@ from dancebots.cli.common import (
     in_range,
     print_verdict,
     progress,
+    raise_if_interrupted,
     refuse,
     short_path,
     stage_output,
@@ -55,6 +56,8 @@ CONTROLLERS = ("pid", "vo")
 LEADERS = ("person", "robot")
 """``sim.queue.LEADERS``."""
 PROFILES = ("ideal", "realistic")
+OUTPUT_NAMES = ("log.csv", "queue.png", "animation.gif", "animation.mp4", "metrics.json")
+"""Every file a queue run may write into its output directory (besides the manifest)."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -121,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
                          reciprocal=args.rvo, gains=args.gains, leader=args.leader)
     target = Path(args.out or f"out/follow-{args.detector}-{args.controller}")
     try:
-        staged = stage_output(target, NAME)
+        staged = stage_output(target, NAME, OUTPUT_NAMES)
     except OutputError as exc:
         return refuse(NAME, args.json, str(exc))
     console = Console(stderr=True, soft_wrap=True)
@@ -138,7 +141,15 @@ def run(args: argparse.Namespace) -> int:
         verdict = queue_verdict(metrics)
         written = _write(result, metrics, verdict, staged.staging, not args.no_animation,
                          console)
+        raise_if_interrupted()  # a Ctrl-C swallowed on the way: do not replace the earlier run
         staged.commit(written, __version__)
+    except OutputError as exc:  # the outputs could not be put in place; nothing was lost
+        staged.abandon()
+        return refuse(NAME, args.json, str(exc))
+    except OSError as exc:  # e.g. a full disk while writing: the earlier run is intact
+        staged.abandon()
+        return refuse(NAME, args.json, f"cannot write the outputs to {target}: "
+                      f"{exc.strerror or exc}; nothing there was changed")
     except BaseException:
         staged.abandon()
         raise

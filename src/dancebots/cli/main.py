@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import _thread
 import argparse
 import os
 import signal
@@ -16,7 +15,13 @@ import dancebots.cli.plan as plan_command
 import dancebots.cli.ros as ros_command
 import dancebots.cli.run as run_command
 from dancebots import __version__
-from dancebots.cli.common import EXIT_INTERRUPTED
+from dancebots.cli.common import (
+    EXIT_INTERRUPTED,
+    interrupted,
+    on_interrupt,
+    raise_if_interrupted,
+    reset_interrupt,
+)
 
 __all__ = ["build_parser", "main"]
 
@@ -58,29 +63,30 @@ def _caused_by_interrupt(error: BaseException) -> bool:
     return False
 
 
-def _interrupt_after_finalizer(unraisable: sys.UnraisableHookArgs) -> None:
-    """Ctrl-C that lands in a finalizer (``__del__``, e.g. numba's llvmlite) would be printed
-    as "Exception ignored" and lost: re-deliver it to the main thread's next Python step."""
-    if isinstance(unraisable.exc_value, KeyboardInterrupt):
-        _thread.interrupt_main()
-        return
-    sys.__unraisablehook__(unraisable)
+def _finalizer_error(unraisable: sys.UnraisableHookArgs) -> None:
+    """A Ctrl-C that lands in a finalizer (``__del__``, e.g. numba's llvmlite) is not printed
+    as "Exception ignored": :func:`on_interrupt` has noted it and the command stops at its next
+    step. Other errors in finalizers are reported as Python does."""
+    if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+        sys.__unraisablehook__(unraisable)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``dancebots ARGS``; returns the exit status (argparse exits 2 on bad arguments)."""
+    reset_interrupt()
     if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
-        signal.signal(signal.SIGINT, signal.default_int_handler)  # Ctrl-C: KeyboardInterrupt
-        sys.unraisablehook = _interrupt_after_finalizer
+        signal.signal(signal.SIGINT, on_interrupt)  # Ctrl-C: KeyboardInterrupt, and noted
+    sys.unraisablehook = _finalizer_error
     try:
         args = build_parser().parse_args(argv)
         status: int = args.handler(args)
+        raise_if_interrupted()  # a Ctrl-C that something swallowed
         return status
     except KeyboardInterrupt:
         print("dancebots: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except SystemError as error:  # Ctrl-C inside a numba kernel surfaces as a SystemError
-        if not _caused_by_interrupt(error):
+        if not _caused_by_interrupt(error) and not interrupted():
             raise
         print("dancebots: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED

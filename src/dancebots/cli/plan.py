@@ -22,7 +22,8 @@ DESCRIPTION = ("Draw the plan of a choreography: the virtual leaders' paths, eve
                "desired path and its slots, in the world when one is given.")
 
 CREATOR = "dancebots plan"
-"""Written into the image's metadata; an existing image is replaced only if it holds this."""
+"""Written into the image's metadata (who made it; replacing is decided by
+``cli.common.IMAGE_RECORD``)."""
 FORMATS = ("png", "svg", "pdf")
 
 
@@ -34,6 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from dancebots import __version__
     from dancebots.diagnostics import Diagnostic, has_errors
     from dancebots.loading import load_show
 
@@ -65,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     figure = plot_plan(plan, world, transform)
     try:
         write_file(Path(args.out), lambda path: figure.savefig(
-            path, dpi=120, format=kind, metadata=metadata), CREATOR.encode())
+            path, dpi=120, format=kind, metadata=metadata), __version__)
     except OutputError as exc:
         return fail(NAME, str(exc))
     finally:

@@ -27,6 +27,7 @@ from dancebots.cli.common import (
     print_diagnostics,
     print_verdict,
     progress,
+    raise_if_interrupted,
     refuse,
     short_path,
     stage_output,
@@ -49,6 +50,9 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
                "robot in its error state, a robot far from its final slot); 2 when the input "
                "is invalid.")
 
+OUTPUT_NAMES = ("log.csv", "speeds_distances.png", "trajectories.png", "animation.gif",
+                "animation.mp4", "sound.wav", "metrics.json")
+"""Every file a run may write into its output directory (besides the manifest)."""
 PROFILES = ("ideal", "realistic")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
 DETECTORS = ("compensated", "thesis")
@@ -121,11 +125,18 @@ def run(args: argparse.Namespace) -> int:
                         "scripts/dev.sh installs it)")
     target = Path(args.out) if args.out else Path("out") / Path(args.scenario).stem
     try:
-        staged = stage_output(target, NAME)
+        staged = stage_output(target, NAME, OUTPUT_NAMES)
     except OutputError as exc:
         return refuse(NAME, args.json, str(exc))
     try:
         return _simulate_and_write(args, show, (arena, placement), staged, console)
+    except OutputError as exc:  # the outputs could not be put in place; nothing was lost
+        staged.abandon()
+        return refuse(NAME, args.json, str(exc))
+    except OSError as exc:  # e.g. a full disk while writing: the earlier run is intact
+        staged.abandon()
+        return refuse(NAME, args.json, f"cannot write the outputs to {target}: "
+                      f"{exc.strerror or exc}; nothing there was changed")
     except BaseException:
         staged.abandon()
         raise
@@ -168,6 +179,7 @@ def _simulate_and_write(args: argparse.Namespace, show: LoadedShow,
     verdict = run_verdict(metrics, args.final_tolerance or FINAL_SLOT_TOLERANCE)
     written = _write_outputs(result, metrics, verdict, staged.staging, console,
                              not args.no_animation, args.sound)
+    raise_if_interrupted()  # a Ctrl-C swallowed on the way: do not replace the earlier run
     staged.commit(written, __version__)
     if args.json:
         print(json.dumps({"ran": True, "output": str(staged.target), "files": written,
