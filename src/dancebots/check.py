@@ -608,6 +608,15 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
                 samples: Samples | None, start_tolerance: float,
                 period: float = 0.1) -> ShowPlacement:
     diagnostics: list[Diagnostic] = []
+    size = len(plan.robots) * plan.duration
+    if size > MAX_SIMULATED_ROBOT_SECONDS:
+        where = plan.scenario.robots_span
+        diagnostics.append(Diagnostic(
+            plan.scenario.path, where.line, where.col, Severity.ERROR,
+            f"the show is too large to simulate: {len(plan.robots)} robots for "
+            f"{plan.duration:.0f} s is {size:,.0f} robot-seconds (at most "
+            f"{MAX_SIMULATED_ROBOT_SECONDS:,}; the simulator keeps about 12 kB per "
+            "robot-second)", "simulate fewer robots or a shorter part of the show"))
     if world is None:
         transform = Pose(0.0, 0.0, 0.0)
         starts = _slot_starts(plan, transform)
@@ -643,6 +652,11 @@ def _slot_starts(plan: Plan, transform: Pose) -> FloatArray:
                      transform.y + s * slots[:, 0] + c * slots[:, 1],
                      slots[:, 2] + transform.theta], axis=1)
 
+
+MAX_SIMULATED_ROBOT_SECONDS = 200_000
+"""Robots times show duration (s) that the simulator takes on (about 2.3 GB): 100 robots for
+33 minutes, 1,000 robots for 3 minutes. Larger shows are errors of ``check`` and refused by
+``run`` before anything is simulated."""
 
 MAX_START_OVERLAPS = 20
 """Pairs of robots overlapping at their start poses that are named one by one; the rest are

@@ -26,6 +26,9 @@ __all__ = [
 MAX_INPUT_BYTES = 2 * 1024 * 1024
 """Text inputs larger than this are refused (a choreography of 2 MiB is ~200,000 lines)."""
 
+MAX_SNIPPET = 100
+"""Characters of a source line shown under a diagnostic; longer lines are cut around it."""
+
 MAX_REPORTED = 100
 """At most this many diagnostics are printed; the rest are counted."""
 
@@ -62,11 +65,19 @@ class Diagnostic:
         if source_lines is not None and 1 <= self.line <= len(source_lines):
             text = _printable(source_lines[self.line - 1])
             if text.strip():
+                col = self.col
+                width = max(1, (self.end_col or col + 1) - col)
+                if len(text) > MAX_SNIPPET:  # a window around the problem, marked with ...
+                    start = max(0, min(col - 1 - MAX_SNIPPET // 3, len(text) - MAX_SNIPPET))
+                    shown = text[start:start + MAX_SNIPPET]
+                    prefix = "..." if start > 0 else ""
+                    suffix = "..." if start + MAX_SNIPPET < len(text) else ""
+                    text, col = prefix + shown + suffix, col - start + len(prefix)
+                    width = min(width, max(1, len(prefix) + len(shown) - col + 1))
                 gutter = f"{self.line:>5} | "
                 parts.append(gutter + text)
-                width = max(1, (self.end_col or self.col + 1) - self.col)
-                width = min(width, max(1, len(text) - self.col + 1))
-                parts.append(" " * (len(gutter) - 2) + "| " + " " * (self.col - 1) + "^" * width)
+                width = min(width, max(1, len(text) - col + 1))
+                parts.append(" " * (len(gutter) - 2) + "| " + " " * (col - 1) + "^" * width)
         if self.hint:
             parts.append(f"  hint: {self.hint}")
         return "\n".join(parts)
