@@ -263,3 +263,10 @@ def test_the_bundled_and_example_worlds_are_possible(examples: Path, data: Path)
     for path in [*bundled.glob("*.toml"), *(examples / "worlds").glob("*.toml"),
                  data / "worlds" / "two_robots.toml"]:
         load_world(str(path))
+
+
+def test_a_positive_key_out_of_range_states_its_real_range() -> None:
+    world, problems = parse_world("[room]\nsize = 10\nwall_height = 1e308\n", "w.toml")
+    assert world is None
+    assert [(d.line, d.message) for d in problems] == [
+        (3, "'wall_height' must be greater than 0 and at most 100")]

@@ -309,8 +309,9 @@ class _World:
             return None
         value = _float(value)
         if value is None:
-            self.error(position, f"'{key}' must be between {low:g} and {high:g}",
-                       "is a digit too many?")
+            bounds = (f"greater than 0 and at most {high:g}" if positive and low <= 0 else
+                      f"between {low:g} and {high:g}")
+            self.error(position, f"'{key}' must be {bounds}", "is a digit too many?")
             return None
         ranges = "see the range of each key in docs/worlds.md"
         if not math.isfinite(value):
@@ -321,7 +322,9 @@ class _World:
             self.error(position, f"'{key}' must be greater than 0", ranges)
             return None
         if not low <= value <= high:
-            self.error(position, f"'{key}' must be between {low:g} and {high:g}", ranges)
+            bounds = (f"greater than 0 and at most {high:g}" if positive and low <= 0 else
+                      f"between {low:g} and {high:g}")
+            self.error(position, f"'{key}' must be {bounds}", ranges)
             return None
         return value
 
