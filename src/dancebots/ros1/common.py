@@ -38,12 +38,12 @@ def load_show(scenario: str, world: str | None = None, vmax: float | None = None
               ) -> tuple[Plan, World | None]:
     """The plan every robot computes identically (same scenario, world and vmax), or exit
     with the scenario's positioned diagnostics on stderr (exit status 2)."""
-    from dancebots.cli.common import print_diagnostics
+    from dancebots.diagnostics import format_diagnostics
     from dancebots.loading import load_show as load
 
     show = load(scenario, world or None, vmax or None)
     if show.plan is None or not show.valid:
-        print_diagnostics(show.diagnostics, show.sources)
+        print(format_diagnostics(show.diagnostics, dict(show.sources)), file=sys.stderr)
         sys.exit(2)
     return show.plan, show.world
 
