@@ -5,17 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dancebots.check import compile_scenario
 from dancebots.control.follower import FollowerParams
-from dancebots.plan import Plan
 from dancebots.robot import Command, RobotBrain
-
-
-def plan_of(text: str) -> Plan:
-    _, plan, diagnostics = compile_scenario(text, "test.dance")
-    assert plan is not None, diagnostics
-    return plan
-
+from tests_support import plan_of
 
 PLAN_TEXT = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 90\n"
 

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from dancebots.check import compile_scenario
-from dancebots.plan import Plan
+from dancebots.plan import Plan, PlanParameters
 
 
-def plan_of(text: str) -> Plan:
-    _, plan, diagnostics = compile_scenario(text, "test.dance")
+def plan_of(text: str, parameters: PlanParameters | None = None,
+            path: str = "test.dance") -> Plan:
+    """The plan of a scenario text that must compile (its diagnostics otherwise)."""
+    _, plan, diagnostics = compile_scenario(text, path, parameters)
     assert plan is not None, diagnostics
     return plan

@@ -17,14 +17,7 @@ from dancebots.diagnostics import Diagnostic
 from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
 from dancebots.plan.planner import _step_budget
 from dancebots.scenario import parse_scenario
-
-
-def plan_of(text: str, parameters: PlanParameters | None = None) -> Plan:
-    scenario, diagnostics = parse_scenario(text, "test.dance")
-    assert scenario is not None, diagnostics
-    plan, diagnostics = build_plan(scenario, parameters)
-    assert plan is not None, diagnostics
-    return plan
+from tests_support import plan_of
 
 
 def fingerprint(plan: Plan) -> str:

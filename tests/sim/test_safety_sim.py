@@ -7,21 +7,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dancebots.check import compile_scenario
-from dancebots.plan import Plan
 from dancebots.safety import STOP_SENTENCE
 from dancebots.sim import REALISTIC, SimConfig, prepare_show, simulate
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.simulator import STATUS, Fault, RunResult
 from dancebots.world import parse_world
+from tests_support import plan_of
 
 STRAIGHT = "robots R1 R2\nrow R1,R2 0 1.2\nmove 6 0\n"
 
-
-def plan_of(text: str) -> Plan:
-    _, plan, diagnostics = compile_scenario(text, "test.dance")
-    assert plan is not None, diagnostics
-    return plan
 
 
 def run(text: str, config: SimConfig, world_text: str | None = None) -> RunResult:

@@ -16,7 +16,7 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from dancebots.check import check_plan, compile_scenario
+from dancebots.check import check_plan
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import FloatArray, footprint_corners
 from dancebots.plan import Plan
@@ -33,12 +33,11 @@ from dancebots.world import (
     square_room,
     start_conflicts,
 )
+from tests_support import plan_of
 
 
-def plan_of(text: str) -> Plan:
-    _, plan, diagnostics = compile_scenario(text, "show.dance")
-    assert plan is not None, diagnostics
-    return plan
+def plan_of_show(text: str) -> Plan:
+    return plan_of(text, path="show.dance")
 
 
 def errors_of(plan: Plan, world: World | None) -> tuple[Diagnostic, ...]:
@@ -55,7 +54,7 @@ def setup_error(plan: Plan, world: World | None) -> SetupError | None:
 
 
 def test_world_must_hold_the_scenarios_robots() -> None:
-    plan = plan_of("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n")
+    plan = plan_of_show("robots R1 R2\nrow R1,R2 0 1.2\nmove 1 0\n")
     world, _ = parse_world('[[robots]]\nname = "R1"\nx = 5\ny = 5\n[[robots]]\nname = "X"\n'
                            'x = 3\ny = 3\n', "w.toml")
     assert world is not None
@@ -67,7 +66,7 @@ def test_world_must_hold_the_scenarios_robots() -> None:
 
 
 def test_show_must_fit_the_room() -> None:
-    plan = plan_of("robots R1 R2\nrow R1,R2 0 1.2\nmove 12 0\n")
+    plan = plan_of_show("robots R1 R2\nrow R1,R2 0 1.2\nmove 12 0\n")
     world, _ = parse_world('[room]\nsize = 10\n[[robots]]\nname = "R1"\nx = 1\ny = 5.6\n'
                            '[[robots]]\nname = "R2"\nx = 1\ny = 4.4\n', "small.toml")
     assert world is not None
@@ -81,7 +80,7 @@ def test_show_must_fit_the_room() -> None:
 
 def test_robots_on_each_other_cannot_start() -> None:
     """They used to be simulated stuck together for the whole show."""
-    plan = plan_of("robots R1 R2\nrow R1,R2 0 0.3\nmove 3 0\n")
+    plan = plan_of_show("robots R1 R2\nrow R1,R2 0 0.3\nmove 3 0\n")
     with pytest.raises(SetupError) as caught:
         prepare_show(plan, None)
     assert str(caught.value) == "show.dance:2:1: error: R1 and R2 overlap at their start poses"
@@ -90,7 +89,7 @@ def test_robots_on_each_other_cannot_start() -> None:
 def test_the_readme_example_is_refused_by_both(examples: Path, data: Path) -> None:
     """`check examples/thesis_7_1.dance --world tests/data/worlds/two_robots.toml` used to
     pass with a warning while `run` refused the same files."""
-    plan = plan_of((examples / "thesis_7_1.dance").read_text())
+    plan = plan_of_show((examples / "thesis_7_1.dance").read_text())
     world = load_world(str(data / "worlds" / "two_robots.toml"))
     errors = errors_of(plan, world)
     assert [(d.line, d.message) for d in errors] == [
@@ -104,7 +103,7 @@ def test_the_readme_example_is_refused_by_both(examples: Path, data: Path) -> No
 def test_the_examples_set_up_as_they_check(examples: Path, world_name: str | None) -> None:
     world = load_world(str(examples / "worlds" / world_name)) if world_name else None
     for path in sorted(examples.glob("*.dance")):
-        plan = plan_of(path.read_text())
+        plan = plan_of_show(path.read_text())
         errors = errors_of(plan, world)
         refused = setup_error(plan, world)
         assert (refused.diagnostics if refused else ()) == errors, path
@@ -114,7 +113,7 @@ def test_the_examples_set_up_as_they_check(examples: Path, world_name: str | Non
 
 def test_the_bundled_open_day_show_sets_up() -> None:
     bundled = Path(__file__).resolve().parents[2] / "src" / "dancebots" / "data"
-    plan = plan_of((bundled / "open_day.dance").read_text())
+    plan = plan_of_show((bundled / "open_day.dance").read_text())
     world = load_world(str(bundled / "open_day.toml"))
     assert errors_of(plan, world) == ()
     _, placement = prepare_show(plan, world)
@@ -199,7 +198,7 @@ def worlds_and_shows(draw: st.DrawFn) -> tuple[str, str]:
     if placed == "slots":  # the first formation, turned and put somewhere in the room
         turn = draw(yaw)
         centre = draw(st.integers(20, 80)) * size / 100, draw(st.integers(20, 80)) * size / 100
-        plan = plan_of(text)
+        plan = plan_of_show(text)
         c, s = np.cos(np.radians(turn)), np.sin(np.radians(turn))
         slots = [plan.desired_poses(name, np.zeros(1))[0] for name in names]
         robots = [(kind, round(centre[0] + c * x - s * y, 4), round(centre[1] + s * x + c * y, 4),
@@ -224,7 +223,7 @@ def _discs(spectators: Sequence[Spectator]) -> FloatArray:
 def test_check_without_errors_is_exactly_a_show_that_sets_up(case: tuple[str, str]) -> None:
     text, show_text = case
     world, world_problems = parse_world(text, "w.toml")
-    plan = plan_of(show_text)
+    plan = plan_of_show(show_text)
     if world is None:
         # an impossible world: check reports it (positioned) and run never gets a world
         event("impossible world")
@@ -311,7 +310,7 @@ def test_setup_samples_a_long_show_as_check_does(monkeypatch: pytest.MonkeyPatch
     import dancebots.check
 
     monkeypatch.setattr(dancebots.check, "MAX_ROBOT_SAMPLES", 200)
-    plan = plan_of("robots R1 R2\nrow R1,R2 0 1.2\nmove 12 0\n")
+    plan = plan_of_show("robots R1 R2\nrow R1,R2 0 1.2\nmove 12 0\n")
     world, _ = parse_world('[room]\nsize = 10\n[[robots]]\nname = "R1"\nx = 1\ny = 5.6\n'
                            '[[robots]]\nname = "R2"\nx = 1\ny = 4.4\n', "small.toml")
     assert world is not None

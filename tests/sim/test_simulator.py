@@ -8,8 +8,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dancebots.check import compile_scenario
-from dancebots.plan import Plan
 from dancebots.sim import (
     IDEAL,
     REALISTIC,
@@ -23,12 +21,7 @@ from dancebots.sim.collision import Boundaries, rectangles_overlap
 from dancebots.sim.kinematics import actuate, fresh_commands
 from dancebots.sim.simulator import _corners
 from dancebots.world import parse_world
-
-
-def plan_of(text: str) -> Plan:
-    _, plan, diagnostics = compile_scenario(text, "test.dance")
-    assert plan is not None, diagnostics
-    return plan
+from tests_support import plan_of
 
 
 def run(text: str, config: SimConfig | None = None) -> RunResult:
