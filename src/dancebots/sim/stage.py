@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import astuple, dataclass
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,7 +34,11 @@ from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.spectators import spectator_discs
 
-__all__ = ["STEP_BACK", "STEP_BACK_AFTER", "CollisionEvent", "Stage", "period_due"]
+__all__ = ["STEP_BACK", "STEP_BACK_AFTER", "CollisionEvent", "ContactKind", "Stage",
+           "period_due"]
+
+ContactKind = Literal["robot", "wall", "obstacle", "spectator"]
+"""What a robot touched (a closed choice: mypy checks every use)."""
 
 FloatArray = NDArray[np.float64]
 
@@ -46,12 +51,12 @@ STEP_BACK = 1.5
 @dataclass(frozen=True, slots=True)
 class CollisionEvent:
     """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
-    obstacle's name); ``kind`` is "robot", "wall" or "obstacle"; (x, y) the robot's centre."""
+    obstacle's name, or a spectator's); ``kind`` says which; (x, y) the robot's centre."""
 
     time: float
     robot: str
     other: str
-    kind: str
+    kind: ContactKind
     x: float
     y: float
 
@@ -135,7 +140,7 @@ class Stage:
         proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
         corners = self._footprints(proposed)
         blocked = np.zeros(count, dtype=bool)
-        contacts: list[tuple[int, int | str, str]] = []
+        contacts: list[tuple[int, int | str, ContactKind]] = []
         pairs = overlapping_pairs(corners, self.reach)
         if pairs:
             # a robot is stopped when its move runs into where the other one stands now;
