@@ -73,3 +73,21 @@ def test_brain_slows_down_before_the_stop_distance() -> None:
     _, command, events = brain.step(brain.initial_state(), 1.0, (0.0, 0.0, 0.0), obstacle)
     assert command.linear == pytest.approx(0.25)
     assert events == ()
+
+
+def test_brain_for_builds_the_same_brain_for_the_simulator_and_ros() -> None:
+    """One factory: a robot type's footprint and limits and the options reach the brain."""
+    from dancebots.robot import BrainOptions, brain_for
+    from dancebots.world import BUILTIN_ROBOT_TYPES
+
+    plan = plan_of(PLAN_TEXT)
+    husky = BUILTIN_ROBOT_TYPES["HUSKY"]
+    brain = brain_for(plan, "R2", husky, BrainOptions(lidar=False, detector="thesis",
+                                                      force_radius=0.5, force_steering="thesis"))
+    assert (brain.robot, brain.follower) == ("R2", "thesis")
+    assert (brain.params.vmax, brain.params.max_linear, brain.params.max_angular) == (
+        plan.parameters.vmax, husky.max_speed, husky.max_angular_speed)
+    assert brain.params.force_steering == "thesis"
+    assert (brain.sensing.length, brain.sensing.width, brain.sensing.lidar,
+            brain.sensing.detector, brain.sensing.force_radius) == (
+        husky.length, husky.width, False, "thesis", 0.5)

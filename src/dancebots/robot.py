@@ -35,14 +35,17 @@ from dancebots.perception.obstacles import (
 )
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
+from dancebots.world import RobotType
 
 __all__ = [
     "DETECTORS",
     "FOLLOWERS",
+    "BrainOptions",
     "BrainState",
     "Command",
     "RobotBrain",
     "SensingConfig",
+    "brain_for",
 ]
 
 FOLLOWERS = ("thesis",)
@@ -267,3 +270,33 @@ class RobotBrain:
 def _record_time(record: tuple[float, float, float, float]) -> float:
     """The time of a pose record (t, x, y, theta)."""
     return record[0]
+
+
+@dataclass(frozen=True, slots=True)
+class BrainOptions:
+    """How a robot's brain works, the same in the simulator and on a real robot.
+
+    follower: the follower law (``FOLLOWERS``); lidar: False for a robot without obstacle
+    detection (no stops, no force field, no sensor-age check); detector: ``DETECTORS``;
+    force_radius: the virtual force field's reach, m (0: off); force_steering: how the force
+    steers (``FollowerParams.force_steering``).
+    """
+
+    follower: str = "thesis"
+    lidar: bool = True
+    detector: str = "compensated"
+    force_radius: float = 1.0
+    force_steering: str = "blend"
+
+
+def brain_for(plan: Plan, robot: str, robot_type: RobotType,
+              options: BrainOptions = BrainOptions()) -> RobotBrain:
+    """The brain of ``robot`` (a role of the plan) on a robot of ``robot_type`` (footprint and
+    limits): the one factory that the simulator and the ROS node both use, so that they
+    cannot drift apart."""
+    return RobotBrain(plan, robot, FollowerParams(
+        vmax=plan.parameters.vmax, max_linear=robot_type.max_speed,
+        max_angular=robot_type.max_angular_speed, force_steering=options.force_steering),
+        options.follower, sensing=SensingConfig(
+            robot_type.length, robot_type.width, lidar=options.lidar,
+            detector=options.detector, force_radius=options.force_radius))

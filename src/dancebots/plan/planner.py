@@ -159,7 +159,6 @@ class Plan:
     formations: tuple[PlannedFormation, ...]
     assignments: Mapping[str, tuple[tuple[float, int], ...]]
     duration: float
-    diagnostics: tuple[Diagnostic, ...] = field(default=())
 
     @property
     def robots(self) -> tuple[str, ...]:
@@ -363,7 +362,7 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
         for k, robot in enumerate(scenario.robots)
     }
     duration = max(ends)
-    plan = Plan(scenario, params, tuple(formations), assignments, duration, tuple(diagnostics))
+    plan = Plan(scenario, params, tuple(formations), assignments, duration)
     return plan, diagnostics
 
 

@@ -42,10 +42,9 @@ from geometry_msgs.msg import Twist
 from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Bool, String
 
-from dancebots.control.follower import FollowerParams
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.robot import BrainState, RobotBrain, SensingConfig
+from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.ros1.common import (
     NodeLife,
     QueuedLog,
@@ -67,6 +66,7 @@ from dancebots.sync import (
     new_agreement,
     show_time,
 )
+from dancebots.world import RobotType
 
 CONTROL_HZ = 10.0
 PUBLISH_HZ = 20.0
@@ -92,11 +92,10 @@ def main() -> None:
     try:
         agreement = new_agreement(role, plan.robots,
                                   str(rospy.get_param("~start_strategy", "agreed")))
-        brain = RobotBrain(plan, role, FollowerParams(
-            vmax=plan.parameters.vmax,
-            max_linear=float(rospy.get_param("~max_speed", kind.max_speed)),
-            max_angular=float(rospy.get_param("~max_angular_speed", kind.max_angular_speed))),
-            sensing=SensingConfig(length, width, lidar=use_lidar))
+        this_robot = RobotType(
+            kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
+            float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
+        brain = brain_for(plan, role, this_robot, BrainOptions(lidar=use_lidar))
     except ValueError as exc:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None

@@ -16,10 +16,9 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from dancebots.control.follower import FollowerParams
 from dancebots.geometry import Pose, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
-from dancebots.robot import BrainState, RobotBrain, SensingConfig
+from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.setup import Arena, Placement
@@ -149,13 +148,10 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
              progress: Progress | None = None) -> RunResult:
     """Run the show; ``progress(show_time, end_time)`` is called about once per second."""
     count = len(placement.robots)
-    brains = [RobotBrain(plan, robot, FollowerParams(
-        vmax=plan.parameters.vmax, max_linear=kind.max_speed,
-        max_angular=kind.max_angular_speed, force_steering=config.force_steering),
-        config.follower, sensing=SensingConfig(
-            kind.length, kind.width, lidar=config.lidar is not None, detector=config.detector,
-            force_radius=config.force_radius))
-        for robot, kind in zip(placement.robots, placement.types, strict=True)]
+    options = BrainOptions(config.follower, config.lidar is not None, config.detector,
+                           config.force_radius, config.force_steering)
+    brains = [brain_for(plan, robot, kind, options)
+              for robot, kind in zip(placement.robots, placement.types, strict=True)]
     states: list[BrainState] = [brain.initial_state() for brain in brains]
     stage = Stage(arena, placement, config.profile, config.dt, config.lidar,
                   config.command_timeout, config.seed, config.record_lidar)
