@@ -17,10 +17,16 @@ from __future__ import annotations
 import bisect
 import math
 from dataclasses import dataclass, field
+from typing import Literal, get_args
 
 import numpy as np
 
-from dancebots.control.follower import FollowerParams, FollowerState, thesis_follower_step
+from dancebots.control.follower import (
+    FollowerParams,
+    FollowerState,
+    ForceSteering,
+    thesis_follower_step,
+)
 from dancebots.geometry import Pose, points_to_world
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.fast import perceive_columns
@@ -37,20 +43,14 @@ from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.world import RobotType
 
-__all__ = [
-    "DETECTORS",
-    "FOLLOWERS",
-    "BrainOptions",
-    "BrainState",
-    "Command",
-    "RobotBrain",
-    "SensingConfig",
-    "brain_for",
-]
+__all__ = ["DETECTORS", "FOLLOWERS", "BrainOptions", "BrainState", "Command", "Detector",
+           "Follower", "RobotBrain", "SensingConfig", "brain_for"]
 
-FOLLOWERS = ("thesis",)
+Follower = Literal["thesis"]
+FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
 """Follower strategies by name; ``thesis`` is eq. 4.4 as written."""
-DETECTORS = ("thesis", "compensated")
+Detector = Literal["thesis", "compensated"]
+DETECTORS: tuple[Detector, ...] = get_args(Detector)
 """Obstacle detectors: ``thesis`` uses the latest cloud as if it were current (ch. 5.2);
 ``compensated`` moves its points by the robot's own motion since the cloud's stamp."""
 FORCE_GAIN = 0.02
@@ -88,7 +88,7 @@ class SensingConfig:
     length: float = 1.2
     width: float = 0.6
     lidar: bool = True
-    detector: str = "compensated"
+    detector: Detector = "compensated"
     force_radius: float = 1.0
     approach_gain: float = 1.0
     compiled: bool = True
@@ -135,7 +135,7 @@ class RobotBrain:
     """
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
-                 follower: str = "thesis", grid_period: float = 0.1,
+                 follower: Follower = "thesis", grid_period: float = 0.1,
                  sensing: SensingConfig | None = None) -> None:
         if follower not in FOLLOWERS:
             raise ValueError(f"unknown follower {follower!r}; choose from {', '.join(FOLLOWERS)}")
@@ -282,11 +282,11 @@ class BrainOptions:
     steers (``FollowerParams.force_steering``).
     """
 
-    follower: str = "thesis"
+    follower: Follower = "thesis"
     lidar: bool = True
-    detector: str = "compensated"
+    detector: Detector = "compensated"
     force_radius: float = 1.0
-    force_steering: str = "blend"
+    force_steering: ForceSteering = "blend"
 
 
 def brain_for(plan: Plan, robot: str, robot_type: RobotType,

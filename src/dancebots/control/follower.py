@@ -8,18 +8,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal, get_args
 
-__all__ = [
-    "ARRIVAL_GAIN",
-    "FollowerParams",
-    "FollowerState",
-    "thesis_follower_step",
-]
+__all__ = ["ARRIVAL_GAIN", "FORCE_STEERINGS", "FollowerParams", "FollowerState", "ForceSteering",
+           "thesis_follower_step"]
 
 
 ARRIVAL_GAIN = 1.5
 """Speed per metre of remaining distance when arriving at a standing leader, 1/s (eq. 4.1a)."""
 
+
+ForceSteering = Literal["thesis", "blend"]
+"""How the virtual force steers (see :class:`FollowerParams`)."""
+FORCE_STEERINGS: tuple[ForceSteering, ...] = get_args(ForceSteering)
 
 @dataclass(frozen=True, slots=True)
 class FollowerParams:
@@ -51,7 +52,7 @@ class FollowerParams:
     pop_distance: float = 0.30
     far_factor: float = 2.0
     arrival_distance: float = 0.10
-    force_steering: str = "blend"
+    force_steering: ForceSteering = "blend"
 
 
 @dataclass(frozen=True, slots=True)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,11 +35,12 @@ from numpy.typing import NDArray
 from dancebots.leader_follower.scan import Detection, to_robot
 
 __all__ = ["CONTROLLERS", "SEED_FIRST_GAINS", "SEED_TUNED_GAINS", "PidGains", "PidParams",
-           "PidState", "VoParams", "VoState", "feedback_linearization", "leader_robot_command",
-           "pid_step", "time_to_collision", "vo_step"]
+           "PidState", "QueueController", "VoParams", "VoState", "feedback_linearization",
+           "leader_robot_command", "pid_step", "time_to_collision", "vo_step"]
 
 FloatArray = NDArray[np.float64]
-CONTROLLERS = ("pid", "vo")
+QueueController = Literal["pid", "vo"]
+CONTROLLERS: tuple[QueueController, ...] = get_args(QueueController)
 
 
 @dataclass(frozen=True, slots=True)

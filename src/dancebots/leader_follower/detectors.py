@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field, replace
+from typing import Literal, get_args
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,11 +32,12 @@ from sklearn.cluster import DBSCAN
 from dancebots.leader_follower.kalman import kalman_predict, kalman_update
 from dancebots.leader_follower.scan import Detection, Scan, TrackedObject, to_odom
 
-__all__ = ["DETECTORS", "ClusterParams", "ClusterState", "TrackingParams", "TrackingState",
-           "bin_scan", "cluster_step", "scan_objects", "tracking_step"]
+__all__ = ["DETECTORS", "ClusterParams", "ClusterState", "QueueDetector", "TrackingParams",
+           "TrackingState", "bin_scan", "cluster_step", "scan_objects", "tracking_step"]
 
 FloatArray = NDArray[np.float64]
-DETECTORS = ("a1", "a2", "a2-track")
+QueueDetector = Literal["a1", "a2", "a2-track"]
+DETECTORS: tuple[QueueDetector, ...] = get_args(QueueDetector)
 """a1: clustering; a2: tracking with the seed's target rule; a2-track: tracking, target by
 its track (an addition)."""
 

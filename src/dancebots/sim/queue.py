@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,6 +24,7 @@ from dancebots.leader_follower.controllers import (
     SEED_TUNED_GAINS,
     PidParams,
     PidState,
+    QueueController,
     VoParams,
     VoState,
     leader_robot_command,
@@ -33,6 +34,7 @@ from dancebots.leader_follower.controllers import (
 from dancebots.leader_follower.detectors import (
     ClusterParams,
     ClusterState,
+    QueueDetector,
     TrackingParams,
     TrackingState,
     cluster_step,
@@ -46,12 +48,13 @@ from dancebots.sim.spectators import spectator_position, walk_duration
 from dancebots.sim.stage import CollisionEvent, Stage, period_due
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
 
-__all__ = ["LEADERS", "PID_GAINS", "QueueConfig", "QueueResult", "queue_placement",
+__all__ = ["LEADERS", "PID_GAINS", "Leader", "QueueConfig", "QueueResult", "queue_placement",
            "simulate_queue"]
 
 FloatArray = NDArray[np.float64]
 LEADER = "leader"
-LEADERS = ("person", "robot")
+Leader = Literal["person", "robot"]
+LEADERS: tuple[Leader, ...] = get_args(Leader)
 LEADER_ROBOT = "L"
 PID_GAINS = {"first": SEED_FIRST_GAINS, "tuned": SEED_TUNED_GAINS}
 KIDNAP_DISTANCE = 0.5
@@ -76,8 +79,8 @@ class QueueConfig:
     of the same type drives that path, timed as the person would walk it)."""
 
     robots: int = 3
-    detector: str = "a1"
-    controller: str = "pid"
+    detector: QueueDetector = "a1"
+    controller: QueueController = "pid"
     robot_type: RobotType = BUILTIN_ROBOT_TYPES["TURTLEBOT3"]
     standoff: float = 0.5
     spacing: float = 0.6
@@ -88,7 +91,7 @@ class QueueConfig:
     settle: float = 10.0
     reciprocal: bool = False
     gains: str = "first"
-    leader: str = "person"
+    leader: Leader = "person"
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -16,9 +16,17 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from dancebots.control.follower import ForceSteering
 from dancebots.geometry import Pose, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
-from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
+from dancebots.robot import (
+    BrainOptions,
+    BrainState,
+    Detector,
+    Follower,
+    RobotBrain,
+    brain_for,
+)
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.setup import Arena, Placement
@@ -71,11 +79,11 @@ class SimConfig:
     command_timeout: float = 0.1
     seed: int = 0
     settle: float = 20.0
-    follower: str = "thesis"
+    follower: Follower = "thesis"
     lidar: LidarConfig | None = field(default_factory=LidarConfig)
-    detector: str = "compensated"
+    detector: Detector = "compensated"
     force_radius: float = 1.0
-    force_steering: str = "blend"
+    force_steering: ForceSteering = "blend"
     faults: tuple[Fault, ...] = ()
     record_lidar: bool = False
 

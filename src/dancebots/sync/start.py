@@ -28,16 +28,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Literal, get_args
 
 from dancebots.sync.messages import StartProposal
 
 __all__ = ["MAX_CLOCK_OFFSET", "PLAUSIBLE_AHEAD", "PLAUSIBLE_BEHIND", "START_DELAY",
-           "START_STRATEGIES", "StartAgreement", "agreement_ready", "agreement_receive",
-           "implausible", "new_agreement", "show_time"]
+           "START_STRATEGIES", "StartAgreement", "StartStrategy", "agreement_ready",
+           "agreement_receive", "implausible", "new_agreement", "show_time"]
 
 START_DELAY = 4.0
 """Seconds between a robot's clock when it proposes and the start it proposes (thesis 4.2)."""
-START_STRATEGIES = ("thesis", "agreed")
+StartStrategy = Literal["thesis", "agreed"]
+START_STRATEGIES: tuple[StartStrategy, ...] = get_args(StartStrategy)
 MAX_CLOCK_OFFSET = 1.0
 """s: the largest offset between two robots' clocks the agreement tolerates (NTP on the
 robots' network keeps them within milliseconds; thesis 4.2)."""
@@ -62,7 +64,7 @@ class StartAgreement:
     valid proposal (``thesis``) or the latest proposal heard (``agreed``), s.
     """
 
-    strategy: str
+    strategy: StartStrategy
     role: str
     roles: frozenset[str]
     ready: bool = False
