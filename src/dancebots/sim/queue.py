@@ -43,6 +43,7 @@ from dancebots.leader_follower.detectors import (
 from dancebots.leader_follower.scan import Detection, Scan
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig, scan_ranges
+from dancebots.sim.recorder import Recorder
 from dancebots.sim.setup import Arena, Placement, SetupError
 from dancebots.sim.spectators import spectator_position, walk_duration
 from dancebots.sim.stage import CollisionEvent, Stage, period_due
@@ -201,8 +202,7 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     angles = lidar.angles()
     command = np.zeros((count + lead, 2))
     kind = config.robot_type
-    records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray,
-                        FloatArray]] = []
+    recorder = Recorder()
     steps = math.ceil(end / config.dt)
     last_report = -math.inf
     for step in range(steps + 1):
@@ -230,8 +230,8 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
                 targets[i] = detection.target.position
         leader_at = stage.pose[0, :2] if lead else stage.discs[leader_index, :2]
         ahead = np.vstack([leader_at, stage.pose[lead:lead + count - 1, :2]])
-        records.append((now, stage.pose[lead:].copy(), command[lead:].copy(), targets, ahead,
-                        stage.discs[:, :2].copy(), leader_at.copy()))
+        recorder.add(now, poses=stage.pose[lead:], commands=command[lead:], targets=targets,
+                     ahead=ahead, spectators=stage.discs[:, :2], leader=leader_at)
         if progress is not None and now - last_report >= 1.0:
             progress(now, end)
             last_report = now
@@ -241,7 +241,7 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     if progress is not None:
         progress(end, end)
     extent = 0.5 * kind.length if lead else leader.radius
-    return _result(config, arena, placement.robots[lead:], stage, records, extent)
+    return _result(config, arena, placement.robots[lead:], stage, recorder, extent)
 
 
 def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detection]],
@@ -286,15 +286,14 @@ def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detect
 
 
 def _result(config: QueueConfig, arena: Arena, robots: tuple[str, ...], stage: Stage,
-            records: list[tuple[float, FloatArray, FloatArray, FloatArray, FloatArray,
-                                FloatArray, FloatArray]], leader_extent: float) -> QueueResult:
-    times = np.array([r[0] for r in records])
-    poses = np.stack([r[1] for r in records], axis=1)
-    commands = np.stack([r[2] for r in records], axis=1)
-    targets = np.stack([r[3] for r in records], axis=1)
-    ahead = np.stack([r[4] for r in records], axis=1)
-    spectators = np.stack([r[5] for r in records], axis=1)  # (C, T, 2)
-    leader = np.stack([r[6] for r in records])
+            recorder: Recorder, leader_extent: float) -> QueueResult:
+    times = recorder.times
+    poses = recorder.series("poses")
+    commands = recorder.series("commands")
+    targets = recorder.series("targets")
+    ahead = recorder.series("ahead")
+    spectators = recorder.series("spectators")  # (C, T, 2)
+    leader = recorder.series("leader", axis=0)
     contacts = tuple(c for c in stage.collisions if c.robot in robots)
     return QueueResult(config, arena, robots, times, poses, commands, targets, ahead,
                        spectators, tuple(s.name for s in arena.spectators),

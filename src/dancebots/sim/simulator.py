@@ -29,6 +29,7 @@ from dancebots.robot import (
 )
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
+from dancebots.sim.recorder import Recorder
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.stage import CollisionEvent, Stage
 
@@ -174,8 +175,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     steps_per_tick = max(1, round(config.control_period / config.dt))
     end = plan.duration + config.settle
     total_steps = math.ceil(end / config.dt)
-    records: list[tuple[float, FloatArray, FloatArray, FloatArray, NDArray[np.int8],
-                        FloatArray]] = []
+    recorder = Recorder()
     still_since: float | None = None
     last_report = -math.inf
     for step in range(total_steps + 1):
@@ -194,8 +194,8 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                 if happened:
                     events.extend(RobotEvent(round(now, 6), placement.robots[i], e.kind,
                                              e.text) for e in happened)
-            records.append((now, stage.pose.copy(), stage.velocity.copy(), command.copy(),
-                            status.copy(), stage.discs[:, :2].copy()))
+            recorder.add(now, poses=stage.pose, velocities=stage.velocity, commands=command,
+                         status=status, spectators=stage.discs[:, :2])
             if progress is not None and now - last_report >= 1.0:
                 progress(now, end)
                 last_report = now
@@ -211,7 +211,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         stage.advance(now, command, issued)
     if progress is not None:
         progress(end, end)
-    return _result(plan, arena, placement, config, records, brains, tuple(stage.collisions),
+    return _result(plan, arena, placement, config, recorder, brains, tuple(stage.collisions),
                    tuple(events), tuple(stage.scans))
 
 
@@ -244,17 +244,16 @@ def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> 
 
 
 def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
-            records: list[tuple[float, FloatArray, FloatArray, FloatArray, NDArray[np.int8],
-                                FloatArray]],
+            recorder: Recorder,
             brains: list[RobotBrain], collisions: tuple[CollisionEvent, ...],
             events: tuple[RobotEvent, ...],
             scans: tuple[tuple[float, tuple[FloatArray, ...]], ...]) -> RunResult:
-    times = np.array([r[0] for r in records])
-    poses = np.stack([r[1] for r in records], axis=1)
-    velocities = np.stack([r[2] for r in records], axis=1)
-    commands = np.stack([r[3] for r in records], axis=1)
-    status = np.stack([r[4] for r in records], axis=1)
-    spectators = np.stack([r[5] for r in records], axis=1)
+    times = recorder.times
+    poses = recorder.series("poses")
+    velocities = recorder.series("velocities")
+    commands = recorder.series("commands")
+    status = recorder.series("status")
+    spectators = recorder.series("spectators")
     slots = [brain.slot0 for brain in brains]
     desired, leader, required, formation = [], [], [], []
     for i, robot in enumerate(placement.robots):
