@@ -127,3 +127,22 @@ def test_bundled_worlds_by_name(tmp_path: Path, capsys) -> None:  # type: ignore
     assert main(["follow", "--world", "crossing", "--robots", "1", "--no-animation",
                  "--detector", "a2-track", "--out", str(tmp_path / "o")]) == 0
     assert "follow_crossing.toml" in capsys.readouterr().out
+
+
+def test_the_stage_delivers_planar_scans_after_the_latency(course) -> None:  # type: ignore[no-untyped-def]
+    """The queue's LIDAR is the stage's: a scan taken at t reaches the robots at t + 0.3 s,
+    with the poses they had when it was taken."""
+    from dancebots.sim.kinematics import IDEAL
+    from dancebots.sim.lidar import LidarConfig
+    from dancebots.sim.queue import queue_placement
+    from dancebots.sim.stage import Stage
+
+    arena, placement = queue_placement(course, QueueConfig(robots=2))
+    stage = Stage(arena, placement, IDEAL, 0.05, None)
+    lidar = LidarConfig(latency=0.3, period=0.1)
+    arrived = {round(k * 0.05, 2): stage.planar_deliveries(k * 0.05, lidar) for k in range(9)}
+    assert [t for t, scans in arrived.items() if scans] == [0.3, 0.4]
+    stamp, ranges, poses = arrived[0.3][0]
+    assert stamp == 0.0
+    assert ranges.shape == (2, len(lidar.angles()))
+    assert (poses == placement.starts).all()

@@ -42,11 +42,11 @@ from dancebots.leader_follower.detectors import (
 )
 from dancebots.leader_follower.scan import Detection, Scan
 from dancebots.sim.kinematics import IDEAL, Profile
-from dancebots.sim.lidar import LidarConfig, scan_ranges
+from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.recorder import Recorder
 from dancebots.sim.setup import Arena, Placement, SetupError
 from dancebots.sim.spectators import spectator_position, walk_duration
-from dancebots.sim.stage import CollisionEvent, Stage, period_due
+from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
 
 __all__ = ["LEADERS", "PID_GAINS", "Leader", "QueueConfig", "QueueResult", "queue_placement",
@@ -197,7 +197,6 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     detector_states: list[Any] = [None] * count
     controller_states: list[Any] = [None] * count
     detections: list[Detection | None] = [None] * count
-    pending: list[tuple[float, float, FloatArray, FloatArray]] = []
     lidar = config.lidar
     angles = lidar.angles()
     command = np.zeros((count + lead, 2))
@@ -207,12 +206,7 @@ def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
     last_report = -math.inf
     for step in range(steps + 1):
         now = step * config.dt
-        if period_due(now, lidar.period):
-            ranges = scan_ranges(lidar, stage.pose, stage.corners, stage.scene, stage.discs,
-                                 stage.disc_heights)
-            pending.append((now + lidar.latency, now, ranges, stage.pose.copy()))
-        while pending and pending[0][0] <= now + 1e-9:
-            _, stamp, ranges, poses = pending.pop(0)
+        for stamp, ranges, poses in stage.planar_deliveries(now, lidar):
             for i in range(count):
                 scan = Scan(stamp, ranges[lead + i], angles, tuple(poses[lead + i].tolist()))
                 detector_states[i], detections[i] = detect(detector_states[i], scan)

@@ -30,7 +30,7 @@ from dancebots.geometry import (
 from dancebots.perception.cloud import PointCloud
 from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
 from dancebots.sim.kinematics import Profile, actuate, fresh_commands
-from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
+from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds, scan_ranges
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.spectators import spectator_discs
 
@@ -97,6 +97,7 @@ class Stage:
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
         self.pending: list[tuple[float, list[PointCloud]]] = []
+        self.planar_pending: list[tuple[float, float, FloatArray, FloatArray]] = []
         self.collisions: list[CollisionEvent] = []
         self.scans: list[tuple[float, tuple[FloatArray, ...]]] = []
         self._active: dict[tuple[int, int | str], float] = {}
@@ -121,6 +122,22 @@ class Stage:
         arrived: list[PointCloud | None] = [None] * count
         while self.pending and self.pending[0][0] <= now + 1e-9:
             arrived = list(self.pending.pop(0)[1])
+        return arrived
+
+    def planar_deliveries(self, now: float, lidar: LidarConfig,
+                          ) -> list[tuple[float, FloatArray, FloatArray]]:
+        """The planar LIDARs of the queue show: when a period of ``lidar`` is due at ``now``
+        every robot scans (ranges (R, N) in m along ``lidar.angles()``, taken at the robots'
+        poses (R, 3)); returns the scans (stamp s, ranges, poses) that reach the robots at
+        ``now`` after the latency, oldest first."""
+        if period_due(now, lidar.period):
+            ranges = scan_ranges(lidar, self.pose, self.corners, self.scene, self.discs,
+                                 self.disc_heights)
+            self.planar_pending.append((now + lidar.latency, now, ranges, self.pose.copy()))
+        arrived = []
+        while self.planar_pending and self.planar_pending[0][0] <= now + 1e-9:
+            _, stamp, ranges, poses = self.planar_pending.pop(0)
+            arrived.append((stamp, ranges, poses))
         return arrived
 
     def own_poses(self) -> FloatArray:
