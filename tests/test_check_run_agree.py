@@ -30,7 +30,7 @@ def quietly(argv: list[str]) -> int:
 
 @pytest.fixture(autouse=True)
 def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(dancebots.cli.run, "_simulate_and_write",
+    monkeypatch.setattr(dancebots.cli.run, "run_show_into",
                         lambda *args, **kwargs: SIMULATED)
 
 

@@ -86,6 +86,8 @@ class CheckReport:
     min_clearance: float | None
     world_transform: Pose | None
     diagnostics: tuple[Diagnostic, ...] = field(default=())
+    placement: ShowPlacement | None = None
+    """Where the show stands (:func:`place_show`'s answer), for the simulator's setup."""
 
     def to_json(self) -> dict[str, object]:
         return {
@@ -139,7 +141,7 @@ def check_plan(plan: Plan, world: World | None = None,
     diagnostics.extend(placed.diagnostics)
     transform = placed.transform if world is not None else None
     return CheckReport(scenario.path, scenario.robots, scenario.groups, plan.duration,
-                       tuple(summaries), min_gap, transform, tuple(diagnostics))
+                       tuple(summaries), min_gap, transform, tuple(diagnostics), placed)
 
 
 def robot_types(plan: Plan, world: World | None,

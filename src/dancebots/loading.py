@@ -13,13 +13,12 @@ from dataclasses import dataclass, field
 from dancebots.check import CheckOptions, CheckReport, check_plan, compile_scenario
 from dancebots.diagnostics import (
     Diagnostic,
-    DiagnosticError,
     has_errors,
     read_source_file,
     source_lines,
 )
 from dancebots.plan.planner import Plan, PlanParameters
-from dancebots.world import World, load_world
+from dancebots.world import MISSING_WORLD_HINT, World, parse_world
 
 __all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show"]
 
@@ -64,18 +63,13 @@ def load_show(scenario_path: str, world_path: str | None = None, vmax: float | N
     diagnostics: list[Diagnostic] = []
     sources: dict[str, list[str]] = {}
     world = None
-    if world_path:
-        try:
-            world = load_world(world_path)
-        except DiagnosticError as exc:
-            diagnostics.extend(exc.diagnostics)
-            text, _ = read_source_file(world_path)
-            if text is not None:
-                sources[world_path] = source_lines(text)
-        else:
-            text, _ = read_source_file(world_path)
-            if text is not None:
-                sources[world_path] = source_lines(text)
+    if world_path:  # read once: for the world and for showing its lines under diagnostics
+        text, problems = read_source_file(world_path, MISSING_WORLD_HINT)
+        if text is not None:
+            sources[world_path] = source_lines(text)
+            world, problems = parse_world(text, world_path)
+        if world is None:
+            diagnostics.extend(problems)
     text, read_problems = read_source_file(scenario_path)
     diagnostics.extend(read_problems)
     if text is None:

@@ -33,6 +33,7 @@ __all__ = [
     "BUILTIN_ROBOT_TYPES",
     "CONTACT_MARGIN",
     "DEFAULT_ROBOT_TYPE",
+    "MISSING_WORLD_HINT",
     "THESIS_ROOM_SIZE",
     "Obstacle",
     "RobotType",

@@ -36,6 +36,7 @@ __all__ = [
     "EXIT_WARNINGS",
     "MANIFEST",
     "OutputError",
+    "ShowOutcome",
     "StagedOutput",
     "add_show_arguments",
     "bundled",
@@ -50,6 +51,7 @@ __all__ = [
     "raise_if_interrupted",
     "refuse",
     "reset_interrupt",
+    "run_show_into",
     "short_path",
     "stage_output",
     "write_file",
@@ -266,17 +268,27 @@ def _foreign(directory: Path, names: Sequence[str], record: Mapping[str, list[st
     return None
 
 
-def _write_json(path: Path, data: Any) -> None:
-    """Write JSON atomically through a new temporary file (never through a link)."""
+def _write_atomically(path: Path, write: Callable[[Path], None]) -> None:
+    """Let ``write`` fill a new temporary file beside ``path`` (made by mkstemp: never a
+    link), then replace ``path`` with it; the temporary file never outlives the call."""
     handle, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(handle)
+    temporary = Path(name)
     try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(json.dumps(data, indent=2) + "\n")
-        os.chmod(name, 0o666 & ~_umask())
-        os.replace(name, path)
+        write(temporary)
+        temporary.chmod(0o666 & ~_umask())
+        os.replace(temporary, path)
     finally:
         with contextlib.suppress(FileNotFoundError):
-            os.unlink(name)
+            temporary.unlink()
+
+
+def _write_json(path: Path, data: Any) -> None:
+    """Write JSON atomically (:func:`_write_atomically`)."""
+    def write(temporary: Path) -> None:
+        temporary.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+
+    _write_atomically(path, write)
 
 
 @dataclass(frozen=True, slots=True)
@@ -412,6 +424,57 @@ def stage_output(target: Path, command: str, names: Sequence[str] = ()) -> Stage
     return StagedOutput(target, staging, command, previous, tuple(created))
 
 
+@dataclass(frozen=True, slots=True)
+class ShowOutcome:
+    """What a show command's simulation wrote into the staging directory: the file names,
+    the wall time (s), the verdict, the metrics (as metrics.json holds them, without the
+    verdict) and how to print the human summary."""
+
+    written: list[str]
+    wall: float
+    verdict: Verdict
+    metrics: Mapping[str, object]
+    summary: Callable[[], None]
+
+
+def run_show_into(command: str, target: Path, names: Sequence[str], json_output: bool,
+                  simulate_and_write: Callable[[Path], ShowOutcome]) -> int:
+    """The shell of ``run`` and ``follow``: make sure ``target`` may receive the outputs
+    (``names``: every file the command may write) before any work, let
+    ``simulate_and_write`` fill the staging directory, put its files in place, then print the
+    summary (or, for ``--json``, the summary as JSON) and return the exit status of the
+    verdict. Write problems are one-line refusals (exit 2) that leave ``target`` as it was;
+    any other exception (and Ctrl-C) removes the staging directory and propagates."""
+    from dancebots import __version__
+
+    try:
+        staged = stage_output(target, command, names)
+    except OutputError as exc:
+        return refuse(command, json_output, str(exc))
+    try:
+        outcome = simulate_and_write(staged.staging)
+        raise_if_interrupted()  # a Ctrl-C swallowed on the way: do not replace an earlier run
+        staged.commit(outcome.written, __version__)
+    except OutputError as exc:  # the outputs could not be put in place; nothing was lost
+        staged.abandon()
+        return refuse(command, json_output, str(exc))
+    except OSError as exc:  # e.g. a full disk while writing: the earlier run is intact
+        staged.abandon()
+        return refuse(command, json_output, f"cannot write the outputs to {target}: "
+                      f"{exc.strerror or exc}; nothing there was changed")
+    except BaseException:
+        staged.abandon()
+        raise
+    verdict = outcome.verdict.to_json()
+    if json_output:
+        print(json.dumps({"ran": True, "output": str(target), "files": outcome.written,
+                          "wall_s": round(outcome.wall, 3), "verdict": verdict,
+                          "metrics": {**outcome.metrics, "verdict": verdict}}, indent=2))
+    else:
+        outcome.summary()
+    return EXIT_OK if outcome.verdict.clean else EXIT_FAILED
+
+
 IMAGE_RECORD = ".dancebots-images.json"
 """Beside images that ``dancebots plan`` wrote: their names and SHA-256, so that only its own
 unchanged images are ever replaced."""
@@ -438,25 +501,18 @@ def write_file(path: Path, write: Callable[[Path], None], version: str) -> None:
     if os.path.lexists(path) and not _ours(path, record.get(path.name, ())):
         raise OutputError(f"{shown} exists and was not written by dancebots (or was changed "
                           "since); remove it or choose another name")
-    try:
-        handle_number, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
-                                               dir=directory)
-    except OSError as exc:
-        raise OutputError(f"cannot write {shown}: {exc.strerror or exc}") from None
-    os.close(handle_number)
-    temporary = Path(name)
-    try:
+    digest: list[str] = []
+
+    def write_and_hash(temporary: Path) -> None:
         write(temporary)
-        temporary.chmod(0o666 & ~_umask())
-        digest = _sha256(temporary)
-        os.replace(temporary, path)
+        digest.append(_sha256(temporary))
+
+    try:
+        _write_atomically(path, write_and_hash)
         _write_json(record_path, {"dancebots": version, "files": {
-            **record, path.name: [digest]}})
+            **record, path.name: digest}})
     except OSError as exc:
         raise OutputError(f"cannot write {shown}: {exc.strerror or exc}") from None
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            temporary.unlink()
 
 
 def _umask() -> int:

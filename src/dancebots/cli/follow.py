@@ -17,17 +17,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    OutputError,
+    ShowOutcome,
     bundled,
     in_range,
     print_verdict,
     progress,
-    raise_if_interrupted,
     refuse,
+    run_show_into,
     short_path,
-    stage_output,
 )
 
 if TYPE_CHECKING:
@@ -96,7 +93,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from rich.console import Console
 
-    from dancebots import __version__
     from dancebots.diagnostics import DiagnosticError, read_source_file, source_lines
     from dancebots.report.follow import queue_metrics
     from dancebots.report.verdict import queue_verdict
@@ -123,44 +119,23 @@ def run(args: argparse.Namespace) -> int:
                          profile=CORE_PROFILES[args.profile], seed=int(args.seed),
                          reciprocal=args.rvo, gains=args.gains, leader=args.leader)
     target = Path(args.out or f"out/follow-{args.detector}-{args.controller}")
-    try:
-        staged = stage_output(target, NAME, OUTPUT_NAMES)
-    except OutputError as exc:
-        return refuse(NAME, args.json, str(exc))
     console = Console(stderr=True, soft_wrap=True)
-    try:
+
+    def simulate_and_write(staging: Path) -> ShowOutcome:
         started = time.perf_counter()
-        try:
-            with progress(console, "simulating  (s)") as update:
-                result = simulate_queue(world, config, update)
-        except SetupError as exc:
-            staged.abandon()
-            return refuse(NAME, args.json, str(exc))
+        with progress(console, "simulating  (s)") as update:
+            result = simulate_queue(world, config, update)
         wall = time.perf_counter() - started
         metrics = queue_metrics(result)
         verdict = queue_verdict(metrics)
-        written = _write(result, metrics, verdict, staged.staging, not args.no_animation,
-                         console)
-        raise_if_interrupted()  # a Ctrl-C swallowed on the way: do not replace the earlier run
-        staged.commit(written, __version__)
-    except OutputError as exc:  # the outputs could not be put in place; nothing was lost
-        staged.abandon()
+        written = _write(result, metrics, verdict, staging, not args.no_animation, console)
+        return ShowOutcome(written, wall, verdict, metrics.to_json(), lambda: _summary(
+            metrics, verdict, wall, target, written, world_path))
+
+    try:
+        return run_show_into(NAME, target, OUTPUT_NAMES, args.json, simulate_and_write)
+    except SetupError as exc:  # the world cannot hold this queue (e.g. it has no leader)
         return refuse(NAME, args.json, str(exc))
-    except OSError as exc:  # e.g. a full disk while writing: the earlier run is intact
-        staged.abandon()
-        return refuse(NAME, args.json, f"cannot write the outputs to {target}: "
-                      f"{exc.strerror or exc}; nothing there was changed")
-    except BaseException:
-        staged.abandon()
-        raise
-    if args.json:
-        print(json.dumps({"ran": True, "output": str(target), "files": written,
-                          "wall_s": round(wall, 3), "verdict": verdict.to_json(),
-                          "metrics": {**metrics.to_json(), "verdict": verdict.to_json()}},
-                         indent=2))
-    else:
-        _summary(metrics, verdict, wall, target, written, world_path)
-    return EXIT_OK if verdict.clean else EXIT_FAILED
 
 
 def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directory: Path,

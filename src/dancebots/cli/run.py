@@ -16,10 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
-    EXIT_FAILED,
-    EXIT_OK,
-    OutputError,
-    StagedOutput,
+    ShowOutcome,
     add_show_arguments,
     bundled,
     in_range,
@@ -27,10 +24,9 @@ from dancebots.cli.common import (
     print_diagnostics,
     print_verdict,
     progress,
-    raise_if_interrupted,
     refuse,
+    run_show_into,
     short_path,
-    stage_output,
 )
 
 if TYPE_CHECKING:
@@ -113,7 +109,8 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.sim.setup import SetupError, prepare_show
 
     try:
-        arena, placement = prepare_show(show.plan, show.world)
+        arena, placement = prepare_show(  # placed once, by the check above
+            show.plan, show.world, placed=show.report.placement if show.report else None)
     except SetupError as exc:
         return refuse(NAME, args.json, str(exc))
     console = Console(stderr=True, soft_wrap=True)
@@ -124,28 +121,12 @@ def run(args: argparse.Namespace) -> int:
             return refuse(NAME, args.json, "--sound needs espeak-ng (Debian package espeak-ng; "
                         "scripts/dev.sh installs it)")
     target = Path(args.out) if args.out else Path("out") / Path(args.scenario).stem
-    try:
-        staged = stage_output(target, NAME, OUTPUT_NAMES)
-    except OutputError as exc:
-        return refuse(NAME, args.json, str(exc))
-    try:
-        return _simulate_and_write(args, show, (arena, placement), staged, console)
-    except OutputError as exc:  # the outputs could not be put in place; nothing was lost
-        staged.abandon()
-        return refuse(NAME, args.json, str(exc))
-    except OSError as exc:  # e.g. a full disk while writing: the earlier run is intact
-        staged.abandon()
-        return refuse(NAME, args.json, f"cannot write the outputs to {target}: "
-                      f"{exc.strerror or exc}; nothing there was changed")
-    except BaseException:
-        staged.abandon()
-        raise
+    return run_show_into(NAME, target, OUTPUT_NAMES, args.json, lambda staging: _simulate(
+        args, show, (arena, placement), staging, console, target))
 
 
-def _simulate_and_write(args: argparse.Namespace, show: LoadedShow,
-                        setup: tuple[Arena, Placement], staged: StagedOutput,
-                        console: Console) -> int:
-    from dancebots import __version__
+def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Placement],
+              staging: Path, console: Console, target: Path) -> ShowOutcome:
     from dancebots.report.metrics import run_metrics
     from dancebots.report.verdict import FINAL_SLOT_TOLERANCE, run_verdict
     from dancebots.sim.kernels import kernels_to_compile
@@ -177,18 +158,10 @@ def _simulate_and_write(args: argparse.Namespace, show: LoadedShow,
     wall = time.perf_counter() - started
     metrics = run_metrics(result)
     verdict = run_verdict(metrics, args.final_tolerance or FINAL_SLOT_TOLERANCE)
-    written = _write_outputs(result, metrics, verdict, staged.staging, console,
+    written = _write_outputs(result, metrics, verdict, staging, console,
                              not args.no_animation, args.sound)
-    raise_if_interrupted()  # a Ctrl-C swallowed on the way: do not replace the earlier run
-    staged.commit(written, __version__)
-    if args.json:
-        print(json.dumps({"ran": True, "output": str(staged.target), "files": written,
-                          "wall_s": round(wall, 3), "verdict": verdict.to_json(),
-                          "metrics": {**metrics.to_json(), "verdict": verdict.to_json()}},
-                         indent=2))
-    else:
-        _summary(result, metrics, verdict, wall, staged.target, written)
-    return EXIT_OK if verdict.clean else EXIT_FAILED
+    return ShowOutcome(written, wall, verdict, metrics.to_json(), lambda: _summary(
+        result, metrics, verdict, wall, target, written))
 
 
 def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, directory: Path,

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.check import place_show, robot_types
+from dancebots.check import ShowPlacement, place_show, robot_types
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import Pose, footprint_corners
 from dancebots.plan.planner import Plan
@@ -82,14 +82,17 @@ def open_arena(plan: Plan, types: list[RobotType], margin: float = 2.0) -> Arena
 
 
 def prepare_show(plan: Plan, world: World | None,
-                 default_type: RobotType = DEFAULT_ROBOT_TYPE) -> tuple[Arena, Placement]:
+                 default_type: RobotType = DEFAULT_ROBOT_TYPE,
+                 placed: ShowPlacement | None = None) -> tuple[Arena, Placement]:
     """The arena and start poses. Without a world the robots start on the slots of the first
     formation in an open arena; with one they start where it says (or, if it places no robot,
     on their slots with the show centred in the room). Raises :class:`SetupError` with the
     errors of :func:`dancebots.check.place_show` (the show leaves the room, robots start on
-    each other, ...)."""
+    each other, ...). ``placed``: that answer when the caller has it already (a
+    :class:`~dancebots.check.CheckReport`'s ``placement``, for the same plan, world and
+    default type), so that it is not computed twice."""
     types = robot_types(plan, world, default_type)
-    placed = place_show(plan, world, types)
+    placed = placed or place_show(plan, world, types)
     if placed.errors:
         raise SetupError.from_diagnostics(placed.errors)
     assert placed.transform is not None  # no errors: the show is placed
