@@ -226,10 +226,10 @@ def test_a_long_show_of_many_robots_is_sampled_more_coarsely_and_says_so() -> No
     report = check("robots " + " ".join(names) + "\nrow " + ",".join(names) + " 0 1.2\n"
                    "move 100 0\n")
     warning, error = sorted(report.diagnostics, key=lambda d: d.is_error)
-    assert (error.line, error.col) == (1, 1)  # simulating it would take about 3.4 GB
+    assert (error.line, error.col) == (1, 1)  # simulating it would take about 2 GB
     assert error.message == ("the show is too large to simulate: 1000 robots for 286 s is "
                              "285,600 robot-seconds (at most 200,000; the simulator keeps "
-                             "about 12 kB per robot-second)")
+                             "about 6 kB per robot-second)")
     assert (warning.line, warning.col) == (1, 1)
     assert warning.message == ("1000 robots over 286 s: check samples their places every "
                                "0.21 s instead of every 0.1 s")
@@ -365,7 +365,7 @@ def test_a_pile_of_robots_names_twenty_overlaps_and_counts_the_rest() -> None:
 
 
 def test_a_show_too_large_to_simulate_is_an_error_of_check_and_refused_by_setup() -> None:
-    """1,000 robots driving 1 km would need tens of GB in the simulator (the review's
+    """1,000 robots driving 1 km would need about 18 GB in the simulator (the review's
     reproducer ran out of memory after 64 s): check says so at the robots line, and the
     simulator's setup refuses it with the same error."""
     from dancebots.sim.setup import SetupError, prepare_show

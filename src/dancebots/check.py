@@ -617,7 +617,7 @@ def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
             plan.scenario.path, where.line, where.col, Severity.ERROR,
             f"the show is too large to simulate: {len(plan.robots)} robots for "
             f"{plan.duration:.0f} s is {size:,.0f} robot-seconds (at most "
-            f"{MAX_SIMULATED_ROBOT_SECONDS:,}; the simulator keeps about 12 kB per "
+            f"{MAX_SIMULATED_ROBOT_SECONDS:,}; the simulator keeps about 6 kB per "
             "robot-second)", "simulate fewer robots or a shorter part of the show"))
     if world is None:
         transform = Pose(0.0, 0.0, 0.0)
@@ -656,7 +656,8 @@ def _slot_starts(plan: Plan, transform: Pose) -> FloatArray:
 
 
 MAX_SIMULATED_ROBOT_SECONDS = 200_000
-"""Robots times show duration (s) that the simulator takes on (about 2.3 GB): 100 robots for
+"""Robots times show duration (s) that the simulator takes on (about 1.4 GB: 6.4 kB per
+robot-second above a 210 MB base, ``benchmarks/bench_memory.py``): 100 robots for
 33 minutes, 1,000 robots for 3 minutes. Larger shows are errors of ``check`` and refused by
 ``run`` before anything is simulated."""
 
