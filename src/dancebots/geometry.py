@@ -14,9 +14,11 @@ from numpy.typing import NDArray
 
 __all__ = [
     "Pose",
+    "compose_points",
     "compose_poses",
     "footprint_corners",
     "integrate_unicycle",
+    "points_to_local",
     "points_to_world",
     "wrap_angle",
     "wrap_angles",
@@ -26,7 +28,8 @@ FloatArray = NDArray[np.float64]
 
 
 def wrap_angle(angle: float) -> float:
-    """Wrap an angle in rad to (-pi, pi]."""
+    """Wrap an angle in rad to (-pi, pi]: the package's one convention (:func:`wrap_angles`
+    is the same, vectorised)."""
     wrapped = math.remainder(angle, math.tau)
     return math.pi if wrapped == -math.pi else wrapped
 
@@ -84,6 +87,18 @@ def compose_poses(frames: FloatArray, poses: FloatArray) -> FloatArray:
     return result
 
 
+def compose_points(frames: FloatArray, points: FloatArray) -> FloatArray:
+    """``frames ⊕ points`` vectorised: points (..., 2) (x, y), each given in its frame
+    (..., 3) (x, y, theta; the shapes broadcast over ...), expressed in the frames' parent.
+    Returns (..., 2). The positions of :func:`compose_poses`, without a heading."""
+    c, s = np.cos(frames[..., 2]), np.sin(frames[..., 2])
+    shape = np.broadcast_shapes(np.shape(frames)[:-1], np.shape(points)[:-1])
+    result = np.empty((*shape, 2))
+    result[..., 0] = frames[..., 0] + c * points[..., 0] - s * points[..., 1]
+    result[..., 1] = frames[..., 1] + s * points[..., 0] + c * points[..., 1]
+    return result
+
+
 def points_to_world(points: FloatArray, pose: tuple[float, float, float] | Pose) -> FloatArray:
     """Points (M, 2) given in the frame of ``pose`` (x, y, theta), expressed in its parent
     frame (:meth:`Pose.to_world`, vectorised). Returns (M, 2)."""
@@ -91,6 +106,17 @@ def points_to_world(points: FloatArray, pose: tuple[float, float, float] | Pose)
     c, s = math.cos(theta), math.sin(theta)
     result: FloatArray = np.column_stack([x + c * points[:, 0] - s * points[:, 1],
                                           y + s * points[:, 0] + c * points[:, 1]])
+    return result
+
+
+def points_to_local(points: FloatArray, pose: tuple[float, float, float] | Pose) -> FloatArray:
+    """Points (M, 2) given in the parent frame of ``pose`` (x, y, theta), expressed in the
+    frame of ``pose`` (:meth:`Pose.to_local`, vectorised; the inverse of
+    :func:`points_to_world`). Returns (M, 2)."""
+    x, y, theta = (pose.x, pose.y, pose.theta) if isinstance(pose, Pose) else pose
+    c, s = math.cos(theta), math.sin(theta)
+    dx, dy = points[:, 0] - x, points[:, 1] - y
+    result: FloatArray = np.column_stack([c * dx + s * dy, -s * dx + c * dy])
     return result
 
 

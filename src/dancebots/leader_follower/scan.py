@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.geometry import points_to_world
+from dancebots.geometry import Pose, points_to_world
 
 __all__ = ["Detection", "Scan", "TrackedObject", "to_odom", "to_robot"]
 
@@ -67,7 +67,4 @@ def to_odom(points: FloatArray, pose: tuple[float, float, float]) -> FloatArray:
 
 def to_robot(point: tuple[float, float], pose: tuple[float, float, float]) -> tuple[float, float]:
     """A point (x, y) of the odometry frame in ``base_link`` at ``pose``."""
-    x, y, theta = pose
-    c, s = math.cos(theta), math.sin(theta)
-    dx, dy = point[0] - x, point[1] - y
-    return c * dx + s * dy, -s * dx + c * dy
+    return Pose(*pose).to_local(*point)

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.control.force_field import repulsive_force
+from dancebots.geometry import points_to_local, points_to_world
 
 __all__ = [
     "DetectorParams",
@@ -123,15 +124,7 @@ def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, flo
                       pose_now: tuple[float, float, float]) -> FloatArray:
     """Points (M, 2) seen in ``base_link`` at the cloud's stamp, expressed in ``base_link``
     now, from the robot's own poses (odometry, any fixed frame) then and now."""
-    x0, y0, t0 = pose_at_stamp
-    x1, y1, t1 = pose_now
-    c0, s0 = math.cos(t0), math.sin(t0)
-    wx = x0 + c0 * points[:, 0] - s0 * points[:, 1]
-    wy = y0 + s0 * points[:, 0] + c0 * points[:, 1]
-    c1, s1 = math.cos(t1), math.sin(t1)
-    dx, dy = wx - x1, wy - y1
-    result: FloatArray = np.stack([c1 * dx + s1 * dy, -s1 * dx + c1 * dy], axis=1)
-    return result
+    return points_to_local(points_to_world(points, pose_at_stamp), pose_now)
 
 
 @dataclass(frozen=True, slots=True)

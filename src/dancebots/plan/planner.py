@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
-from dancebots.geometry import Pose, integrate_unicycle, wrap_angle
+from dancebots.geometry import Pose, compose_points, integrate_unicycle, wrap_angle, wrap_angles
 from dancebots.plan.formation import DEFAULT_LEAD, formation_offsets
 from dancebots.plan.leader import (
     MIN_LINEAR,
@@ -107,14 +107,14 @@ class LeaderTrajectory:
     def poses_at(self, t: FloatArray) -> FloatArray:
         """Poses (T, 3) at show times t (T,): exact unicycle motion from the previous sample.
 
-        Before the first sample the leader is at its first pose.
+        Before the first sample the leader is at its first pose. Theta in (-pi, pi].
         """
         t = np.asarray(t, dtype=float)
         k = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 1)
         dt = np.maximum(t - self.times[k], 0.0)
         x, y, theta = integrate_unicycle(self.poses[k, 0], self.poses[k, 1], self.poses[k, 2],
                                          self.commands[k, 0], self.commands[k, 1], dt)
-        return np.stack([x, y, np.remainder(theta + np.pi, 2 * np.pi) - np.pi], axis=-1)
+        return np.stack([x, y, wrap_angles(theta)], axis=-1)
 
     def commands_at(self, t: FloatArray) -> FloatArray:
         """Commands (T, 2) in effect at show times t (T,); zero outside the trajectory."""
@@ -201,13 +201,11 @@ class Plan:
             leader[a:b] = formation.leader.poses_at(times[a:b])
             commands[a:b] = formation.leader.commands_at(times[a:b])
             offsets[a:b] = formation.offsets[robot]
-        c, s = np.cos(leader[:, 2]), np.sin(leader[:, 2])
-        desired[:, 0] = leader[:, 0] + c * offsets[:, 0] - s * offsets[:, 1]
-        desired[:, 1] = leader[:, 1] + s * offsets[:, 0] + c * offsets[:, 1]
+        desired[:, :2] = compose_points(leader, offsets)
         desired[:, 2] = leader[:, 2]
-        lateral = np.empty((count, 2))
-        lateral[:, 0] = leader[:, 0] - s * offsets[:, 1]
-        lateral[:, 1] = leader[:, 1] + c * offsets[:, 1]
+        # the leader shifted by the lateral offset only (x + c * 0.0 is x: no leader position
+        # is -0.0, as every one is a sum starting from +0.0)
+        lateral = compose_points(leader, np.column_stack([np.zeros(count), offsets[:, 1]]))
         return RobotTrack(times, leader, desired, lateral, offsets,
                           np.hypot(offsets[:, 0], offsets[:, 1]), commands, which)
 
