@@ -209,7 +209,8 @@ def _positions(diagnostics: object, text: str) -> str | None:
 
 def run_one(item: Item) -> Outcome:
     """Run one input in this process; every failure is an Outcome, never an exception."""
-    from dancebots.check import check_plan, compile_scenario
+    from dancebots.check import check_plan
+    from dancebots.plan.compile import compile_scenario
     from dancebots.sync import parse_message
     from dancebots.sync.messages import SyncMessageError
     from dancebots.world import parse_world

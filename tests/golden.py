@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from dancebots.check import check_plan, compile_scenario
+from dancebots.check import check_plan
+from dancebots.plan.compile import compile_scenario
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(__file__).resolve().parent / "data"

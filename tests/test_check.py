@@ -7,8 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from dancebots.check import CheckOptions, CheckReport, check_plan, compile_scenario
+from dancebots.check import CheckOptions, CheckReport, check_plan
 from dancebots.geometry import Pose
+from dancebots.plan.compile import compile_scenario
 from dancebots.world import World, load_world, parse_world
 
 
@@ -368,6 +369,7 @@ def test_a_show_too_large_to_simulate_is_an_error_of_check_and_refused_by_setup(
     """1,000 robots driving 1 km would need about 18 GB in the simulator (the review's
     reproducer ran out of memory after 64 s): check says so at the robots line, and the
     simulator's setup refuses it with the same error."""
+    from dancebots.plan.placement import place_show
     from dancebots.sim.setup import SetupError, prepare_show
 
     names = [f"R{i}" for i in range(1000)]
@@ -378,4 +380,4 @@ def test_a_show_too_large_to_simulate_is_an_error_of_check_and_refused_by_setup(
     assert [(d.line, d.col) for d in errors] == [(1, 1)]
     assert errors[0].message.startswith("the show is too large to simulate: 1000 robots for ")
     with pytest.raises(SetupError, match="too large to simulate"):
-        prepare_show(plan, None)
+        prepare_show(place_show(plan, None))

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from dancebots.check import compile_scenario
 from dancebots.plan import Plan, PlanParameters
+from dancebots.plan.compile import compile_scenario
 
 
 def plan_of(text: str, parameters: PlanParameters | None = None,

@@ -1,9 +1,10 @@
-"""``check_scenario`` (thesis ch. 6) as a pure function: a plan in, a report out.
+"""``check_scenario`` (thesis ch. 6) as a pure function: a placed show in, a report out.
 
 The report holds the show's summary and warnings that point at the scenario line concerned:
 footprints closer than a clearance, circles tighter than the formation is wide, desired speeds
-above a robot's maximum, and (with a world) robots leaving the room or entering obstacles.
-All geometry is evaluated on the *desired* poses of the plan, sampled every
+above a robot's maximum, and the placement's findings (robots starting on each other, leaving
+the room, entering obstacles: :mod:`dancebots.plan.placement`). All geometry is evaluated on
+the *desired* poses of the plan, sampled once by the placement every
 ``CheckOptions.sample_period`` seconds and at every formation change.
 """
 
@@ -11,7 +12,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,24 +20,19 @@ import shapely
 from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
-from dancebots.geometry import Pose, footprint_corners, wrap_angle
+from dancebots.geometry import Pose, footprint_corners
 from dancebots.perception.obstacles import DetectorParams
-from dancebots.plan.planner import Plan, PlannedFormation, PlanParameters, build_plan
-from dancebots.scenario.model import Circle, Scenario
-from dancebots.scenario.parser import parse_scenario
-from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, World, start_conflicts
+from dancebots.plan.placement import PlacedShow, instruction_position, place_show
+from dancebots.plan.planner import Plan
+from dancebots.scenario.model import Circle
+from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
 
 __all__ = [
     "CheckOptions",
     "CheckReport",
     "RobotSummary",
-    "ShowPlacement",
-    "WorldViolation",
     "check_plan",
-    "compile_scenario",
-    "place_plan_in_world",
-    "place_show",
-    "robot_types",
+    "check_show",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -86,8 +82,8 @@ class CheckReport:
     min_clearance: float | None
     world_transform: Pose | None
     diagnostics: tuple[Diagnostic, ...] = field(default=())
-    placement: ShowPlacement | None = None
-    """Where the show stands (:func:`place_show`'s answer), for the simulator's setup."""
+    placement: PlacedShow | None = None
+    """The placed show that was checked, for the simulator's setup."""
 
     def to_json(self) -> dict[str, object]:
         return {
@@ -112,95 +108,33 @@ class CheckReport:
         }
 
 
-def compile_scenario(
-    text: str, path: str, parameters: PlanParameters | None = None
-) -> tuple[Scenario | None, Plan | None, list[Diagnostic]]:
-    """Parse and plan; returns whatever could be built and every diagnostic so far."""
-    scenario, diagnostics = parse_scenario(text, path)
-    if scenario is None:
-        return None, None, diagnostics
-    plan, plan_diagnostics = build_plan(scenario, parameters)
-    return scenario, plan, diagnostics + plan_diagnostics
-
-
 def check_plan(plan: Plan, world: World | None = None,
                options: CheckOptions | None = None) -> CheckReport:
-    """Check a plan (and its placement in a world); pure, deterministic."""
+    """Place a plan in a world (:func:`~dancebots.plan.placement.place_show`, as the options
+    say) and check it; pure, deterministic."""
     options = options or CheckOptions()
+    return check_show(place_show(plan, world, options.robot_type,
+                                 period=options.sample_period,
+                                 start_tolerance=options.start_tolerance), options)
+
+
+def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckReport:
+    """Check a placed show: its summary, then warnings and errors in this order: sampling,
+    speeds, clearance, circles, placement. Only ``options.clearance`` and
+    ``options.detection`` matter here; the rest were the placement's."""
+    options = options or CheckOptions()
+    plan, samples, types = show.plan, show.samples, show.types
     scenario = plan.scenario
-    diagnostics: list[Diagnostic] = []
-    types = robot_types(plan, world, options.robot_type)
-    period = _sample_period(plan, options.sample_period, diagnostics)
-    times = _sample_times(plan, period)
-    poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
-    which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
+    diagnostics: list[Diagnostic] = list(samples.diagnostics)
     summaries = _summaries(plan, types, diagnostics)
-    min_gap = _check_clearance(plan, types, times, poses, which, options, diagnostics)
+    min_gap = _check_clearance(plan, types, samples.times, samples.poses, samples.formations,
+                               options, diagnostics)
     _check_circles(plan, diagnostics)
-    placed = _place_show(plan, world, types, (times, poses, which), options.start_tolerance)
-    diagnostics.extend(placed.diagnostics)
-    transform = placed.transform if world is not None else None
+    diagnostics.extend(show.diagnostics)
+    transform = show.transform if show.world is not None else None
     return CheckReport(scenario.path, scenario.robots, scenario.groups, plan.duration,
-                       tuple(summaries), min_gap, transform, tuple(diagnostics), placed)
+                       tuple(summaries), min_gap, transform, tuple(diagnostics), show)
 
-
-def robot_types(plan: Plan, world: World | None,
-                default: RobotType = DEFAULT_ROBOT_TYPE) -> list[RobotType]:
-    """Each robot's type: from the world, else ``default`` (whose max speed is the plan's
-    vmax when there is no world: vmax is then the user's statement of the robots' speed)."""
-    types = []
-    for robot in plan.robots:
-        found = world.robot(robot) if world is not None else None
-        if found is not None:
-            types.append(found.type)
-        elif world is None:
-            types.append(RobotType(default.name, default.length, default.width,
-                                   plan.parameters.vmax, default.max_angular_speed))
-        else:
-            types.append(default)
-    return types
-
-
-MAX_ROBOT_SAMPLES = 2_000_000
-"""Most desired poses (robots x sample times) that one check holds (48 MB per array)."""
-
-
-def _sample_period(plan: Plan, period: float, diagnostics: list[Diagnostic]) -> float:
-    """The sample period (s): ``period``, or longer when the show's robots x samples would
-    pass :data:`MAX_ROBOT_SAMPLES` (then with a warning at the scenario's robots line)."""
-    samples = len(plan.robots) * (plan.duration / period + 1.0 + len(plan.formations))
-    if samples <= MAX_ROBOT_SAMPLES:
-        return period
-    coarse = float(f"{period * samples / MAX_ROBOT_SAMPLES:.2g}") * 1.5
-    where = plan.scenario.robots_span
-    diagnostics.append(Diagnostic(
-        plan.scenario.path, where.line, where.col, Severity.WARNING,
-        f"{len(plan.robots)} robots over {plan.duration:.0f} s: check samples their places "
-        f"every {coarse:g} s instead of every {period:g} s",
-        "a brief contact between samples may go unreported: shorten the show or check parts "
-        "of it with fewer robots", where.end_col))
-    return coarse
-
-
-def _sample_times(plan: Plan, period: float) -> FloatArray:
-    grid = np.arange(0.0, plan.duration + 0.5 * period, period)
-    starts = [f.start for f in plan.formations]
-    return np.unique(np.concatenate([grid, starts, [plan.duration]]))
-
-
-def _line_at(formation: PlannedFormation, time: float) -> tuple[int, int]:
-    """The scenario position of what the formation's leader is doing at ``time``."""
-    for timing in formation.timings:
-        if timing.start <= time < timing.end:
-            return timing.span.line, timing.span.col
-    return formation.span.line, formation.span.col
-
-
-def _runs(mask: NDArray[np.bool_]) -> Iterator[tuple[int, int]]:
-    """Index ranges [a, b) of the true runs of a 1-D boolean array."""
-    padded = np.concatenate([[False], mask, [False]])
-    edges = np.flatnonzero(np.diff(padded.astype(np.int8)))
-    yield from zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True)
 
 
 def _warn(plan: Plan, position: tuple[int, int], message: str, hint: str | None,
@@ -403,7 +337,7 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
             break
         first, last = int(k[a]), int(k[b - 1])
         formation = plan.formations[int(which[i[a], first])]
-        _warn(plan, _line_at(formation, float(times[first])),
+        _warn(plan, instruction_position(formation, float(times[first])),
               f"{robots[i[a]]} and {robots[j[a]]} come within {nearest[n]:.2f} m of each "
               f"other (clearance {options.clearance:g} m) from t = {times[first]:.1f} s to "
               f"{times[last]:.1f} s",
@@ -514,293 +448,3 @@ def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                       "would have to reverse",
                       f"use a radius larger than {lateral:g} m or a narrower formation",
                       diagnostics)
-
-
-# --- world -----------------------------------------------------------------------------------
-
-def place_plan_in_world(plan: Plan, world: World, diagnostics: list[Diagnostic],
-                        start_tolerance: float = 0.25) -> Pose | None:
-    """The show frame's pose in the world frame.
-
-    With start poses for every robot: the rigid transform that best puts each robot's first
-    slot on its start pose (heading: circular mean; position: mean residual), and a warning for
-    robots that start far from their slot. With none: the show's extent is centred in the room.
-    Robots of the scenario that a world with robots lacks are errors.
-    """
-    named = {r.name: r for r in world.robots}
-    present = [r for r in plan.robots if r in named]
-    missing = [r for r in plan.robots if r not in named]
-    path = plan.scenario.path
-    if present and missing:
-        where = plan.scenario.robots_span
-        diagnostics.append(Diagnostic(
-            path, where.line, where.col, Severity.ERROR,
-            f"the world places {' '.join(present)} but not {' '.join(missing)} "
-            f"({world.path}:{world.robots[0].line})",
-            f"give every robot of the scenario a [[robots]] entry in {world.path}, or none to "
-            "let the show be centred in the room"))
-        return None
-    if not present:
-        times = _sample_times(plan, 1.0)
-        low, high = np.full(2, np.inf), np.full(2, -np.inf)
-        for robot in plan.robots:  # one robot at a time: memory O(samples)
-            points = plan.desired_poses(robot, times)[:, :2]
-            low, high = np.minimum(low, points.min(axis=0)), np.maximum(high, points.max(axis=0))
-        room_centre = 0.5 * (world.room.min(axis=0) + world.room.max(axis=0))
-        show_centre = 0.5 * (low + high)
-        shift = room_centre - show_centre
-        return Pose(float(shift[0]), float(shift[1]), 0.0)
-    slots = {r: plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots}
-    heading = math.atan2(sum(math.sin(named[r].start.theta - slots[r][2]) for r in present),
-                         sum(math.cos(named[r].start.theta - slots[r][2]) for r in present))
-    c, s = math.cos(heading), math.sin(heading)
-    residual = np.array([[named[r].start.x - (c * slots[r][0] - s * slots[r][1]),
-                          named[r].start.y - (s * slots[r][0] + c * slots[r][1])]
-                         for r in present])
-    shift = residual.mean(axis=0)
-    transform = Pose(float(shift[0]), float(shift[1]), heading)
-    first = plan.formations[0].span
-    for robot in present:
-        x, y = transform.to_world(float(slots[robot][0]), float(slots[robot][1]))
-        start = named[robot].start
-        off = math.hypot(start.x - x, start.y - y)
-        turn = abs(wrap_angle(start.theta - (heading + slots[robot][2])))
-        if off > start_tolerance or turn > math.radians(15.0):
-            diagnostics.append(Diagnostic(
-                path, first.line, first.col, Severity.WARNING,
-                f"{robot} starts {off:.2f} m and {math.degrees(turn):.0f} deg away from its "
-                f"place in the first formation ({world.path}:{named[robot].line})",
-                "place the robots on their slots of the first formation"))
-    return transform
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class ShowPlacement:
-    """Where a show stands, and every reason it cannot be simulated there.
-
-    transform: the show frame's pose in the world frame (the identity without a world);
-    starts (R, 3): each robot's start pose (x, y in m, yaw in rad) in the world frame, in the
-    plan's robot order; both None when the show cannot be placed at all. diagnostics: errors
-    for everything the simulator refuses or would be stuck on, warnings for the rest.
-    """
-
-    transform: Pose | None
-    starts: FloatArray | None
-    diagnostics: tuple[Diagnostic, ...]
-
-    @property
-    def errors(self) -> tuple[Diagnostic, ...]:
-        return tuple(d for d in self.diagnostics if d.is_error)
-
-
-Samples = tuple[FloatArray, FloatArray, NDArray[np.int64]]
-"""Sample times (T,), desired poses (R, T, 3) in the show frame, formation indices (R, T)."""
-
-
-def place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
-               period: float = 0.1, start_tolerance: float = 0.25) -> ShowPlacement:
-    """Place a plan in a world (or in an open arena without one) and find what makes the
-    show impossible to simulate: the one function that ``check`` and the simulator's setup
-    both use. Desired poses are sampled every ``period`` s; ``start_tolerance`` (m) as in
-    :class:`CheckOptions`."""
-    return _place_show(plan, world, types, None, start_tolerance, period)
-
-
-def _place_show(plan: Plan, world: World | None, types: Sequence[RobotType],
-                samples: Samples | None, start_tolerance: float,
-                period: float = 0.1) -> ShowPlacement:
-    diagnostics: list[Diagnostic] = []
-    size = len(plan.robots) * plan.duration
-    if size > MAX_SIMULATED_ROBOT_SECONDS:
-        where = plan.scenario.robots_span
-        diagnostics.append(Diagnostic(
-            plan.scenario.path, where.line, where.col, Severity.ERROR,
-            f"the show is too large to simulate: {len(plan.robots)} robots for "
-            f"{plan.duration:.0f} s is {size:,.0f} robot-seconds (at most "
-            f"{MAX_SIMULATED_ROBOT_SECONDS:,}; the simulator keeps about 6 kB per "
-            "robot-second)", "simulate fewer robots or a shorter part of the show"))
-    if world is None:
-        transform = Pose(0.0, 0.0, 0.0)
-        starts = _slot_starts(plan, transform)
-        _check_starts(plan, None, types, starts, diagnostics)
-        return ShowPlacement(transform, starts, tuple(diagnostics))
-    placed = place_plan_in_world(plan, world, diagnostics, start_tolerance)
-    for extra in (r for r in world.robots if r.name not in plan.robots):
-        diagnostics.append(Diagnostic(
-            world.path, extra.line, 1, Severity.WARNING,
-            f"the world's robot {extra.name} is not in the scenario: it is left out of the show",
-            "remove its [[robots]] entry, or add it to the scenario's robots line"))
-    if placed is None:
-        return ShowPlacement(None, None, tuple(diagnostics))
-    if any(r.name in plan.robots for r in world.robots):  # then all have one (else None)
-        poses = {r.name: r.start for r in world.robots}
-        starts = np.array([[poses[n].x, poses[n].y, poses[n].theta] for n in plan.robots])
-    else:
-        starts = _slot_starts(plan, placed)
-    at_start = _check_starts(plan, world, types, starts, diagnostics)
-    if samples is None:  # sampled as check_plan samples (coarser for very long shows)
-        times = _sample_times(plan, _sample_period(plan, period, []))
-        samples = (times, np.stack([plan.desired_poses(r, times) for r in plan.robots]),
-                   np.stack([plan.formation_indices(r, times) for r in plan.robots]))
-    _check_world(plan, world, placed, types, *samples, diagnostics, at_start)
-    return ShowPlacement(placed, starts, tuple(diagnostics))
-
-
-def _slot_starts(plan: Plan, transform: Pose) -> FloatArray:
-    """Each robot's slot of the first formation (R, 3), placed in the world by ``transform``."""
-    slots = np.stack([plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots])
-    c, s = math.cos(transform.theta), math.sin(transform.theta)
-    return np.stack([transform.x + c * slots[:, 0] - s * slots[:, 1],
-                     transform.y + s * slots[:, 0] + c * slots[:, 1],
-                     slots[:, 2] + transform.theta], axis=1)
-
-
-MAX_SIMULATED_ROBOT_SECONDS = 200_000
-"""Robots times show duration (s) that the simulator takes on (about 1.4 GB: 6.4 kB per
-robot-second above a 210 MB base, ``benchmarks/bench_memory.py``): 100 robots for
-33 minutes, 1,000 robots for 3 minutes. Larger shows are errors of ``check`` and refused by
-``run`` before anything is simulated."""
-
-MAX_START_OVERLAPS = 20
-"""Pairs of robots overlapping at their start poses that are named one by one; the rest are
-counted in one more error (a pile of 1,000 robots has 499,500 pairs)."""
-
-
-def _check_starts(plan: Plan, world: World | None, types: Sequence[RobotType], starts: FloatArray,
-                  diagnostics: list[Diagnostic]) -> frozenset[tuple[str, str | None]]:
-    """Errors for robots that cannot start where they stand (:func:`start_conflicts`); returns
-    (robot, None) for those that start outside the room and (robot, obstacle label) for those
-    that start in an obstacle. Start poses from the world are reported at their [[robots]]
-    entry, slots of the first formation at that formation."""
-    robots = plan.robots
-    from_world = world is not None and any(world.robot(r) is not None for r in robots)
-    first = plan.formations[0].span
-    reported: set[tuple[str, str | None]] = set()
-
-    def error(robot: int, message: str, hint: str) -> None:
-        if world is not None and from_world:
-            entry = world.robot(robots[robot])
-            line = entry.line if entry is not None else 0
-            diagnostics.append(Diagnostic(world.path, line, 1 if line else 0, Severity.ERROR,
-                                          message, hint))
-        else:
-            diagnostics.append(Diagnostic(plan.scenario.path, first.line, first.col,
-                                          Severity.ERROR, message, hint))
-
-    room = world.room if world is not None else None
-    obstacles = world.obstacles if world is not None else ()
-    spectators = world.spectators if world is not None else ()
-    world_path = world.path if world is not None else ""
-    source = f" ({world_path}:{{}})"
-    conflicts = start_conflicts(types, starts, room, obstacles, spectators)
-    overlaps = [c for c in conflicts if c.kind == "robot"]
-    if len(overlaps) > MAX_START_OVERLAPS:  # a pile of robots: name a few, count the rest
-        shown = overlaps[MAX_START_OVERLAPS - 1]
-        conflicts = [c for c in conflicts if c.kind != "robot"] + overlaps[:MAX_START_OVERLAPS]
-        error(shown.other, f"... and {len(overlaps) - MAX_START_OVERLAPS} more pairs of robots "
-              "overlap at their start poses", "place the robots further apart (in the first "
-              "formation or the world)")
-    for conflict in conflicts:
-        name = robots[conflict.robot]
-        if conflict.kind == "room":
-            reported.add((name, None))
-            error(conflict.robot, f"{name} starts outside the room of {world_path} or "
-                  "against its wall", "its footprint must lie inside the room, clear of the "
-                  "walls, at the start: move the start poses or use a bigger room")
-        elif conflict.kind == "robot":
-            error(conflict.other, f"{name} and {robots[conflict.other]} overlap at their "
-                  "start poses", "place them further apart (in the first formation or "
-                  "the world): the simulator would hold both where they stand")
-        elif conflict.kind == "obstacle":
-            obstacle = obstacles[conflict.other]
-            reported.add((name, _label(world_path, obstacle)))
-            error(conflict.robot, f"{name} starts in or against obstacle '{obstacle.name}'"
-                  + source.format(obstacle.line), "move its start off the obstacle (the "
-                  "world's start poses, or the show's first formation)")
-        elif conflict.kind == "spectator":
-            spectator = spectators[conflict.other]
-            error(conflict.robot, f"{name} starts where spectator '{spectator.name}' stands"
-                  + source.format(spectator.line), "move the show's start or the spectator's "
-                  "first waypoint")
-    return frozenset(reported)
-
-
-def _label(world_path: str, obstacle: Obstacle) -> str:
-    """How messages name an obstacle: its name and where the world file defines it."""
-    return f"{obstacle.name} ({world_path}:{obstacle.line})"
-
-
-@dataclass(frozen=True, slots=True)
-class WorldViolation:
-    """A robot's desired footprint outside the room (``obstacle`` None) or in an obstacle,
-    from ``start`` to ``end`` s of show time, during the instruction at ``line``:``col``."""
-
-    robot: str
-    obstacle: str | None
-    start: float
-    end: float
-    line: int
-    col: int
-
-
-def _check_world(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
-                 times: FloatArray, poses: FloatArray, which: NDArray[np.int64],
-                 diagnostics: list[Diagnostic],
-                 at_start: frozenset[tuple[str, str | None]] = frozenset()) -> None:
-    """Leaving the room is an error (the simulator refuses the show); entering an obstacle
-    is a warning. ``at_start``: (robot, None or obstacle label) already reported at the start
-    (:func:`_check_starts`), whose violation from the first sample on is not repeated."""
-    for v in _world_violations(plan, world, transform, types, times, poses, which):
-        if (v.robot, v.obstacle) in at_start and v.start == float(times[0]):
-            continue
-        if v.obstacle is None:
-            diagnostics.append(Diagnostic(
-                plan.scenario.path, v.line, v.col, Severity.ERROR,
-                f"{v.robot} leaves the room from t = {v.start:.1f} s to {v.end:.1f} s",
-                "move the show's start poses, use a bigger room, or shorten the moves"))
-        else:
-            _warn(plan, (v.line, v.col), f"{v.robot} enters {v.obstacle} from t = "
-                  f"{v.start:.1f} s to {v.end:.1f} s", "steer the formation around the obstacle",
-                  diagnostics)
-
-
-def _world_violations(plan: Plan, world: World, transform: Pose, types: Sequence[RobotType],
-                      times: FloatArray, poses: FloatArray,
-                      which: NDArray[np.int64]) -> list[WorldViolation]:
-    found: list[WorldViolation] = []
-    c, s = math.cos(transform.theta), math.sin(transform.theta)
-    x = transform.x + c * poses[..., 0] - s * poses[..., 1]
-    y = transform.y + s * poses[..., 0] + c * poses[..., 1]
-    theta = poses[..., 2] + transform.theta
-    room = shapely.Polygon(world.room)
-    shapely.prepare(room)
-    obstacles = [(o, shapely.Polygon(o.polygon)) for o in world.obstacles]
-
-    def add(robot: int, name: str | None, mask: NDArray[np.bool_]) -> None:
-        for a, b in _runs(mask):
-            line, col = _line_at(plan.formations[int(which[robot, a])], float(times[a]))
-            found.append(WorldViolation(plan.robots[robot], name, float(times[a]),
-                                        float(times[b - 1]), line, col))
-
-    for i in range(len(plan.robots)):
-        kind = types[i]
-        reach = math.hypot(kind.length, kind.width) / 2
-        near_wall = shapely.distance(room.exterior, shapely.points(x[i], y[i])) < reach
-        inside = shapely.contains_xy(room, x[i], y[i])
-        outside = ~inside
-        check = np.flatnonzero(near_wall & inside)
-        if check.size:
-            corners = footprint_corners(x[i, check], y[i, check], theta[i, check], kind.length,
-                                        kind.width)
-            outside[check] = ~shapely.contains(room, shapely.polygons(corners))
-        add(i, None, outside)
-        for obstacle, shape in obstacles:
-            distance = shapely.distance(shape, shapely.points(x[i], y[i]))
-            check = np.flatnonzero(distance < reach)
-            hit = np.zeros(len(times), dtype=bool)
-            if check.size:
-                corners = footprint_corners(x[i, check], y[i, check], theta[i, check],
-                                            kind.length, kind.width)
-                hit[check] = shapely.intersects(shape, shapely.polygons(corners))
-            add(i, _label(world.path, obstacle), hit)
-    return sorted(found, key=lambda v: (v.start, v.robot))

@@ -10,13 +10,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from dancebots.check import CheckOptions, CheckReport, check_plan, compile_scenario
+from dancebots.check import CheckOptions, CheckReport, check_plan
 from dancebots.diagnostics import (
     Diagnostic,
     has_errors,
     read_source_file,
     source_lines,
 )
+from dancebots.plan.compile import compile_scenario
 from dancebots.plan.planner import Plan, PlanParameters
 from dancebots.world import MISSING_WORLD_HINT, World, parse_world
 

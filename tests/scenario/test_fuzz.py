@@ -5,8 +5,9 @@ from __future__ import annotations
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from dancebots.check import check_plan, compile_scenario
+from dancebots.check import check_plan
 from dancebots.diagnostics import Diagnostic, read_text_source, source_lines
+from dancebots.plan.compile import compile_scenario
 
 KEYWORDS = ["robots", "groups", "start", "row", "column", "triangle", "square", "move",
             "circle", "newVL", "newvl", "#", "# note", "Move", "mvoe"]

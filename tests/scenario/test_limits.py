@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import pytest
 
-from dancebots.check import check_plan, compile_scenario
+from dancebots.check import check_plan
 from dancebots.diagnostics import Diagnostic, source_lines
+from dancebots.plan.compile import compile_scenario
 from dancebots.scenario import parse_scenario
 
 HEAD = "robots A B\nrow A,B 0 1.2\n"

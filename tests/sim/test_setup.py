@@ -20,6 +20,7 @@ from dancebots.check import check_plan
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import FloatArray, footprint_corners
 from dancebots.plan import Plan
+from dancebots.plan.placement import place_show
 from dancebots.sim import SetupError, prepare_show
 from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
 from dancebots.sim.stage import _disc_contacts
@@ -47,7 +48,7 @@ def errors_of(plan: Plan, world: World | None) -> tuple[Diagnostic, ...]:
 def setup_error(plan: Plan, world: World | None) -> SetupError | None:
     """What prepare_show raises, or None when it sets the show up."""
     try:
-        prepare_show(plan, world)
+        prepare_show(place_show(plan, world))
     except SetupError as exc:
         return exc
     return None
@@ -59,7 +60,7 @@ def test_world_must_hold_the_scenarios_robots() -> None:
                            'x = 3\ny = 3\n', "w.toml")
     assert world is not None
     with pytest.raises(SetupError) as caught:
-        prepare_show(plan, world)
+        prepare_show(place_show(plan, world))
     assert str(caught.value) == ("show.dance:1:1: error: the world places R1 but not R2 "
                                  "(w.toml:1)")
     assert caught.value.diagnostics == errors_of(plan, world)
@@ -71,7 +72,7 @@ def test_show_must_fit_the_room() -> None:
                            '[[robots]]\nname = "R2"\nx = 1\ny = 4.4\n', "small.toml")
     assert world is not None
     with pytest.raises(SetupError) as caught:
-        prepare_show(plan, world)
+        prepare_show(place_show(plan, world))
     assert str(caught.value) == ("show.dance:3:1: error: R1 leaves the room from t = 24.0 s to "
                                  "34.2 s (and 1 more: see `dancebots check`)")
     assert caught.value.diagnostics == errors_of(plan, world)
@@ -82,7 +83,7 @@ def test_robots_on_each_other_cannot_start() -> None:
     """They used to be simulated stuck together for the whole show."""
     plan = plan_of_show("robots R1 R2\nrow R1,R2 0 0.3\nmove 3 0\n")
     with pytest.raises(SetupError) as caught:
-        prepare_show(plan, None)
+        prepare_show(place_show(plan, None))
     assert str(caught.value) == "show.dance:2:1: error: R1 and R2 overlap at their start poses"
 
 
@@ -95,7 +96,7 @@ def test_the_readme_example_is_refused_by_both(examples: Path, data: Path) -> No
     assert [(d.line, d.message) for d in errors] == [
         (5, "R2 leaves the room from t = 12.8 s to 20.2 s")]
     with pytest.raises(SetupError) as caught:
-        prepare_show(plan, world)
+        prepare_show(place_show(plan, world))
     assert caught.value.diagnostics == errors
 
 
@@ -116,7 +117,7 @@ def test_the_bundled_open_day_show_sets_up() -> None:
     plan = plan_of_show((bundled / "open_day.dance").read_text())
     world = load_world(str(bundled / "open_day.toml"))
     assert errors_of(plan, world) == ()
-    _, placement = prepare_show(plan, world)
+    _, placement = prepare_show(place_show(plan, world))
     assert placement.robots == ("R1", "R2", "R3", "R4")
 
 
@@ -238,7 +239,7 @@ def test_check_without_errors_is_exactly_a_show_that_sets_up(case: tuple[str, st
     event("refused" if errors else "accepted")
     if errors:
         return
-    arena, placement = prepare_show(plan, world)
+    arena, placement = prepare_show(place_show(plan, world))
     # and the simulator's own tests find the robots free at their start poses: clear of the
     # walls, obstacles and visitors, and apart (or touching) each other
     lengths = np.array([t.length for t in placement.types])
@@ -307,9 +308,9 @@ def test_start_conflicts_are_the_simulators_contacts(
 def test_setup_samples_a_long_show_as_check_does(monkeypatch: pytest.MonkeyPatch) -> None:
     """check samples very long shows more coarsely; setup must decide on the same samples, or
     a show could pass one and not the other (the times in the messages tell them apart)."""
-    import dancebots.check
+    import dancebots.plan.placement
 
-    monkeypatch.setattr(dancebots.check, "MAX_ROBOT_SAMPLES", 200)
+    monkeypatch.setattr(dancebots.plan.placement, "MAX_ROBOT_SAMPLES", 200)
     plan = plan_of_show("robots R1 R2\nrow R1,R2 0 1.2\nmove 12 0\n")
     world, _ = parse_world('[room]\nsize = 10\n[[robots]]\nname = "R1"\nx = 1\ny = 5.6\n'
                            '[[robots]]\nname = "R2"\nx = 1\ny = 4.4\n', "small.toml")

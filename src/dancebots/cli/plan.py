@@ -53,13 +53,13 @@ def run(args: argparse.Namespace) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from dancebots.check import place_plan_in_world
+    from dancebots.plan.placement import sample_show, show_transform
     from dancebots.report.plan_plot import plot_plan
 
     transform = None
     if world is not None:
         placement: list[Diagnostic] = []
-        transform = place_plan_in_world(plan, world, placement)
+        transform = show_transform(plan, world, sample_show(plan), placement)
         print_diagnostics(placement, show.sources)
         if has_errors(placement):
             return EXIT_INVALID

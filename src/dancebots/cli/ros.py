@@ -83,6 +83,7 @@ def _roslaunch() -> str | None:
 
 def run(args: argparse.Namespace) -> int:
     from dancebots.loading import load_show
+    from dancebots.plan.placement import place_show
     from dancebots.ros1.launching import START_ALLOWANCE, ros_environment, simulation_launch
     from dancebots.sim.setup import SetupError, prepare_show
 
@@ -112,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
             return EXIT_OK
         os.execve(roslaunch, command, ros_environment())
     try:
-        _, placement = prepare_show(plan, show.world)
+        _, placement = prepare_show(place_show(plan, show.world))
     except SetupError as exc:
         return fail(NAME, str(exc))
     text = simulation_launch(

@@ -30,6 +30,7 @@ from geometry_msgs.msg import TransformStamped, Twist
 from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Header
 
+from dancebots.plan.placement import place_show
 from dancebots.ros1.common import NodeLife, QueuedLog, load_show, required_param
 from dancebots.ros1.convert import cloud_message
 from dancebots.ros1.naming import RobotNames
@@ -53,7 +54,7 @@ def main() -> None:
         rospy.logfatal(f"unknown profile {profile!r}; use one of {', '.join(PROFILES)}")
         raise SystemExit(2)
     try:
-        arena, placement = prepare_show(plan, world)
+        arena, placement = prepare_show(place_show(plan, world))
     except SetupError as exc:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None

@@ -1,9 +1,9 @@
 """Where a simulated show takes place: the arena and every robot's start pose.
 
-Pure: a plan and an optional world in, an :class:`Arena` and a :class:`Placement` out, or a
-:class:`SetupError` with a one-line message and the diagnostics behind it. What the setup
-refuses is decided by :func:`dancebots.check.place_show`, the function ``check`` reports with,
-so a show that checks without errors always sets up.
+Pure: a placed show in (:class:`~dancebots.plan.placement.PlacedShow`), an :class:`Arena` and
+a :class:`Placement` out, or a :class:`SetupError` with a one-line message and the diagnostics
+behind it. What the setup refuses is decided by the placement, the object ``check`` reports
+over, so a show that checks without errors always sets up.
 """
 
 from __future__ import annotations
@@ -14,11 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.check import ShowPlacement, place_show, robot_types
 from dancebots.diagnostics import Diagnostic
-from dancebots.geometry import Pose, footprint_corners
-from dancebots.plan.planner import Plan
-from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, Spectator, World
+from dancebots.geometry import Pose
+from dancebots.plan.placement import PlacedShow
+from dancebots.world import Obstacle, RobotType, Spectator
 
 __all__ = ["Arena", "Placement", "SetupError", "prepare_show"]
 
@@ -65,41 +64,31 @@ class Placement:
     show_to_world: Pose
 
 
-def open_arena(plan: Plan, types: list[RobotType], margin: float = 2.0) -> Arena:
+def open_arena(show: PlacedShow, margin: float = 2.0) -> Arena:
     """A square-cornered room around everything the show's desired footprints cover, plus a
-    margin in m, with its corners on whole metres."""
-    times = np.arange(0.0, plan.duration + 0.5, 0.5)
-    low, high = np.full(2, np.inf), np.full(2, -np.inf)
-    for robot, kind in zip(plan.robots, types, strict=True):  # one robot at a time: memory
-        poses = plan.desired_poses(robot, times)                # O(samples), not O(R samples)
-        corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], kind.length,
-                                    kind.width).reshape(-1, 2)
-        low, high = np.minimum(low, corners.min(axis=0)), np.maximum(high, corners.max(axis=0))
+    margin in m, with its corners on whole metres (the show frame is the world frame)."""
+    low, high = show.footprint_extent()
     low, high = np.floor(low - margin), np.ceil(high + margin)
     room = np.array([[low[0], low[1]], [high[0], low[1]], [high[0], high[1]],
                      [low[0], high[1]]])
     return Arena(room, 2.0, (), None)
 
 
-def prepare_show(plan: Plan, world: World | None,
-                 default_type: RobotType = DEFAULT_ROBOT_TYPE,
-                 placed: ShowPlacement | None = None) -> tuple[Arena, Placement]:
-    """The arena and start poses. Without a world the robots start on the slots of the first
-    formation in an open arena; with one they start where it says (or, if it places no robot,
-    on their slots with the show centred in the room). Raises :class:`SetupError` with the
-    errors of :func:`dancebots.check.place_show` (the show leaves the room, robots start on
-    each other, ...). ``placed``: that answer when the caller has it already (a
-    :class:`~dancebots.check.CheckReport`'s ``placement``, for the same plan, world and
-    default type), so that it is not computed twice."""
-    types = robot_types(plan, world, default_type)
-    placed = placed or place_show(plan, world, types)
-    if placed.errors:
-        raise SetupError.from_diagnostics(placed.errors)
-    assert placed.transform is not None  # no errors: the show is placed
-    assert placed.starts is not None
+def prepare_show(show: PlacedShow) -> tuple[Arena, Placement]:
+    """The arena and start poses of a placed show
+    (:func:`~dancebots.plan.placement.place_show`). Without a world the robots start on the
+    slots of the first formation in an open arena; with one they start where it says (or, if
+    it places no robot, on their slots with the show centred in the room). Raises
+    :class:`SetupError` with the placement's errors (the show leaves the room, robots start
+    on each other, ...): the errors ``check`` reports."""
+    if show.errors:
+        raise SetupError.from_diagnostics(show.errors)
+    assert show.transform is not None  # no errors: the show is placed
+    assert show.starts is not None
+    world = show.world
     if world is None:
-        arena = open_arena(plan, types)
+        arena = open_arena(show)
     else:
         arena = Arena(world.room, world.wall_height, world.obstacles, world.path,
                       world.spectators)
-    return arena, Placement(plan.robots, tuple(types), placed.starts, placed.transform)
+    return arena, Placement(show.plan.robots, show.types, show.starts, show.transform)
