@@ -13,7 +13,8 @@ import statistics
 from pathlib import Path
 
 from dancebots.check import compile_scenario
-from dancebots.sim import PROFILES, SimConfig, prepare_show, simulate
+from dancebots.shows.formation import SimConfig, simulate
+from dancebots.sim import PROFILES, prepare_show
 from dancebots.sim.lidar import LidarConfig
 
 SCENARIO = Path(__file__).resolve().parent.parent / "examples" / "crash_7_2_2.dance"

@@ -13,8 +13,8 @@ import time
 
 import numpy as np
 
+from dancebots.geometry import footprint_corners
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
-from dancebots.sim.simulator import _corners
 
 
 def main() -> None:
@@ -26,7 +26,8 @@ def main() -> None:
         xs, ys = np.meshgrid(np.arange(min(count, 5)) * 1.5, np.arange(rows) * 2.0)
         poses = np.stack([xs.ravel()[:count] + 2.0, ys.ravel()[:count] + 2.0,
                           np.zeros(count)], axis=1)
-        corners = _corners(poses, np.full(count, 1.2), np.full(count, 0.6))
+        corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], np.full(count, 1.2),
+                                    np.full(count, 0.6))
         room = np.array([[0.0, 0.0], [12.0, 0.0], [12.0, 2.0 * rows + 4.0],
                          [0.0, 2.0 * rows + 4.0]])
         scene = LidarScene.build(room, 2.0, [])

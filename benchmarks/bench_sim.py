@@ -13,7 +13,8 @@ import statistics
 import time
 
 from dancebots.check import compile_scenario
-from dancebots.sim import SimConfig, prepare_show, simulate
+from dancebots.shows.formation import SimConfig, simulate
+from dancebots.sim import prepare_show
 
 TARGETS = {4: 300.0, 100: 10.0}
 

@@ -19,7 +19,8 @@ import numpy as np
 
 from dancebots.check import compile_scenario
 from dancebots.report.metrics import spacing_change
-from dancebots.sim import SimConfig, prepare_show, simulate
+from dancebots.shows.formation import SimConfig, simulate
+from dancebots.sim import prepare_show
 
 SCENARIO = Path(__file__).parents[1] / "examples" / "thesis_7_1.dance"
 SPACING = 1.2

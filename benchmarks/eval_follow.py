@@ -14,7 +14,7 @@ import argparse
 
 from dancebots.cli.common import bundled
 from dancebots.report.follow import queue_metrics
-from dancebots.sim.queue import QueueConfig, simulate_queue
+from dancebots.shows.queue import QueueConfig, simulate_queue
 from dancebots.world import load_world
 
 PAIRINGS = [("a1", "pid", "first"), ("a1", "pid", "tuned"), ("a1", "vo", "first"),

@@ -37,11 +37,6 @@ def test_stands_still_before_the_start_and_moves_after() -> None:
     assert command.linear > 0.3
 
 
-def test_unknown_follower_is_refused() -> None:
-    with pytest.raises(ValueError, match="unknown follower 'magic'"):
-        RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(), follower="magic")
-
-
 def test_brain_holds_for_an_obstacle_ahead_and_speaks_once() -> None:
     from dancebots.perception.cloud import PointCloud
     from dancebots.robot import SensingConfig
@@ -84,7 +79,7 @@ def test_brain_for_builds_the_same_brain_for_the_simulator_and_ros() -> None:
     husky = BUILTIN_ROBOT_TYPES["HUSKY"]
     brain = brain_for(plan, "R2", husky, BrainOptions(lidar=False, detector="thesis",
                                                       force_radius=0.5, force_steering="thesis"))
-    assert (brain.robot, brain.follower) == ("R2", "thesis")
+    assert brain.robot == "R2"
     assert (brain.params.vmax, brain.params.max_linear, brain.params.max_angular) == (
         plan.parameters.vmax, husky.max_speed, husky.max_angular_speed)
     assert brain.params.force_steering == "thesis"

@@ -43,12 +43,9 @@ from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.world import RobotType
 
-__all__ = ["DETECTORS", "FOLLOWERS", "BrainOptions", "BrainState", "Command", "Detector",
-           "Follower", "RobotBrain", "SensingConfig", "brain_for"]
+__all__ = ["DETECTORS", "BrainOptions", "BrainState", "Command", "Detector", "RobotBrain",
+           "SensingConfig", "brain_for"]
 
-Follower = Literal["thesis"]
-FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
-"""Follower strategies by name; ``thesis`` is eq. 4.4 as written."""
 Detector = Literal["thesis", "compensated"]
 DETECTORS: tuple[Detector, ...] = get_args(Detector)
 """Obstacle detectors: ``thesis`` uses the latest cloud as if it were current (ch. 5.2);
@@ -135,10 +132,7 @@ class RobotBrain:
     """
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
-                 follower: Follower = "thesis", grid_period: float = 0.1,
-                 sensing: SensingConfig | None = None) -> None:
-        if follower not in FOLLOWERS:
-            raise ValueError(f"unknown follower {follower!r}; choose from {', '.join(FOLLOWERS)}")
+                 grid_period: float = 0.1, sensing: SensingConfig | None = None) -> None:
         self.sensing = sensing or SensingConfig(lidar=False)
         if self.sensing.detector not in DETECTORS:
             raise ValueError(f"unknown detector {self.sensing.detector!r}; choose from "
@@ -146,7 +140,6 @@ class RobotBrain:
         self.plan = plan
         self.robot = robot
         self.params = params
-        self.follower = follower
         slot = plan.desired_poses(robot, np.zeros(1))[0]
         self.slot0 = Pose(float(slot[0]), float(slot[1]), float(slot[2]))
         self._to_own = self.slot0.inverse()
@@ -276,13 +269,11 @@ def _record_time(record: tuple[float, float, float, float]) -> float:
 class BrainOptions:
     """How a robot's brain works, the same in the simulator and on a real robot.
 
-    follower: the follower law (``FOLLOWERS``); lidar: False for a robot without obstacle
-    detection (no stops, no force field, no sensor-age check); detector: ``DETECTORS``;
-    force_radius: the virtual force field's reach, m (0: off); force_steering: how the force
-    steers (``FollowerParams.force_steering``).
+    lidar: False for a robot without obstacle detection (no stops, no force field, no
+    sensor-age check); detector: ``DETECTORS``; force_radius: the virtual force field's reach,
+    m (0: off); force_steering: how the force steers (``FollowerParams.force_steering``).
     """
 
-    follower: Follower = "thesis"
     lidar: bool = True
     detector: Detector = "compensated"
     force_radius: float = 1.0
@@ -297,6 +288,6 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
     return RobotBrain(plan, robot, FollowerParams(
         vmax=plan.parameters.vmax, max_linear=robot_type.max_speed,
         max_angular=robot_type.max_angular_speed, force_steering=options.force_steering),
-        options.follower, sensing=SensingConfig(
+        sensing=SensingConfig(
             robot_type.length, robot_type.width, lidar=options.lidar,
             detector=options.detector, force_radius=options.force_radius))

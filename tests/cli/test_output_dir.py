@@ -40,7 +40,7 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args: object, **kwargs: object) -> None:
         raise AssertionError("simulated although the output was refused")
 
-    monkeypatch.setattr("dancebots.sim.simulator.simulate", refuse)
+    monkeypatch.setattr("dancebots.shows.formation.simulate", refuse)
 
 
 def fake_run(target: Path, files: dict[str, str]) -> list[str]:
@@ -197,7 +197,7 @@ def test_a_user_file_with_an_output_name_is_refused_before_simulating(
     (tmp_path / "elsewhere.txt").write_text("mine")
     (out / "sound.wav").symlink_to(tmp_path / "elsewhere.txt")
     before = snapshot(tmp_path)
-    monkeypatch.setattr("dancebots.sim.simulator.simulate", None)  # must not be reached
+    monkeypatch.setattr("dancebots.shows.formation.simulate", None)  # must not be reached
     assert main(["run", *FAST, "--out", str(out)]) == 2
     assert capsys.readouterr().err == (
         f"dancebots run: error: {out / 'animation.gif'} is not a file of the earlier run (its "

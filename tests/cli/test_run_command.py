@@ -126,7 +126,8 @@ def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) ->
     """scripts/dev.sh installs ffmpeg, so this runs in CI; without ffmpeg the run writes only
     the GIF, which test_run_writes_every_output covers."""
     from dancebots.report.animation import animate_run, ffmpeg_available
-    from dancebots.sim import SimConfig, prepare_show, simulate
+    from dancebots.shows.formation import SimConfig, simulate
+    from dancebots.sim import prepare_show
     from tests_support import plan_of
 
     if not ffmpeg_available():

@@ -74,8 +74,8 @@ def test_choices_match_the_core() -> None:
     from dancebots.cli import follow, ros, run
     from dancebots.leader_follower.controllers import CONTROLLERS
     from dancebots.leader_follower.detectors import DETECTORS
+    from dancebots.shows.queue import LEADERS
     from dancebots.sim.kinematics import PROFILES
-    from dancebots.sim.queue import LEADERS
     from dancebots.sync.start import START_STRATEGIES
 
     assert set(run.PROFILES) == set(follow.PROFILES) == set(ros.PROFILES) == set(PROFILES)

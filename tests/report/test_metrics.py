@@ -9,8 +9,8 @@ import pytest
 
 from dancebots.check import compile_scenario
 from dancebots.report.metrics import run_metrics
-from dancebots.sim import SimConfig, prepare_show, simulate
-from dancebots.sim.simulator import RunResult
+from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.sim import prepare_show
 
 
 def result_for(text: str) -> RunResult:

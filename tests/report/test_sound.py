@@ -11,7 +11,7 @@ import pytest
 
 from dancebots.report.sound import TextSpeaker, espeak_available, render_events_wav
 from dancebots.safety import STOP_SENTENCE
-from dancebots.sim.simulator import RobotEvent
+from dancebots.shows.formation import RobotEvent
 
 
 def test_text_speaker() -> None:

@@ -17,8 +17,8 @@ from tests.ros1.conftest import Master, stop, tagged
 
 from dancebots.check import compile_scenario
 from dancebots.plan.planner import Plan
-from dancebots.sim import SimConfig, prepare_show, simulate
-from dancebots.sim.simulator import RunResult
+from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.sim import prepare_show
 
 EXAMPLES = Path(__file__).parents[2] / "examples"
 SCENARIO_7_1 = EXAMPLES / "thesis_7_1.dance"

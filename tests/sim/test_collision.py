@@ -54,3 +54,15 @@ def test_boundary_contacts_agree_with_shapely(seed: int) -> None:
         if pillar_shape.intersects(outline):
             expected.append((robot, 0))
     assert sorted(boundaries.contacts(corners, reach)) == expected
+
+
+def test_walls_and_obstacles_are_contacts() -> None:
+    room = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+    pillar = np.array([[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]])
+    boundaries = Boundaries(room, [pillar])
+    poses = np.array([[2.0, 2.0, 0.0], [0.3, 5.0, 0.0], [5.5, 5.5, 0.0], [4.5, 5.5, 0.0],
+                      [20.0, 20.0, 0.0]])
+    corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], np.full(5, 1.2),
+                                np.full(5, 0.6))
+    contacts = boundaries.contacts(corners, np.full(5, 0.67))
+    assert sorted(contacts) == [(1, -1), (2, 0), (3, 0), (4, -1)]

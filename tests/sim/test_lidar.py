@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from dancebots.geometry import footprint_corners
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds
 from dancebots.sim.raycast import (
     ray_directions,
@@ -14,7 +15,6 @@ from dancebots.sim.raycast import (
     rays_to_segments,
     rays_to_segments_culled,
 )
-from dancebots.sim.simulator import _corners
 
 ROOM = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
 
@@ -50,7 +50,8 @@ def test_culled_casting_equals_brute_force(seed: int) -> None:
 
 def cloud_of_first_robot(poses: np.ndarray, discs: np.ndarray | None = None,
                          config: LidarConfig | None = None) -> np.ndarray:
-    corners = _corners(poses, np.full(len(poses), 1.2), np.full(len(poses), 0.6))
+    corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], np.full(len(poses), 1.2),
+                                np.full(len(poses), 0.6))
     discs = np.zeros((0, 3)) if discs is None else discs
     clouds = scan_clouds(config or LidarConfig(), 1.5, poses, corners,
                          LidarScene.build(ROOM, 2.0, []), discs,
@@ -116,7 +117,8 @@ def test_compiled_and_numpy_scans_agree(seed: int) -> None:
     rng = np.random.default_rng(seed)
     count = int(rng.integers(1, 6))
     poses = np.column_stack([rng.uniform(1, 9, (count, 2)), rng.uniform(-3, 3, count)])
-    corners = _corners(poses, np.full(count, 1.2), np.full(count, 0.6))
+    corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], np.full(count, 1.2),
+                                np.full(count, 0.6))
     obstacles = [(np.array([[6.0, 6.0], [7.0, 6.5], [6.5, 7.5]]), 1.0)]
     discs = np.array([[3.0, 7.0, 0.3], [8.0, 2.0, 0.25]])
     heights = np.array([1.7, 1.2])

@@ -32,7 +32,7 @@ if TYPE_CHECKING:
 
     from dancebots.report.follow import QueueMetrics
     from dancebots.report.verdict import Verdict
-    from dancebots.sim.queue import QueueResult
+    from dancebots.shows.queue import QueueResult
 
 __all__ = ["BUNDLED_WORLDS"]
 
@@ -96,8 +96,8 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.diagnostics import DiagnosticError, read_source_file, source_lines
     from dancebots.report.follow import queue_metrics
     from dancebots.report.verdict import queue_verdict
+    from dancebots.shows.queue import QueueConfig, simulate_queue
     from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
-    from dancebots.sim.queue import QueueConfig, simulate_queue
     from dancebots.sim.setup import SetupError
     from dancebots.world import load_world
 

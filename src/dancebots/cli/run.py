@@ -35,8 +35,8 @@ if TYPE_CHECKING:
     from dancebots.loading import LoadedShow
     from dancebots.report.metrics import RunMetrics
     from dancebots.report.verdict import Verdict
+    from dancebots.shows.formation import RunResult
     from dancebots.sim.setup import Arena, Placement
-    from dancebots.sim.simulator import RunResult
 
 NAME = "run"
 HELP = "simulate a show and write metrics, plots, an animation and a log"
@@ -129,10 +129,10 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
               staging: Path, console: Console, target: Path) -> ShowOutcome:
     from dancebots.report.metrics import run_metrics
     from dancebots.report.verdict import FINAL_SLOT_TOLERANCE, run_verdict
+    from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim.kernels import kernels_to_compile
     from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
     from dancebots.sim.lidar import LidarConfig
-    from dancebots.sim.simulator import SimConfig, simulate
 
     assert show.plan is not None
     plan, (arena, placement) = show.plan, setup

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.sim.simulator import RunResult
+from dancebots.shows.formation import RunResult
 
 __all__ = ["animate_run", "ffmpeg_available", "render_frames"]
 
@@ -42,7 +42,7 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
 
     from dancebots.geometry import footprint_corners
     from dancebots.report.run_plots import robot_colours
-    from dancebots.sim.simulator import STATUS
+    from dancebots.shows.formation import STATUS
 
     times = result.times
     frame_times = np.arange(times[0], times[-1] + 1e-9, speedup / fps)

@@ -17,7 +17,7 @@ from typing import Any, TextIO
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.sim.queue import LEADER, QueueResult
+from dancebots.shows.queue import LEADER, QueueResult
 
 __all__ = ["FollowerMetrics", "QueueMetrics", "animate_queue", "plot_queue",
            "queue_metrics", "surface_gaps", "write_queue_log"]

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.sim.simulator import STATUS, RunResult
+from dancebots.shows.formation import STATUS, RunResult
 
 __all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics", "spacing_change"]
 

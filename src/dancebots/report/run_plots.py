@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from dancebots.sim.simulator import RunResult
+from dancebots.shows.formation import RunResult
 
 __all__ = ["plot_speeds_and_distances", "plot_trajectories", "robot_colours"]
 
@@ -41,7 +41,7 @@ def plot_speeds_and_distances(result: RunResult) -> Any:
     for event in result.collisions:
         for axis in (linear, angular, distance):
             axis.axvline(event.time, color="red", linewidth=0.8, alpha=0.6)
-    from dancebots.sim.simulator import STATUS
+    from dancebots.shows.formation import STATUS
 
     for i in range(len(result.robots)):  # shade the times a robot is held or in error
         for code, shade in ((STATUS.index("stopped"), 0.12), (STATUS.index("error"), 0.3)):

@@ -8,7 +8,7 @@ from __future__ import annotations
 import csv
 from typing import TextIO
 
-from dancebots.sim.simulator import RunResult
+from dancebots.shows.formation import RunResult
 
 __all__ = ["LOG_COLUMNS", "write_log"]
 

@@ -20,7 +20,7 @@ from typing import Protocol, TextIO
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.sim.simulator import RobotEvent
+from dancebots.shows.formation import RobotEvent
 
 __all__ = ["EspeakSpeaker", "Speaker", "TextSpeaker", "espeak_available",
            "render_events_wav"]

@@ -1,20 +1,16 @@
-"""The 2D simulator: arena and start poses, kinematics, collisions, the simulation loop."""
+"""The simulation engine: arena and start poses, kinematics, collisions, the LIDAR, the stage
+and the recorder (the shows that run on it are in ``shows/``)."""
 
 from dancebots.sim.kinematics import IDEAL, PROFILES, REALISTIC, Profile
 from dancebots.sim.setup import Arena, Placement, SetupError, prepare_show
-from dancebots.sim.simulator import CollisionEvent, RunResult, SimConfig, simulate
 
 __all__ = [
     "IDEAL",
     "PROFILES",
     "REALISTIC",
     "Arena",
-    "CollisionEvent",
     "Placement",
     "Profile",
-    "RunResult",
     "SetupError",
-    "SimConfig",
     "prepare_show",
-    "simulate",
 ]

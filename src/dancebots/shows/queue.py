@@ -3,9 +3,10 @@ of it with nothing but its own planar LIDAR and odometry (no communication).
 
 The leader is the world's spectator named ``leader`` (a walking person). Each follower runs
 a detector (A1, A2, A2-track) on its scans and a controller (B1 PID, B2 VO) every tick; the
-:class:`~dancebots.sim.stage.Stage` moves everything (10 Hz rule, contacts). Scans are
-planar (``sim.lidar.scan_ranges``), at the LIDAR's period and delivered after its latency,
-with the pose of the robot when it scanned (its odometry, exact here).
+shared loop (``shows/loop.py``) records and moves the :class:`~dancebots.sim.stage.Stage`
+(10 Hz rule, contacts). Scans are planar (``sim.lidar.scan_ranges``), at the LIDAR's period
+and delivered after its latency, with the pose of the robot when it scanned (its odometry,
+exact here).
 """
 
 from __future__ import annotations
@@ -41,13 +42,14 @@ from dancebots.leader_follower.detectors import (
     tracking_step,
 )
 from dancebots.leader_follower.scan import Detection, Scan
+from dancebots.shows.loop import Clock, Progress, Tick, run_show
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.recorder import Recorder
 from dancebots.sim.setup import Arena, Placement, SetupError
 from dancebots.sim.spectators import spectator_position, walk_duration
 from dancebots.sim.stage import CollisionEvent, Stage
-from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, World
+from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, Spectator, World
 
 __all__ = ["LEADERS", "PID_GAINS", "Leader", "QueueConfig", "QueueResult", "queue_placement",
            "simulate_queue"]
@@ -184,58 +186,64 @@ def queue_placement(world: World, config: QueueConfig) -> tuple[Arena, Placement
 
 
 def simulate_queue(world: World, config: QueueConfig = QueueConfig(),
-                   progress: Callable[[float, float], None] | None = None) -> QueueResult:
+                   progress: Progress | None = None) -> QueueResult:
     """Run the queue until the leader has walked (or driven) its path and ``settle`` s more."""
     arena, placement = queue_placement(world, config)
-    count = config.robots
     lead = 1 if config.leader == "robot" else 0  # robots before the followers in the stage
     stage = Stage(arena, placement, config.profile, config.dt, None, seed=config.seed)
     leader = next(s for s in world.spectators if s.name == LEADER)
-    leader_index = None if lead else [s.name for s in arena.spectators].index(LEADER)
-    end = walk_duration(leader) + config.settle
-    detect, control = _parts(config)
-    detector_states: list[Any] = [None] * count
-    controller_states: list[Any] = [None] * count
-    detections: list[Detection | None] = [None] * count
-    lidar = config.lidar
-    angles = lidar.angles()
-    command = np.zeros((count + lead, 2))
-    kind = config.robot_type
-    recorder = Recorder()
-    steps = math.ceil(end / config.dt)
-    last_report = -math.inf
-    for step in range(steps + 1):
-        now = step * config.dt
-        for stamp, ranges, poses in stage.planar_deliveries(now, lidar):
+    queue = _Queue(config, stage, leader, lead,
+                   None if lead else [s.name for s in arena.spectators].index(LEADER))
+    clock = Clock(config.dt, walk_duration(leader) + config.settle)
+    recorder = run_show(stage, queue.step, clock, progress)
+    extent = 0.5 * config.robot_type.length if lead else leader.radius
+    return _result(config, arena, placement.robots[lead:], stage, recorder, extent)
+
+
+class _Queue:
+    """The queue's decisions at a control tick: each follower's detector takes the scans that
+    reach it, its controller steers towards the detection; a leader robot (``lead`` 1, the
+    stage's first robot) drives towards where the person would be."""
+
+    def __init__(self, config: QueueConfig, stage: Stage, leader: Spectator, lead: int,
+                 leader_index: int | None) -> None:
+        count = config.robots
+        self.count, self.stage, self.leader, self.lead = count, stage, leader, lead
+        self.leader_index, self.kind, self.lidar = leader_index, config.robot_type, config.lidar
+        self.angles = config.lidar.angles()
+        self.detect, self.control = _parts(config)
+        self.detector_states: list[Any] = [None] * count
+        self.controller_states: list[Any] = [None] * count
+        self.detections: list[Detection | None] = [None] * count
+        self.command = np.zeros((count + lead, 2))
+
+    def step(self, now: float) -> Tick:
+        stage, count, lead, command = self.stage, self.count, self.lead, self.command
+        detector_states, controller_states = self.detector_states, self.controller_states
+        detections = self.detections
+        for stamp, ranges, poses in stage.planar_deliveries(now, self.lidar):
             for i in range(count):
-                scan = Scan(stamp, ranges[lead + i], angles, tuple(poses[lead + i].tolist()))
-                detector_states[i], detections[i] = detect(detector_states[i], scan)
+                scan = Scan(stamp, ranges[lead + i], self.angles,
+                            tuple(poses[lead + i].tolist()))
+                detector_states[i], detections[i] = self.detect(detector_states[i], scan)
         if lead:
             command[0] = leader_robot_command(
-                spectator_position(leader, now), tuple(stage.pose[0].tolist()),
-                kind.max_speed, kind.max_angular_speed)
+                spectator_position(self.leader, now), tuple(stage.pose[0].tolist()),
+                self.kind.max_speed, self.kind.max_angular_speed)
         targets = np.full((count, 2), np.nan)
         for i in range(count):
             pose = tuple(stage.pose[lead + i].tolist())
-            controller_states[i], (u, w) = control(controller_states[i], pose, detections[i])
+            controller_states[i], (u, w) = self.control(controller_states[i], pose,
+                                                        detections[i])
             command[lead + i] = (u, w)
             detection = detections[i]
             if detection is not None and detection.target is not None:
                 targets[i] = detection.target.position
-        leader_at = stage.pose[0, :2] if lead else stage.discs[leader_index, :2]
+        leader_at = stage.pose[0, :2] if lead else stage.discs[self.leader_index, :2]
         ahead = np.vstack([leader_at, stage.pose[lead:lead + count - 1, :2]])
-        recorder.add(now, poses=stage.pose[lead:], commands=command[lead:], targets=targets,
-                     ahead=ahead, spectators=stage.discs[:, :2], leader=leader_at)
-        if progress is not None and now - last_report >= 1.0:
-            progress(now, end)
-            last_report = now
-        if step == steps:
-            break
-        stage.advance(now, command, np.full(count + lead, now))
-    if progress is not None:
-        progress(end, end)
-    extent = 0.5 * kind.length if lead else leader.radius
-    return _result(config, arena, placement.robots[lead:], stage, recorder, extent)
+        return Tick(command, {"poses": stage.pose[lead:], "commands": command[lead:],
+                              "targets": targets, "ahead": ahead,
+                              "spectators": stage.discs[:, :2], "leader": leader_at})
 
 
 def _parts(config: QueueConfig) -> tuple[Callable[[Any, Scan], tuple[Any, Detection]],

@@ -1,4 +1,4 @@
-"""Safety in the simulator: failures, the crash of thesis 7.2.2, spectators."""
+"""Safety in the formation show: failures, the crash of thesis 7.2.2, spectators."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from dancebots.safety import STOP_SENTENCE
-from dancebots.sim import REALISTIC, SimConfig, prepare_show, simulate
+from dancebots.shows.formation import STATUS, Fault, RunResult, SimConfig, simulate
+from dancebots.sim import REALISTIC, prepare_show
 from dancebots.sim.lidar import LidarConfig
-from dancebots.sim.simulator import STATUS, Fault, RunResult
 from dancebots.world import parse_world
 from tests_support import plan_of
 

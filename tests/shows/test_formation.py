@@ -1,4 +1,4 @@
-"""The simulator: deterministic, the 10 Hz rule, no passing through, the thesis scenarios."""
+"""The formation show: deterministic, the 10 Hz rule, no passing through, the thesis scenarios."""
 
 from __future__ import annotations
 
@@ -8,19 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dancebots.sim import (
-    IDEAL,
-    REALISTIC,
-    Profile,
-    RunResult,
-    SimConfig,
-    prepare_show,
-    simulate,
-)
-from dancebots.sim.collision import Boundaries, rectangles_overlap
-from dancebots.sim.kinematics import actuate, fresh_commands
-from dancebots.sim.simulator import _corners
-from dancebots.world import parse_world
+from dancebots.geometry import footprint_corners
+from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.sim import IDEAL, REALISTIC, Profile, prepare_show
+from dancebots.sim.collision import rectangles_overlap
 from tests_support import plan_of
 
 
@@ -35,7 +26,9 @@ def no_overlaps(result: RunResult) -> bool:
     lengths = np.array([t.length for t in result.placement.types])
     widths = np.array([t.width for t in result.placement.types])
     for k in range(len(result.times)):
-        corners = _corners(result.poses[:, k], lengths, widths)
+        poses = result.poses[:, k]
+        corners = footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], lengths,
+                                    widths)
         for i, j in itertools.combinations(range(len(result.robots)), 2):
             if rectangles_overlap(corners[i:i + 1], corners[j:j + 1])[0]:
                 return False
@@ -83,13 +76,6 @@ def test_robots_start_on_their_slots_and_follow(examples: Path) -> None:
     assert error.max() < 0.6
 
 
-def test_ten_hertz_rule() -> None:
-    command = np.array([[0.5, 0.1], [0.4, 0.0], [0.3, -0.2]])
-    issued = np.array([1.0, 0.9, 0.85])
-    assert fresh_commands(command, issued, 1.0, 0.1).tolist() == [
-        [0.5, 0.1], [0.4, 0.0], [0.0, 0.0]]
-
-
 def test_robot_stops_when_commands_come_too_rarely() -> None:
     """Commands every 0.3 s: each one acts for the steps starting 0 s and 0.1 s after it and
     is stale (older than 0.1 s) for the third, so by t = 0.3 s the robot has driven 0.2 s at
@@ -100,16 +86,6 @@ def test_robot_stops_when_commands_come_too_rarely() -> None:
     assert strict.times[1] == pytest.approx(0.3)
     assert strict.poses[0, 1, 0] - strict.poses[0, 0, 0] == pytest.approx(0.07)
     assert lenient.poses[0, 1, 0] - lenient.poses[0, 0, 0] == pytest.approx(0.105)
-
-
-def test_realistic_profile_has_lag_and_acceleration_limits() -> None:
-    rng = np.random.default_rng(0)
-    quiet = Profile("test", lag=0.25, linear_acceleration=1.0, angular_acceleration=4.0)
-    velocity = actuate(quiet, np.zeros((1, 2)), np.array([[1.0, 3.0]]), 0.1, rng)
-    # lag: 1 - exp(-0.1 / 0.25) = 0.33 of the step, then limited to 0.1 m/s and 0.4 rad/s
-    np.testing.assert_allclose(velocity, [[0.1, 0.4]])
-    assert actuate(IDEAL, np.zeros((1, 2)), np.array([[1.0, 3.0]]), 0.1, rng).tolist() == [
-        [1.0, 3.0]]
 
 
 def test_crossing_robots_are_stopped_and_counted() -> None:
@@ -123,17 +99,6 @@ def test_crossing_robots_are_stopped_and_counted() -> None:
     assert no_overlaps(result)  # never passed through
 
 
-def test_walls_and_obstacles_are_contacts() -> None:
-    room = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
-    pillar = np.array([[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]])
-    boundaries = Boundaries(room, [pillar])
-    poses = np.array([[2.0, 2.0, 0.0], [0.3, 5.0, 0.0], [5.5, 5.5, 0.0], [4.5, 5.5, 0.0],
-                      [20.0, 20.0, 0.0]])
-    corners = _corners(poses, np.full(5, 1.2), np.full(5, 0.6))
-    contacts = boundaries.contacts(corners, np.full(5, 0.67))
-    assert sorted(contacts) == [(1, -1), (2, 0), (3, 0), (4, -1)]
-
-
 def test_open_arena_holds_the_show(examples: Path) -> None:
     plan = plan_of((examples / "thesis_6_3.dance").read_text())
     arena, placement = prepare_show(plan, None)
@@ -143,17 +108,3 @@ def test_open_arena_holds_the_show(examples: Path) -> None:
     assert np.all(everything.max(axis=0) < arena.room.max(axis=0) - 1.0)
     assert placement.starts.shape == (4, 3)
 
-
-def test_spectator_walks_its_path_with_pauses_and_loops() -> None:
-    from dancebots.sim.spectators import spectator_position
-
-    world, _ = parse_world("[[spectators]]\nspeed = 1\nstart = 1\nloop = true\n"
-                           "path = [[1, 1], [5, 1, 2], [5, 4]]\n", "w.toml")
-    assert world is not None
-    visitor = world.spectators[0]
-    # stands until 1 s; then 4 m east (4 s), a 2 s pause, 3 m north (3 s) and 5 m back to the
-    # start (5 s): a 14 s loop; positions relative to the first waypoint (1, 1)
-    expected = {0.0: (0, 0), 1.0: (0, 0), 3.0: (2, 0), 6.0: (4, 0), 7.5: (4, 0.5),
-                9.0: (4, 2), 11.0: (3.2, 2.4), 13.5: (1.2, 0.9), 15.0: (0, 0), 17.0: (2, 0)}
-    for walked, (x, y) in expected.items():
-        assert spectator_position(visitor, walked) == pytest.approx((x + 1, y + 1)), walked

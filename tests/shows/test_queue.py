@@ -12,7 +12,7 @@ import pytest
 from dancebots.cli import main
 from dancebots.cli.common import bundled
 from dancebots.report.follow import queue_metrics, surface_gaps
-from dancebots.sim.queue import QueueConfig, simulate_queue
+from dancebots.shows.queue import QueueConfig, simulate_queue
 from dancebots.world import load_world, parse_world
 
 
@@ -132,9 +132,9 @@ def test_bundled_worlds_by_name(tmp_path: Path, capsys) -> None:  # type: ignore
 def test_the_stage_delivers_planar_scans_after_the_latency(course) -> None:  # type: ignore[no-untyped-def]
     """The queue's LIDAR is the stage's: a scan taken at t reaches the robots at t + 0.3 s,
     with the poses they had when it was taken."""
+    from dancebots.shows.queue import queue_placement
     from dancebots.sim.kinematics import IDEAL
     from dancebots.sim.lidar import LidarConfig
-    from dancebots.sim.queue import queue_placement
     from dancebots.sim.stage import Stage
 
     arena, placement = queue_placement(course, QueueConfig(robots=2))

@@ -1,16 +1,18 @@
-"""The 2D simulation loop: fixed step, vectorised over robots, deterministic.
+"""The formation show: the robots' brains follow the plan on the stage, vectorised over robots,
+deterministic.
 
-Each step of ``dt`` seconds the brains tick at the control rate (10 Hz) with the clouds the
-:class:`~dancebots.sim.stage.Stage` delivers and the poses it holds, and the stage moves
-everything by one step (10 Hz rule, actuation profile, exact arcs, contacts; see
-``sim/stage.py``). Noise comes from a generator seeded by the configuration.
+At each control tick (10 Hz) every robot's brain ticks with the cloud the
+:class:`~dancebots.sim.stage.Stage` delivers and its pose in its own map frame; the shared
+loop (``shows/loop.py``) records, reports progress, moves the stage by each step of ``dt``
+seconds (10 Hz rule, actuation profile, exact arcs, contacts; see ``sim/stage.py``) and ends
+once every robot has stood still for a second after the show. Noise comes from a generator
+seeded by the configuration.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import astuple, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -19,14 +21,8 @@ from numpy.typing import NDArray
 from dancebots.control.follower import ForceSteering
 from dancebots.geometry import Pose, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
-from dancebots.robot import (
-    BrainOptions,
-    BrainState,
-    Detector,
-    Follower,
-    RobotBrain,
-    brain_for,
-)
+from dancebots.robot import BrainOptions, BrainState, Detector, RobotBrain, brain_for
+from dancebots.shows.loop import Clock, Progress, Tick, run_show
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.recorder import Recorder
@@ -50,7 +46,6 @@ class Fault:
     start: float
 
 FloatArray = NDArray[np.float64]
-Progress = Callable[[float, float], None]
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,7 +59,6 @@ class SimConfig:
     command_timeout: a robot stops when its last command is older than this, s.
     seed: seed of the noise generator. settle: extra time after the planned show, s; the run
         ends earlier once every robot has stood still for a second after the show.
-    follower: the follower strategy of the robots' brains.
     lidar: the simulated LIDAR (None: robots without LIDAR, no obstacle detection).
     detector: "thesis" or "compensated" (see ``robot.DETECTORS``).
     force_radius: reach of the virtual force field, m (0: off).
@@ -80,7 +74,6 @@ class SimConfig:
     command_timeout: float = 0.1
     seed: int = 0
     settle: float = 20.0
-    follower: Follower = "thesis"
     lidar: LidarConfig | None = field(default_factory=LidarConfig)
     detector: Detector = "compensated"
     force_radius: float = 1.0
@@ -150,69 +143,61 @@ class RunResult:
 def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
     """Show-frame poses (T, 3) as robot ``robot`` believes them in the world: start ⊕ slot0⁻¹."""
     frame = Pose(*(float(v) for v in starts[robot])).compose(slots[robot].inverse())
-    return compose_poses(np.array(astuple(frame)), show)
+    return compose_poses(np.array([frame.x, frame.y, frame.theta]), show)
 
 
 def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig = SimConfig(),
              progress: Progress | None = None) -> RunResult:
     """Run the show; ``progress(show_time, end_time)`` is called about once per second."""
-    count = len(placement.robots)
-    options = BrainOptions(config.follower, config.lidar is not None, config.detector,
-                           config.force_radius, config.force_steering)
+    options = BrainOptions(lidar=config.lidar is not None, detector=config.detector,
+                           force_radius=config.force_radius,
+                           force_steering=config.force_steering)
     brains = [brain_for(plan, robot, kind, options)
               for robot, kind in zip(placement.robots, placement.types, strict=True)]
-    states: list[BrainState] = [brain.initial_state() for brain in brains]
     stage = Stage(arena, placement, config.profile, config.dt, config.lidar,
                   config.command_timeout, config.seed, config.record_lidar)
-    lidar_faults = {placement.robots.index(f.robot): f.start for f in config.faults
-                    if f.kind == "lidar"}
-    pose_faults = {placement.robots.index(f.robot): f.start for f in config.faults
-                   if f.kind == "pose"}
-    events: list[RobotEvent] = []
-    status = np.zeros(count, dtype=np.int8)
-    command = np.zeros((count, 2))
-    issued = np.full(count, -math.inf)
-    steps_per_tick = max(1, round(config.control_period / config.dt))
-    end = plan.duration + config.settle
-    total_steps = math.ceil(end / config.dt)
-    recorder = Recorder()
-    still_since: float | None = None
-    last_report = -math.inf
-    for step in range(total_steps + 1):
-        now = step * config.dt
-        if step % steps_per_tick == 0:
-            arrived = stage.deliveries(now)
-            own_poses = stage.own_poses().tolist()
-            for i, brain in enumerate(brains):
-                if now >= lidar_faults.get(i, math.inf):
-                    arrived[i] = None
-                seen = None if now >= pose_faults.get(i, math.inf) else tuple(own_poses[i])
-                states[i], cmd, happened = brain.step(states[i], now, seen, arrived[i])
-                command[i] = (cmd.linear, cmd.angular)
-                issued[i] = now
-                status[i] = STATUS.index(states[i].status)
-                if happened:
-                    events.extend(RobotEvent(round(now, 6), placement.robots[i], e.kind,
-                                             e.text) for e in happened)
-            recorder.add(now, poses=stage.pose, velocities=stage.velocity, commands=command,
-                         status=status, spectators=stage.discs[:, :2])
-            if progress is not None and now - last_report >= 1.0:
-                progress(now, end)
-                last_report = now
-            moving = np.abs(stage.velocity).max() > 1e-3 or np.abs(command).max() > 1e-9
-            if now >= plan.duration and not moving:
-                still_since = now if still_since is None else still_since
-                if now - still_since >= 1.0:
-                    break
-            else:
-                still_since = None
-        if step == total_steps:
-            break
-        stage.advance(now, command, issued)
-    if progress is not None:
-        progress(end, end)
+    crew = _Crew(brains, placement.robots, stage, config.faults)
+    clock = Clock(config.dt, plan.duration + config.settle,
+                  max(1, round(config.control_period / config.dt)), settle_from=plan.duration)
+    recorder = run_show(stage, crew.step, clock, progress)
     return _result(plan, arena, placement, config, recorder, brains, tuple(stage.collisions),
-                   tuple(events), tuple(stage.scans))
+                   tuple(crew.events), tuple(stage.scans))
+
+
+class _Crew:
+    """The formation's decisions at a control tick: each robot's brain steps with the cloud
+    that reaches it and its pose in its own map frame (withheld from the start of an injected
+    fault); the events the robots voiced or reported accumulate in ``events``."""
+
+    def __init__(self, brains: list[RobotBrain], robots: tuple[str, ...], stage: Stage,
+                 faults: tuple[Fault, ...]) -> None:
+        count = len(brains)
+        self.brains, self.robots, self.stage = brains, robots, stage
+        self.states: list[BrainState] = [brain.initial_state() for brain in brains]
+        self.lidar_faults = {robots.index(f.robot): f.start for f in faults
+                             if f.kind == "lidar"}
+        self.pose_faults = {robots.index(f.robot): f.start for f in faults if f.kind == "pose"}
+        self.events: list[RobotEvent] = []
+        self.status = np.zeros(count, dtype=np.int8)
+        self.command = np.zeros((count, 2))
+
+    def step(self, now: float) -> Tick:
+        stage, states = self.stage, self.states
+        arrived = stage.deliveries(now)
+        own_poses = stage.own_poses().tolist()
+        for i, brain in enumerate(self.brains):
+            if now >= self.lidar_faults.get(i, math.inf):
+                arrived[i] = None
+            seen = None if now >= self.pose_faults.get(i, math.inf) else tuple(own_poses[i])
+            states[i], cmd, happened = brain.step(states[i], now, seen, arrived[i])
+            self.command[i] = (cmd.linear, cmd.angular)
+            self.status[i] = STATUS.index(states[i].status)
+            if happened:
+                self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
+                                   for e in happened)
+        return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
+                                   "commands": self.command, "status": self.status,
+                                   "spectators": stage.discs[:, :2]})
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,

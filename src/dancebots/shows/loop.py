@@ -1,0 +1,101 @@
+"""The loop both shows run (a thin shell over the stage and the recorder).
+
+Time advances in fixed steps of ``dt`` seconds. At each control tick the show's step
+decides the robots' commands from what the :class:`~dancebots.sim.stage.Stage` holds and
+delivers, and names the values to record; the loop records them through the
+:class:`~dancebots.sim.recorder.Recorder`, reports progress, and stops at the end (or, for a
+show with a settle phase, once everything has stood still for ``STILL`` s after the planned
+show). Between ticks the stage moves everything by one step with the commands issued at the
+last tick (10 Hz rule, actuation, contacts: ``sim/stage.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from dancebots.sim.recorder import Recorder
+from dancebots.sim.stage import Stage
+
+__all__ = ["STILL", "Clock", "Progress", "Step", "Tick", "run_show"]
+
+FloatArray = NDArray[np.float64]
+Progress = Callable[[float, float], None]
+"""``progress(show_time, end_time)``, called about once per second of show time and at the end."""
+
+STILL = 1.0
+"""s: a show with a settle phase ends once no robot has moved or been told to for this long."""
+STILL_SPEED = 1e-3
+"""A robot slower than this (m/s or rad/s) stands still ..."""
+STILL_COMMAND = 1e-9
+"""... unless it is commanded more than this."""
+PROGRESS_PERIOD = 1.0
+"""s of show time between progress reports."""
+
+
+@dataclass(frozen=True, slots=True)
+class Clock:
+    """The timing of a show: dt the step, s; end: the last step is the first at or after this
+    show time, s; steps_per_tick: steps per control tick; settle_from: show time from which
+    the show ends early once everything has stood still for ``STILL`` s (None: never)."""
+
+    dt: float
+    end: float
+    steps_per_tick: int = 1
+    settle_from: float | None = None
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Tick:
+    """What a show decided at a control tick: commands (R, 2) (v, w) for every robot of the
+    stage, issued at the tick; record: the values to record at the tick, by name (the same
+    names at every tick; copied when recorded)."""
+
+    commands: FloatArray
+    record: Mapping[str, NDArray[Any]]
+
+
+Step = Callable[[float], Tick]
+"""A show's decisions at a control tick: ``step(show_time) -> Tick``."""
+
+
+def run_show(stage: Stage, step: Step, clock: Clock,
+             progress: Progress | None = None) -> Recorder:
+    """Run ``step`` and ``stage`` over the show's time; returns what was recorded at each
+    tick. ``stage`` is left where the show ended (its contacts, recorded scans)."""
+    count = len(stage.pose)
+    commands: FloatArray = np.zeros((count, 2))
+    issued: FloatArray = np.full(count, -math.inf)
+    recorder = Recorder()
+    total_steps = math.ceil(clock.end / clock.dt)
+    still_since: float | None = None
+    last_report = -math.inf
+    for k in range(total_steps + 1):
+        now = k * clock.dt
+        if k % clock.steps_per_tick == 0:
+            tick = step(now)
+            commands, issued = tick.commands, np.full(count, now)
+            recorder.add(now, **tick.record)
+            if progress is not None and now - last_report >= PROGRESS_PERIOD:
+                progress(now, clock.end)
+                last_report = now
+            if clock.settle_from is not None:
+                moving = (np.abs(stage.velocity).max() > STILL_SPEED
+                          or np.abs(commands).max() > STILL_COMMAND)
+                if now >= clock.settle_from and not moving:
+                    still_since = now if still_since is None else still_since
+                    if now - still_since >= STILL:
+                        break
+                else:
+                    still_since = None
+        if k == total_steps:
+            break
+        stage.advance(now, commands, issued)
+    if progress is not None:
+        progress(clock.end, clock.end)
+    return recorder
