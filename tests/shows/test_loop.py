@@ -1,0 +1,54 @@
+"""The shows' loop: ticks, the commands' issue times, recording by name, progress, settling."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dancebots.shows.loop import STILL, Clock, Tick, run_show
+
+
+class FakeStage:
+    """Two robots that move at the commanded speed; remembers every advance."""
+
+    def __init__(self) -> None:
+        self.pose = np.zeros((2, 3))
+        self.velocity = np.zeros((2, 2))
+        self.advances: list[tuple[float, list[float], list[float]]] = []
+
+    def advance(self, now: float, command: np.ndarray, issued: np.ndarray) -> None:
+        self.advances.append((now, command[:, 0].tolist(), issued.tolist()))
+        self.velocity = command.copy()
+        self.pose[:, 0] += 0.1 * command[:, 0]
+
+
+def test_ticks_record_by_name_and_commands_hold_between_ticks() -> None:
+    stage = FakeStage()
+
+    def step(now: float) -> Tick:
+        command = np.full((2, 2), round(now, 6))
+        return Tick(command, {"poses": stage.pose, "speed": command[:, 0]})
+
+    recorder = run_show(stage, step, Clock(0.1, 0.55, steps_per_tick=2))  # type: ignore[arg-type]
+    assert recorder.times == pytest.approx([0.0, 0.2, 0.4, 0.6])
+    assert recorder.series("speed").shape == (2, 4)
+    assert recorder.series("poses").shape == (2, 4, 3)
+    assert recorder.series("poses")[0, :, 0] == pytest.approx([0.0, 0.0, 0.04, 0.12])
+    # each step acts with the last tick's commands, issued at that tick
+    assert [(round(t, 6), c[0], i[0]) for t, c, i in stage.advances] == [
+        (0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (0.2, 0.2, 0.2), (0.3, 0.2, 0.2), (0.4, 0.4, 0.4),
+        (0.5, 0.4, 0.4)]
+
+
+def test_a_settling_show_ends_once_everything_stood_still() -> None:
+    stage = FakeStage()
+    reports: list[tuple[float, float]] = []
+
+    def step(now: float) -> Tick:
+        return Tick(np.full((2, 2), 0.5 if now < 2.0 else 0.0), {"poses": stage.pose})
+
+    recorder = run_show(stage, step, Clock(0.1, 30.0, settle_from=1.0),  # type: ignore[arg-type]
+                        progress=lambda now, end: reports.append((round(now, 6), end)))
+    # still from 2.1 s (the first step without a command has stopped the robots) for STILL s
+    assert recorder.times[-1] == pytest.approx(2.1 + STILL)
+    assert reports == [(0.0, 30.0), (1.0, 30.0), (2.0, 30.0), (3.0, 30.0), (30.0, 30.0)]
