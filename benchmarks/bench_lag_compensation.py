@@ -12,7 +12,8 @@ import argparse
 import statistics
 from pathlib import Path
 
-from dancebots.check import compile_scenario
+from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import place_show
 from dancebots.shows.formation import SimConfig, simulate
 from dancebots.sim import PROFILES, prepare_show
 from dancebots.sim.lidar import LidarConfig
@@ -25,7 +26,7 @@ def main() -> None:
                             formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     _, plan, diagnostics = compile_scenario(SCENARIO.read_text(), SCENARIO.name)
     assert plan is not None, diagnostics
-    arena, placement = prepare_show(plan, None)
+    arena, placement = prepare_show(place_show(plan, None))
     print(f"{'detector':<12} {'profile':<10} {'latency':>7} {'runs':>4} {'collisions':>10} "
           f"{'median gap m':>12} {'min gap m':>9}")
     for detector in ("thesis", "compensated"):

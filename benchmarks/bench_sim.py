@@ -12,7 +12,8 @@ import argparse
 import statistics
 import time
 
-from dancebots.check import compile_scenario
+from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import place_show
 from dancebots.shows.formation import SimConfig, simulate
 from dancebots.sim import prepare_show
 
@@ -42,7 +43,7 @@ def main() -> None:
         for count in (4, 20, 100):
             _, plan, diagnostics = compile_scenario(grid_show(count), f"grid{count}.dance")
             assert plan is not None, diagnostics
-            arena, placement = prepare_show(plan, None)
+            arena, placement = prepare_show(place_show(plan, None))
             config = SimConfig() if lidar else SimConfig(lidar=None)
             walls, sims = [], []
             for _ in range(args.repeat):

@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from dancebots.check import compile_scenario
+from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import place_show
 from dancebots.report.metrics import spacing_change
 from dancebots.shows.formation import SimConfig, simulate
 from dancebots.sim import prepare_show
@@ -31,7 +32,7 @@ def main() -> None:
                             formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     _, plan, diagnostics = compile_scenario(SCENARIO.read_text(), str(SCENARIO))
     assert plan is not None, diagnostics
-    pure = simulate(plan, *prepare_show(plan, None), SimConfig())
+    pure = simulate(plan, *prepare_show(place_show(plan, None)), SimConfig())
     with tempfile.TemporaryDirectory() as folder:
         record = Path(folder) / "record.npz"
         subprocess.run([str(Path(sys.executable).parent / "dancebots"), "ros", "simulate",

@@ -125,6 +125,7 @@ def test_invalid_scenario_exits_2(capsys: Capture, data: Path, tmp_path: Path) -
 def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) -> None:
     """scripts/dev.sh installs ffmpeg, so this runs in CI; without ffmpeg the run writes only
     the GIF, which test_run_writes_every_output covers."""
+    from dancebots.plan.placement import place_show
     from dancebots.report.animation import animate_run, ffmpeg_available
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim import prepare_show
@@ -133,7 +134,7 @@ def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) ->
     if not ffmpeg_available():
         pytest.skip("ffmpeg is not installed (scripts/dev.sh installs it)")
     plan = plan_of((examples / "thesis_7_3.dance").read_text())
-    arena, placement = prepare_show(plan, None)
+    arena, placement = prepare_show(place_show(plan, None))
     result = simulate(plan, arena, placement, SimConfig())
     target = tmp_path / "a.mp4"
     animate_run(result, str(target))

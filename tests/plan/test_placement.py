@@ -19,7 +19,8 @@ def test_samples_are_the_plans_desired_poses() -> None:
     plan = plan_of(SHOW)
     samples = sample_show(plan, 0.1)
     assert samples.period == 0.1
-    assert samples.times[0] == 0.0 and samples.times[-1] == plan.duration
+    assert samples.times[0] == 0.0
+    assert samples.times[-1] == plan.duration
     assert samples.poses.shape == (2, len(samples.times), 3)
     for i, robot in enumerate(plan.robots):
         assert np.array_equal(samples.poses[i], plan.desired_poses(robot, samples.times))
@@ -41,10 +42,12 @@ def test_check_and_setup_sample_the_plan_once(monkeypatch: pytest.MonkeyPatch) -
     monkeypatch.setattr(Plan, "desired_poses", counted)
     show = place_show(plan)
     report = check_show(show)
-    arena, placement = prepare_show(show)
-    assert report.placement is show and not show.errors
+    _arena, placement = prepare_show(show)
+    assert report.placement is show
+    assert not show.errors
     assert sorted(calls) == [1, 1, len(show.samples.times), len(show.samples.times)]
-    assert placement.types == show.types and np.array_equal(placement.starts, show.starts)
+    assert placement.types == show.types
+    assert np.array_equal(placement.starts, show.starts)
 
 
 def test_open_arena_holds_every_footprint_with_its_margin() -> None:
@@ -60,7 +63,8 @@ def test_a_world_without_robots_centres_the_show() -> None:
     world, _ = parse_world("[room]\nsize = 20\n", "hall.toml")
     assert world is not None
     show = place_show(plan_of(SHOW), world)
-    assert show.transform is not None and show.transform.theta == 0.0
+    assert show.transform is not None
+    assert show.transform.theta == 0.0
     points = show.samples.poses[..., :2] + [show.transform.x, show.transform.y]
     centre = 0.5 * (points.min(axis=(0, 1)) + points.max(axis=(0, 1)))
     assert centre == pytest.approx([10.0, 10.0])
@@ -71,6 +75,7 @@ def test_a_world_that_places_some_robots_is_an_error_and_no_placement() -> None:
                            "hall.toml")
     assert world is not None
     show = place_show(plan_of(SHOW), world)
-    assert show.transform is None and show.starts is None
+    assert show.transform is None
+    assert show.starts is None
     assert [d.message for d in show.errors] == [
         "the world places A but not B (hall.toml:3)"]

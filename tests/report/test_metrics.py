@@ -7,7 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dancebots.check import compile_scenario
+from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import place_show
 from dancebots.report.metrics import run_metrics
 from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim import prepare_show
@@ -16,7 +17,7 @@ from dancebots.sim import prepare_show
 def result_for(text: str) -> RunResult:
     _, plan, diagnostics = compile_scenario(text, "t.dance")
     assert plan is not None, diagnostics
-    arena, placement = prepare_show(plan, None)
+    arena, placement = prepare_show(place_show(plan, None))
     return simulate(plan, arena, placement, SimConfig(lidar=None))
 
 

@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 from tests.ros1.conftest import Master, stop, tagged
 
-from dancebots.check import compile_scenario
+from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import place_show
 from dancebots.plan.planner import Plan
 from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim import prepare_show
@@ -33,7 +34,7 @@ def plan_of(path: Path) -> Plan:
 
 def pure_run(path: Path) -> RunResult:
     plan = plan_of(path)
-    arena, placement = prepare_show(plan, None)
+    arena, placement = prepare_show(place_show(plan, None))
     return simulate(plan, arena, placement, SimConfig())
 
 

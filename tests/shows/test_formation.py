@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from dancebots.geometry import footprint_corners
+from dancebots.plan.placement import place_show
 from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim import IDEAL, REALISTIC, Profile, prepare_show
 from dancebots.sim.collision import rectangles_overlap
@@ -18,7 +19,7 @@ from tests_support import plan_of
 def run(text: str, config: SimConfig | None = None) -> RunResult:
     """Simulate without LIDAR unless the config says otherwise (the follower's own tests)."""
     plan = plan_of(text)
-    arena, placement = prepare_show(plan, None)
+    arena, placement = prepare_show(place_show(plan, None))
     return simulate(plan, arena, placement, config or SimConfig(lidar=None))
 
 
@@ -101,7 +102,7 @@ def test_crossing_robots_are_stopped_and_counted() -> None:
 
 def test_open_arena_holds_the_show(examples: Path) -> None:
     plan = plan_of((examples / "thesis_6_3.dance").read_text())
-    arena, placement = prepare_show(plan, None)
+    arena, placement = prepare_show(place_show(plan, None))
     everything = np.concatenate([plan.desired_poses(r, np.arange(0, plan.duration, 0.5))[:, :2]
                                  for r in plan.robots])
     assert np.all(everything.min(axis=0) > arena.room.min(axis=0) + 1.0)

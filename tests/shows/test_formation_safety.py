@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from dancebots.plan.placement import place_show
 from dancebots.safety import STOP_SENTENCE
 from dancebots.shows.formation import STATUS, Fault, RunResult, SimConfig, simulate
 from dancebots.sim import REALISTIC, prepare_show
@@ -24,7 +25,7 @@ def run(text: str, config: SimConfig, world_text: str | None = None) -> RunResul
     if world_text is not None:
         world, problems = parse_world(world_text, "w.toml")
         assert world is not None, problems
-    arena, placement = prepare_show(plan, world)
+    arena, placement = prepare_show(place_show(plan, world))
     return simulate(plan, arena, placement, config)
 
 

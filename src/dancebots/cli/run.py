@@ -104,13 +104,12 @@ def run(args: argparse.Namespace) -> int:
         if args.world is None:
             args.world = short_path(bundled("open_day.toml"))
     show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions())
-    if not show.valid or show.plan is None:
+    if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
     from dancebots.sim.setup import SetupError, prepare_show
 
     try:
-        arena, placement = prepare_show(  # placed once, by the check above
-            show.plan, show.world, placed=show.report.placement if show.report else None)
+        arena, placement = prepare_show(show.report.placement)  # placed once, by the check
     except SetupError as exc:
         return refuse(NAME, args.json, str(exc))
     console = Console(stderr=True, soft_wrap=True)
