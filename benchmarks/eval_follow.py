@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 
 from dancebots.cli.common import bundled
-from dancebots.report.follow import queue_metrics
+from dancebots.report.queue_metrics import queue_metrics
 from dancebots.shows.queue import QueueConfig, simulate_queue
 from dancebots.world import load_world
 

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from dancebots.report.follow import FollowerMetrics, QueueMetrics
 from dancebots.report.metrics import RobotMetrics, RunMetrics
+from dancebots.report.queue_metrics import FollowerMetrics, QueueMetrics
 from dancebots.report.verdict import queue_verdict, run_verdict
 
 

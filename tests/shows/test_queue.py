@@ -11,7 +11,7 @@ import pytest
 
 from dancebots.cli import main
 from dancebots.cli.common import bundled
-from dancebots.report.follow import queue_metrics, surface_gaps
+from dancebots.report.queue_metrics import queue_metrics, surface_gaps
 from dancebots.shows.queue import QueueConfig, simulate_queue
 from dancebots.world import load_world, parse_world
 
@@ -109,7 +109,8 @@ def test_a_short_queue_run_animates(tmp_path: Path) -> None:
     matplotlib.use("Agg")
     from PIL import Image
 
-    from dancebots.report.follow import animate_queue, plot_queue
+    from dancebots.report.queue_animation import animate_queue
+    from dancebots.report.queue_plots import plot_queue
 
     world, _ = parse_world(
         "[room]\nsize = 6.0\n[[spectators]]\nname = \"leader\"\nspeed = 0.2\nradius = 0.2\n"

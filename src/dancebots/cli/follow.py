@@ -30,7 +30,7 @@ from dancebots.cli.common import (
 if TYPE_CHECKING:
     from rich.console import Console
 
-    from dancebots.report.follow import QueueMetrics
+    from dancebots.report.queue_metrics import QueueMetrics
     from dancebots.report.verdict import Verdict
     from dancebots.shows.queue import QueueResult
 
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     from rich.console import Console
 
     from dancebots.diagnostics import DiagnosticError, read_source_file, source_lines
-    from dancebots.report.follow import queue_metrics
+    from dancebots.report.queue_metrics import queue_metrics
     from dancebots.report.verdict import queue_verdict
     from dancebots.shows.queue import QueueConfig, simulate_queue
     from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
@@ -145,7 +145,9 @@ def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directo
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from dancebots.report.follow import animate_queue, plot_queue, write_queue_log
+    from dancebots.report.queue_animation import animate_queue
+    from dancebots.report.queue_log import write_queue_log
+    from dancebots.report.queue_plots import plot_queue
 
     with open(directory / "log.csv", "w", encoding="utf-8") as handle:
         write_queue_log(result, handle)
@@ -154,12 +156,11 @@ def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directo
     plt.close(figure)
     written = ["log.csv", "queue.png"]
     if animation:
-        from dancebots.report.animation import ffmpeg_available
+        from dancebots.report.frames import ffmpeg_available
 
         for kind in ["gif"] + (["mp4"] if ffmpeg_available() else []):
             with progress(console, f"animation.{kind} (frames)") as update:
-                animate_queue(result, str(directory / f"animation.{kind}"),
-                              progress=lambda done, total: update(done + 1, total))
+                animate_queue(result, str(directory / f"animation.{kind}"), progress=update)
             written.append(f"animation.{kind}")
     (directory / "metrics.json").write_text(json.dumps(
         {**metrics.to_json(), "verdict": verdict.to_json()}, indent=2) + "\n", encoding="utf-8")

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from dancebots.report.follow import QueueMetrics
     from dancebots.report.metrics import RunMetrics
+    from dancebots.report.queue_metrics import QueueMetrics
 
 __all__ = ["FINAL_SLOT_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
 
