@@ -1,10 +1,12 @@
-"""World files and the world they describe (:mod:`~dancebots.world.model`)."""
+"""World files and the world they describe: :mod:`~dancebots.world.model` (the room,
+obstacles, spectators, robots and their types, the start-pose rules) and
+:mod:`~dancebots.world.loader` (the TOML reader with its diagnostics)."""
 
+from dancebots.world.loader import MISSING_WORLD_HINT, load_world, parse_world
 from dancebots.world.model import (
     BUILTIN_ROBOT_TYPES,
     CONTACT_MARGIN,
     DEFAULT_ROBOT_TYPE,
-    MISSING_WORLD_HINT,
     THESIS_ROOM_SIZE,
     Obstacle,
     RobotType,
@@ -12,8 +14,6 @@ from dancebots.world.model import (
     StartConflict,
     World,
     WorldRobot,
-    load_world,
-    parse_world,
     spectator_route,
     square_room,
     start_conflicts,
