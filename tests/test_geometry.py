@@ -12,6 +12,7 @@ from dancebots.geometry import (
     Pose,
     compose_points,
     compose_poses,
+    points_in_frames,
     points_to_local,
     points_to_world,
     wrap_angle,
@@ -70,3 +71,16 @@ def test_one_wrap_convention(angles) -> None:  # type: ignore[no-untyped-def]
         assert math.isclose(math.sin(value), math.sin(wrap_angle(angle)), abs_tol=1e-9)
     assert wrap_angle(-math.pi) == math.pi
     assert wrap_angles(np.array([-np.pi]))[0] == np.pi
+
+
+def test_points_in_frames_is_to_local_for_every_point_and_frame() -> None:
+    rng = np.random.default_rng(7)
+    points = rng.uniform(-5, 5, (4, 2))
+    frames = np.column_stack([rng.uniform(-5, 5, (3, 2)), rng.uniform(-4, 4, 3)])
+    local = points_in_frames(points[None, :, :], frames[:, None, :])
+    assert local.shape == (3, 4, 2)
+    for r, frame in enumerate(frames):
+        pose = Pose(*frame)
+        for c, point in enumerate(points):
+            np.testing.assert_allclose(local[r, c], pose.to_local(*point), rtol=0,
+                                       atol=1e-12)

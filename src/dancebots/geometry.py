@@ -18,6 +18,7 @@ __all__ = [
     "compose_poses",
     "footprint_corners",
     "integrate_unicycle",
+    "points_in_frames",
     "points_to_local",
     "points_to_world",
     "wrap_angle",
@@ -118,6 +119,15 @@ def points_to_local(points: FloatArray, pose: tuple[float, float, float] | Pose)
     dx, dy = points[:, 0] - x, points[:, 1] - y
     result: FloatArray = np.column_stack([c * dx + s * dy, -s * dx + c * dy])
     return result
+
+
+def points_in_frames(points: FloatArray, frames: FloatArray) -> FloatArray:
+    """Points (..., 2) given in the frames' parent, each expressed in its frame (..., 3)
+    (x, y, theta); the shapes broadcast, e.g. points (1, C, 2) and frames (R, 1, 3) give every
+    point in every frame, (R, C, 2) (:meth:`Pose.to_local`, vectorised over frames)."""
+    c, s = np.cos(frames[..., 2]), np.sin(frames[..., 2])
+    dx, dy = points[..., 0] - frames[..., 0], points[..., 1] - frames[..., 1]
+    return np.stack([c * dx + s * dy, -s * dx + c * dy], axis=-1)
 
 
 def integrate_unicycle(

@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass
 from typing import Literal, get_args
 
+from dancebots.geometry import Pose
+
 __all__ = ["ARRIVAL_GAIN", "FORCE_STEERINGS", "FollowerParams", "FollowerState", "ForceSteering",
            "thesis_follower_step"]
 
@@ -132,9 +134,7 @@ def thesis_follower_step(
         while queue and math.hypot(queue[0][0] - x, queue[0][1] - y) < params.pop_distance:
             queue = queue[1:]
         target = queue[0] if queue else path_point
-    c, s = math.cos(theta), math.sin(theta)
-    dx, dy = target[0] - x, target[1] - y
-    gx, gy = c * dx + s * dy, -s * dx + c * dy
+    gx, gy = Pose(x, y, theta).to_local(target[0], target[1])  # the target in the robot frame
     linear = _sign(gx) * min(0.7 * params.vmax * abs(1.0 + 3.0 * (d_act - required_distance)),
                              speed_limit)
     fx, fy = force

@@ -32,6 +32,7 @@ from typing import Literal, get_args
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.geometry import Pose
 from dancebots.leader_follower.scan import Detection, to_robot
 
 __all__ = ["CONTROLLERS", "SEED_FIRST_GAINS", "SEED_TUNED_GAINS", "PidGains", "PidParams",
@@ -178,10 +179,10 @@ def vo_step(params: VoParams, state: VoState, pose: tuple[float, float, float],
     target = None if detection is None else detection.target
     if target is None:
         return _smoothed(params, state, (0.0, 0.0), (0.0, 0.0))
-    c, s = math.cos(pose[2]), math.sin(pose[2])
+    heading = Pose(0.0, 0.0, pose[2])
 
     def in_robot(vector: tuple[float, float]) -> tuple[float, float]:
-        return c * vector[0] + s * vector[1], -s * vector[0] + c * vector[1]
+        return heading.to_local(vector[0], vector[1])  # a direction: rotated, not moved
 
     goal = np.array(to_robot(target.position, pose)) - np.array([params.epsilon, 0.0])
     distance = float(np.hypot(*goal))

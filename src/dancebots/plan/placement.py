@@ -19,7 +19,13 @@ import shapely
 from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
-from dancebots.geometry import Pose, compose_poses, footprint_corners, wrap_angle
+from dancebots.geometry import (
+    Pose,
+    compose_poses,
+    footprint_corners,
+    points_to_world,
+    wrap_angle,
+)
 from dancebots.plan.planner import Plan, PlannedFormation
 from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, World, start_conflicts
 
@@ -168,11 +174,10 @@ def show_transform(plan: Plan, world: World, samples: ShowSamples,
     slots = {r: samples.first_slots[i] for i, r in enumerate(plan.robots)}
     heading = math.atan2(sum(math.sin(named[r].start.theta - slots[r][2]) for r in present),
                          sum(math.cos(named[r].start.theta - slots[r][2]) for r in present))
-    c, s = math.cos(heading), math.sin(heading)
-    residual = np.array([[named[r].start.x - (c * slots[r][0] - s * slots[r][1]),
-                          named[r].start.y - (s * slots[r][0] + c * slots[r][1])]
-                         for r in present])
-    shift = residual.mean(axis=0)
+    turned = points_to_world(np.array([slots[r][:2] for r in present]),
+                             Pose(0.0, 0.0, heading))  # (P, 2): the slots, rotated
+    starts = np.array([[named[r].start.x, named[r].start.y] for r in present])
+    shift = (starts - turned).mean(axis=0)
     transform = Pose(float(shift[0]), float(shift[1]), heading)
     first = plan.formations[0].span
     for robot in present:
@@ -274,10 +279,8 @@ def _slot_starts(samples: ShowSamples, transform: Pose) -> FloatArray:
     """Each robot's slot of the first formation (R, 3), placed in the world by ``transform``
     (its heading is not wrapped: the start pose keeps the plan's heading plus the turn)."""
     slots = samples.first_slots
-    c, s = math.cos(transform.theta), math.sin(transform.theta)
-    return np.stack([transform.x + c * slots[:, 0] - s * slots[:, 1],
-                     transform.y + s * slots[:, 0] + c * slots[:, 1],
-                     slots[:, 2] + transform.theta], axis=1)
+    return np.column_stack([points_to_world(slots[:, :2], transform),
+                            slots[:, 2] + transform.theta])
 
 
 MAX_SIMULATED_ROBOT_SECONDS = 200_000

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from dancebots.geometry import Pose, footprint_corners
+from dancebots.geometry import Pose, footprint_corners, points_to_world
 from dancebots.plan.planner import Plan
 from dancebots.world import DEFAULT_ROBOT_TYPE, World
 
@@ -28,10 +28,10 @@ def plot_plan(plan: Plan, world: World | None = None, transform: Pose | None = N
     else:
         fig = ax.figure
     place = transform or Pose(0.0, 0.0, 0.0)
-    c, s = np.cos(place.theta), np.sin(place.theta)
 
     def to_world(xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return place.x + c * xy[:, 0] - s * xy[:, 1], place.y + s * xy[:, 0] + c * xy[:, 1]
+        points = points_to_world(xy[:, :2], place)
+        return points[:, 0], points[:, 1]
 
     if world is not None:
         ax.add_patch(PolygonPatch(world.room, closed=True, fill=False, edgecolor="black",

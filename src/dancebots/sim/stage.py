@@ -24,6 +24,7 @@ from dancebots.geometry import (
     compose_poses,
     footprint_corners,
     integrate_unicycle,
+    points_in_frames,
     points_to_world,
     wrap_angles,
 )
@@ -234,10 +235,8 @@ def _disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
     """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
     if len(discs) == 0:
         return []
-    dx = discs[None, :, 0] - poses[:, None, 0]
-    dy = discs[None, :, 1] - poses[:, None, 1]
-    c, s = np.cos(poses[:, 2])[:, None], np.sin(poses[:, 2])[:, None]
-    lx, ly = c * dx + s * dy, -s * dx + c * dy
+    local = points_in_frames(discs[None, :, :2], poses[:, None, :])  # (R, C, 2)
+    lx, ly = local[..., 0], local[..., 1]
     ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
     ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
     r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
