@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from dancebots.diagnostics import Diagnostic
 from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
-from dancebots.plan.planner import _step_budget
+from dancebots.plan.planner import step_budget
 from dancebots.scenario import parse_scenario
 from tests_support import plan_of
 
@@ -214,9 +214,9 @@ def test_integration_stops_at_the_longest_duration() -> None:
 
 
 def test_step_budget_is_finite_for_any_duration() -> None:
-    assert _step_budget(math.inf, 0.05, 100) == 100
-    assert _step_budget(math.nan, 0.05, 100) == 100
-    assert _step_budget(1.0, 0.05, 10_000) == 2441
+    assert step_budget(math.inf, 0.05, 100) == 100
+    assert step_budget(math.nan, 0.05, 100) == 100
+    assert step_budget(1.0, 0.05, 10_000) == 2441
 
 
 def test_a_leader_slower_than_the_minimum_linear_speed_still_reaches_its_waypoints() -> None:

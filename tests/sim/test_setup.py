@@ -22,8 +22,12 @@ from dancebots.geometry import FloatArray, footprint_corners
 from dancebots.plan import Plan
 from dancebots.plan.placement import place_show
 from dancebots.sim import SetupError, prepare_show
-from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
-from dancebots.sim.stage import _disc_contacts
+from dancebots.sim.collision import (
+    Boundaries,
+    disc_contacts,
+    overlapping_pairs,
+    rectangles_overlap,
+)
 from dancebots.world import (
     BUILTIN_ROBOT_TYPES,
     Obstacle,
@@ -248,7 +252,7 @@ def test_check_without_errors_is_exactly_a_show_that_sets_up(case: tuple[str, st
     reach = 0.5 * np.hypot(lengths, widths)
     assert Boundaries(arena.room, [o.polygon for o in arena.obstacles]).contacts(
         corners, reach) == []
-    assert _disc_contacts(placement.starts, lengths, widths, _discs(arena.spectators)) == []
+    assert disc_contacts(placement.starts, lengths, widths, _discs(arena.spectators)) == []
     small_l, small_w = lengths - 2 * SHRINK, widths - 2 * SHRINK
     assert overlapping_pairs(_footprints(placement.starts, small_l, small_w),
                              0.5 * np.hypot(small_l, small_w)) == []
@@ -280,7 +284,7 @@ def test_start_conflicts_are_the_simulators_contacts(
     big_l, big_w = lengths + 2 * SHRINK, widths + 2 * SHRINK
     contacts = set(boundaries.contacts(_footprints(starts, big_l, big_w),
                                        0.5 * np.hypot(big_l, big_w)))
-    visitors_hit = set(_disc_contacts(starts, big_l, big_w, discs))
+    visitors_hit = set(disc_contacts(starts, big_l, big_w, discs))
     for conflict in conflicts:
         i, k = conflict.robot, conflict.other
         if conflict.kind == "robot":
@@ -294,7 +298,7 @@ def test_start_conflicts_are_the_simulators_contacts(
     if not conflicts:
         reach = 0.5 * np.hypot(lengths, widths)
         assert boundaries.contacts(corners, reach) == []
-        assert _disc_contacts(starts, lengths, widths, discs) == []
+        assert disc_contacts(starts, lengths, widths, discs) == []
         small_l, small_w = lengths - 2 * SHRINK, widths - 2 * SHRINK
         assert overlapping_pairs(_footprints(starts, small_l, small_w),
                                  0.5 * np.hypot(small_l, small_w)) == []

@@ -41,6 +41,7 @@ __all__ = [
     "build_plan",
     "desired_pose",
     "nominal_duration",
+    "step_budget",
     "virtual_leader_pose",
 ]
 
@@ -514,7 +515,7 @@ def _run_leader(
             goal = ideal.compose(Pose(0.0, 0.0, instruction.angle))
             goal = goal.compose(Pose(instruction.distance, 0.0, 0.0))
             slowest = min(MIN_LINEAR, leader_speed(params.vmax))  # eq. 4.1a's lowest speed
-            budget = _step_budget(math.hypot(goal.x - x, goal.y - y) / slowest, dt, left)
+            budget = step_budget(math.hypot(goal.x - x, goal.y - y) / slowest, dt, left)
             for _ in range(budget):
                 here = Pose(x, y, theta)
                 gx, gy = here.to_local(goal.x, goal.y)
@@ -534,7 +535,7 @@ def _run_leader(
             phi_start = math.atan2(ideal.y - cy, ideal.x - cx)
             phi = math.atan2(y - cy, x - cx)
             progress = sign * wrap_angle(phi - phi_start)
-            budget = _step_budget(instruction.angle / omega, dt, left)
+            budget = step_budget(instruction.angle / omega, dt, left)
             radius = abs(instruction.radius)
             for _ in range(budget):
                 if progress >= instruction.angle:
@@ -577,7 +578,7 @@ def _run_leader(
     return trajectory, tuple(timings), np.array(waypoints), final
 
 
-def _step_budget(nominal_duration: float, dt: float, left: int) -> int:
+def step_budget(nominal_duration: float, dt: float, left: int) -> int:
     """Steps allowed for one instruction: twice its nominal duration (s) plus two minutes, at
     most ``left``, the steps before the show's longest duration (any float, even inf or nan,
     gives a finite count)."""

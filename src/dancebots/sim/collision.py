@@ -12,7 +12,9 @@ import shapely
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["Boundaries", "overlapping_pairs", "rectangles_overlap"]
+from dancebots.geometry import points_in_frames
+
+__all__ = ["Boundaries", "disc_contacts", "overlapping_pairs", "rectangles_overlap"]
 
 FloatArray = NDArray[np.float64]
 
@@ -150,3 +152,16 @@ class Boundaries:
             for robot in np.flatnonzero(inside & ~near[:, self._owner == k].any(axis=1)).tolist():
                 result.append((robot, k))
         return result
+
+
+def disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
+                  discs: FloatArray) -> list[tuple[int, int]]:
+    """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
+    if len(discs) == 0:
+        return []
+    local = points_in_frames(discs[None, :, :2], poses[:, None, :])  # (R, C, 2)
+    lx, ly = local[..., 0], local[..., 1]
+    ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
+    ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
+    r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
+    return list(zip(r.tolist(), k.tolist(), strict=True))

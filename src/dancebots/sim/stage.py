@@ -24,12 +24,16 @@ from dancebots.geometry import (
     compose_poses,
     footprint_corners,
     integrate_unicycle,
-    points_in_frames,
     points_to_world,
     wrap_angles,
 )
 from dancebots.perception.cloud import PointCloud
-from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
+from dancebots.sim.collision import (
+    Boundaries,
+    disc_contacts,
+    overlapping_pairs,
+    rectangles_overlap,
+)
 from dancebots.sim.kinematics import Profile, actuate, fresh_commands
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds, scan_ranges
 from dancebots.sim.setup import Arena, Placement
@@ -176,7 +180,7 @@ class Stage:
             blocked[i] = True
             contacts.append((i, self.names[what], "wall" if what == -1 else "obstacle"))
         if len(self.spectators):
-            for i, k in _disc_contacts(proposed, self.lengths, self.widths, self.discs):
+            for i, k in disc_contacts(proposed, self.lengths, self.widths, self.discs):
                 blocked[i] = True
                 contacts.append((i, self.spectators[k].name, "spectator"))
         for i, other, kind in contacts:
@@ -199,14 +203,14 @@ class Stage:
         spectators, dt = self.spectators, self.dt
         ahead = spectator_discs(spectators, self.walked + dt)
         free = np.ones(len(spectators), dtype=bool)
-        for _, k in _disc_contacts(self.pose, self.lengths, self.widths, ahead):
+        for _, k in disc_contacts(self.pose, self.lengths, self.widths, ahead):
             free[k] = False
         self.waiting = np.where(free, 0.0, self.waiting + dt)
         walked = self.walked + np.where(free, dt, 0.0)
         for k in np.flatnonzero(self.waiting >= STEP_BACK_AFTER).tolist():
             back = walked.copy()
             back[k] = max(spectators[k].start, walked[k] - STEP_BACK)
-            if not any(j == k for _, j in _disc_contacts(
+            if not any(j == k for _, j in disc_contacts(
                     self.pose, self.lengths, self.widths, spectator_discs(spectators, back))):
                 walked = back
             self.waiting[k] = 0.0
@@ -229,15 +233,3 @@ def period_due(now: float, period: float) -> bool:
     k = round(now / period)
     return abs(k * period - now) < 1e-6
 
-
-def _disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
-                   discs: FloatArray) -> list[tuple[int, int]]:
-    """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
-    if len(discs) == 0:
-        return []
-    local = points_in_frames(discs[None, :, :2], poses[:, None, :])  # (R, C, 2)
-    lx, ly = local[..., 0], local[..., 1]
-    ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
-    ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
-    r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
-    return list(zip(r.tolist(), k.tolist(), strict=True))
