@@ -321,6 +321,6 @@ def test_a_flooding_intruder_does_not_change_the_start(launches: list[float], ho
 
 @given(st.text(alphabet="aZ_09.-é١$ \n", max_size=6))
 def test_roles_are_exactly_the_names_the_choreography_language_accepts(name: str) -> None:
-    from dancebots.scenario.parser import _IDENT  # the language's robot names
+    from dancebots.scenario.parser import IDENTIFIER  # the language's robot names
 
-    assert is_role(name) == (_IDENT.match(name) is not None)
+    assert is_role(name) == (IDENTIFIER.match(name) is not None)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 from dancebots.diagnostics import Diagnostic, Severity, source_lines
 from dancebots.scenario.model import Circle, Formation, Instruction, Move, Scenario, Shape, Span
 
-__all__ = ["MAX_DISTANCE", "MAX_ROBOTS", "MIN_RADIUS", "parse_scenario"]
+__all__ = ["IDENTIFIER", "MAX_DISTANCE", "MAX_ROBOTS", "MIN_RADIUS", "parse_scenario"]
 
 MAX_DISTANCE = 1000.0
 """Largest accepted length in m (move distance, radius, row distance, spacing)."""
@@ -38,7 +38,8 @@ MAX_ROBOTS = 1000
 
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
 _NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)\Z", re.IGNORECASE)
-_IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*\Z")
+IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*\Z")
+"""A robot or group name of the language: an ASCII letter or _ then letters, digits, _ . -"""
 _SHAPES = {shape.value: shape for shape in Shape}
 _KEYWORDS = ("robots", "groups", "start", "move", "circle", "newVL", *_SHAPES)
 _RESERVED = {k.lower() for k in _KEYWORDS}
@@ -190,7 +191,7 @@ def _check_identifier(state: _State, line: int, token: _Token, what: str) -> boo
         state.error(line, token.col, f"'{token.text}' is a keyword and cannot name a {what}",
                     f"choose another {what} name", token.end)
         return False
-    if not _IDENT.match(token.text):
+    if not IDENTIFIER.match(token.text):
         state.error(line, token.col, f"invalid {what} name {_quote(token.text)}",
                     f"a {what} name is a letter or '_' followed by letters, digits, '_', '-' "
                     "or '.'", token.end)
@@ -412,7 +413,7 @@ def _parse_arrangement(state: _State, line: int,
                             "rows are separated by ';', robots in a row by ','", col + 1)
                 ok = False
                 continue
-            if not _IDENT.match(role):
+            if not IDENTIFIER.match(role):
                 state.error(line, col, f"invalid robot name {_quote(role)} in the arrangement",
                             "rows are separated by ';', robots in a row by ','", col + len(role))
                 ok = False
