@@ -14,6 +14,7 @@ from pathlib import Path
 
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
+from dancebots.robot import BrainOptions
 from dancebots.shows.formation import SimConfig, simulate
 from dancebots.sim import PROFILES, prepare_show
 from dancebots.sim.lidar import LidarConfig
@@ -36,7 +37,7 @@ def main() -> None:
                 gaps, collisions = [], 0
                 for seed in seeds:
                     result = simulate(plan, arena, placement, SimConfig(
-                        profile=PROFILES[profile], seed=seed, detector=detector,
+                        profile=PROFILES[profile], seed=seed, brain=BrainOptions(detector=detector),
                         lidar=LidarConfig(latency=latency)))
                     gaps.append(result.min_clearance or 0.0)
                     collisions += len(result.collisions)

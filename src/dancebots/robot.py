@@ -255,10 +255,6 @@ class RobotBrain:
         best = history[after]
         return best[1], best[2], best[3]
 
-    def leader_in_own_frame(self, show_time: float) -> tuple[float, float]:
-        """The virtual leader's position in this robot's map frame at ``show_time``."""
-        return self._sample(show_time).leader
-
 
 def _record_time(record: tuple[float, float, float, float]) -> float:
     """The time of a pose record (t, x, y, theta)."""

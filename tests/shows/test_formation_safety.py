@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from dancebots.plan.placement import place_show
+from dancebots.robot import BrainOptions
 from dancebots.safety import STOP_SENTENCE
 from dancebots.shows.formation import STATUS, Fault, RunResult, SimConfig, simulate
 from dancebots.sim import REALISTIC, prepare_show
@@ -64,7 +65,8 @@ def test_compensation_keeps_a_wider_gap_in_the_crash(examples: Path, seed: int) 
     """With the thesis's 300 ms lag the uncompensated detector lets the turning robot come
     much nearer (benchmarks/bench_lag_compensation.py: median 7.5 cm against 17.4 cm)."""
     text = (examples / "crash_7_2_2.dance").read_text()
-    thesis = run(text, SimConfig(profile=REALISTIC, seed=seed, detector="thesis"))
+    thesis = run(text, SimConfig(profile=REALISTIC, seed=seed,
+                                 brain=BrainOptions(detector="thesis")))
     compensated = run(text, SimConfig(profile=REALISTIC, seed=seed))
     assert thesis.min_clearance is not None
     assert compensated.min_clearance is not None

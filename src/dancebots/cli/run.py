@@ -128,6 +128,7 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
               staging: Path, console: Console, target: Path) -> ShowOutcome:
     from dancebots.report.metrics import run_metrics
     from dancebots.report.verdict import FINAL_SLOT_TOLERANCE, run_verdict
+    from dancebots.robot import BrainOptions
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim.kernels import kernels_to_compile
     from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
@@ -147,9 +148,9 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
+    brain = BrainOptions(detector=args.detector, force_steering=args.force_steering)
     config = SimConfig(profile=CORE_PROFILES[args.profile], seed=args.seed, lidar=lidar,
-                       detector=args.detector, force_steering=args.force_steering,
-                       record_lidar=args.show_lidar and lidar is not None
+                       brain=brain, record_lidar=args.show_lidar and lidar is not None
                        and not args.no_animation)
     started = time.perf_counter()
     with progress(console, "simulating  (show s)") as update:

@@ -12,16 +12,15 @@ seeded by the configuration.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from dancebots.control.follower import ForceSteering
 from dancebots.geometry import Pose, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
-from dancebots.robot import BrainOptions, BrainState, Detector, RobotBrain, brain_for
+from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.shows.loop import Clock, Progress, Tick, run_show
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
@@ -60,9 +59,8 @@ class SimConfig:
     seed: seed of the noise generator. settle: extra time after the planned show, s; the run
         ends earlier once every robot has stood still for a second after the show.
     lidar: the simulated LIDAR (None: robots without LIDAR, no obstacle detection).
-    detector: "thesis" or "compensated" (see ``robot.DETECTORS``).
-    force_radius: reach of the virtual force field, m (0: off).
-    force_steering: how the force steers ("thesis" or "blend", see ``FollowerParams``).
+    brain: how every robot decides (detector, force field, force steering: the options a
+        real robot's node takes too); its ``lidar`` follows ``lidar`` above.
     faults: injected sensor failures.
     record_lidar: keep every scan's hits in the result (for drawing; memory grows with
         robots x rays x time).
@@ -75,9 +73,7 @@ class SimConfig:
     seed: int = 0
     settle: float = 20.0
     lidar: LidarConfig | None = field(default_factory=LidarConfig)
-    detector: Detector = "compensated"
-    force_radius: float = 1.0
-    force_steering: ForceSteering = "blend"
+    brain: BrainOptions = field(default_factory=BrainOptions)
     faults: tuple[Fault, ...] = ()
     record_lidar: bool = False
 
@@ -149,9 +145,7 @@ def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: in
 def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig = SimConfig(),
              progress: Progress | None = None) -> RunResult:
     """Run the show; ``progress(show_time, end_time)`` is called about once per second."""
-    options = BrainOptions(lidar=config.lidar is not None, detector=config.detector,
-                           force_radius=config.force_radius,
-                           force_steering=config.force_steering)
+    options = replace(config.brain, lidar=config.lidar is not None)
     brains = [brain_for(plan, robot, kind, options)
               for robot, kind in zip(placement.robots, placement.types, strict=True)]
     stage = Stage(arena, placement, config.profile, config.dt, config.lidar,

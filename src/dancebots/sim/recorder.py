@@ -7,7 +7,6 @@ per-spectator) values, the same names every tick; the result's arrays come out o
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -40,6 +39,3 @@ class Recorder:
         """The samples of ``name`` stacked along ``axis``: per-robot values (R, ...) give
         (R, T, ...) with the default axis 1; axis 0 gives (T, ...)."""
         return np.stack(self._samples[name], axis=axis)
-
-    def all_series(self, axis: int = 1) -> Mapping[str, NDArray[Any]]:
-        return {name: self.series(name, axis) for name in self._samples}
