@@ -255,6 +255,11 @@ class RobotBrain:
         best = history[after]
         return best[1], best[2], best[3]
 
+    def leader_in_own_frame(self, show_time: float) -> tuple[float, float]:
+        """The virtual leader's position (x, y in m) in this robot's map frame at
+        ``show_time`` s, as the brain sees it (from its 10 Hz cache on the grid)."""
+        return self._sample(show_time).leader
+
 
 def _record_time(record: tuple[float, float, float, float]) -> float:
     """The time of a pose record (t, x, y, theta)."""
