@@ -1,6 +1,6 @@
 """prepare_show: the arena and start poses, and it refuses exactly what check reports.
 
-The setup decides with ``check.place_show``, so ``check`` without errors means the setup
+The setup decides with ``plan.placement.place_show``, so ``check`` without errors means the setup
 accepts; the property tests below also hold the decision against the simulator's own contact
 tests, so that an accepted show really starts free (no robot held where it stands by a wall,
 an obstacle, another robot or a visitor) and a refused one really would not.

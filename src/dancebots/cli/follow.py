@@ -1,6 +1,6 @@
 """``dancebots follow``: the queue show of the second seed (a thin shell).
 
-Loads the world (the bundled obstacle course by default), runs ``sim.queue`` with the chosen
+Loads the world (the bundled obstacle course by default), runs ``shows.queue`` with the chosen
 detector and controller, and writes metrics.json, queue.png, animation.gif (and .mp4 with
 ffmpeg) and log.csv through the output writer, like ``dancebots run``. Exit 0 when the queue
 ran clean, 1 when not (a contact, a broken queue).
@@ -51,7 +51,7 @@ DETECTORS = ("a1", "a2", "a2-track")
 CONTROLLERS = ("pid", "vo")
 """``leader_follower.controllers.CONTROLLERS``."""
 LEADERS = ("person", "robot")
-"""``sim.queue.LEADERS``."""
+"""``shows.queue.LEADERS``."""
 PROFILES = ("ideal", "realistic")
 OUTPUT_NAMES = ("log.csv", "queue.png", "animation.gif", "animation.mp4", "metrics.json")
 """Every file a queue run may write into its output directory (besides the manifest)."""
