@@ -11,18 +11,23 @@ consecutive failed pose look-ups put the robot into an error state it never leav
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
-__all__ = ["STOP_SENTENCE", "Event", "SafetyParams", "SafetyState", "safety_step"]
+__all__ = ["STOP_SENTENCE", "Event", "EventKind", "SafetyParams", "SafetyState", "safety_step"]
 
 STOP_SENTENCE = "Obstacle is too close, I have to stop"
 """What a stopped robot says (thesis ch. 5.2)."""
 
 
+EventKind = Literal["speech", "beep", "resume", "error"]
+"""What a robot voices or reports: its stop sentence, a beep, that the way is clear, an error."""
+
+
 @dataclass(frozen=True, slots=True)
 class Event:
-    """Something a robot voices or reports: kind is "speech", "beep", "resume" or "error"."""
+    """Something a robot voices or reports (:data:`EventKind`), with its text."""
 
-    kind: str
+    kind: EventKind
     text: str = ""
 
 

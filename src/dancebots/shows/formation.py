@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Literal
 
 import numpy as np
 import shapely
@@ -21,6 +22,7 @@ from numpy.typing import NDArray
 from dancebots.geometry import Pose, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
+from dancebots.safety.monitor import EventKind
 from dancebots.shows.loop import Clock, Progress, Tick, run_show
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
@@ -28,11 +30,15 @@ from dancebots.sim.recorder import Recorder
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.stage import CollisionEvent, Stage
 
-__all__ = ["STATUS", "CollisionEvent", "Fault", "RobotEvent", "RunResult", "SimConfig",
+__all__ = ["STATUS", "CollisionEvent", "Fault", "FaultKind", "RobotEvent", "RunResult", "SimConfig",
            "simulate"]
 
 STATUS = ("ok", "stopped", "error")
 """Codes of ``RunResult.status``: 0 moving freely, 1 held by a stop flag, 2 error state."""
+
+
+FaultKind = Literal["lidar", "pose"]
+"""An injected failure: a LIDAR that delivers nothing, or pose look-ups that fail."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,7 +47,7 @@ class Fault:
     (kind "lidar") or its pose look-ups fail (kind "pose")."""
 
     robot: str
-    kind: str
+    kind: FaultKind
     start: float
 
 FloatArray = NDArray[np.float64]
@@ -84,7 +90,7 @@ class RobotEvent:
 
     time: float
     robot: str
-    kind: str
+    kind: EventKind
     text: str
 
 

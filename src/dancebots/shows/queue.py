@@ -23,6 +23,7 @@ from dancebots.geometry import Pose
 from dancebots.leader_follower.controllers import (
     SEED_FIRST_GAINS,
     SEED_TUNED_GAINS,
+    PidGains,
     PidParams,
     PidState,
     QueueController,
@@ -51,15 +52,17 @@ from dancebots.sim.spectators import spectator_position, walk_duration
 from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType, Spectator, World
 
-__all__ = ["LEADERS", "PID_GAINS", "Leader", "QueueConfig", "QueueResult", "queue_placement",
-           "simulate_queue"]
+__all__ = ["LEADERS", "PID_GAINS", "Gains", "Leader", "QueueConfig", "QueueResult",
+           "queue_placement", "simulate_queue"]
 
 FloatArray = NDArray[np.float64]
 LEADER = "leader"
 Leader = Literal["person", "robot"]
 LEADERS: tuple[Leader, ...] = get_args(Leader)
 LEADER_ROBOT = "L"
-PID_GAINS = {"first": SEED_FIRST_GAINS, "tuned": SEED_TUNED_GAINS}
+Gains = Literal["first", "tuned"]
+"""The pid controller's seed gains: the paper's first set, or its tuned one."""
+PID_GAINS: dict[Gains, PidGains] = {"first": SEED_FIRST_GAINS, "tuned": SEED_TUNED_GAINS}
 KIDNAP_DISTANCE = 0.5
 """m: a target nearer than this to some object other than the one in front (and nearer to
 that object than to the one in front) is a kidnapping."""
@@ -93,7 +96,7 @@ class QueueConfig:
     seed: int = 0
     settle: float = 10.0
     reciprocal: bool = False
-    gains: str = "first"
+    gains: Gains = "first"
     leader: Leader = "person"
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 import shapely
@@ -22,6 +23,7 @@ __all__ = [
     "CONTACT_MARGIN",
     "DEFAULT_ROBOT_TYPE",
     "THESIS_ROOM_SIZE",
+    "ConflictKind",
     "Obstacle",
     "RobotType",
     "Spectator",
@@ -131,6 +133,10 @@ by at least this much (the simulator counts touching an obstacle as a contact, a
 touched at an angle turns into one by rounding)."""
 
 
+ConflictKind = Literal["room", "robot", "obstacle", "spectator"]
+"""What a robot cannot start in or against (:class:`StartConflict`)."""
+
+
 @dataclass(frozen=True, slots=True)
 class StartConflict:
     """Why robot ``robot`` (an index into the start poses) cannot start where it stands:
@@ -139,7 +145,7 @@ class StartConflict:
     spectator ``other``); ``other`` is -1 for "room"."""
 
     robot: int
-    kind: str
+    kind: ConflictKind
     other: int
 
 
@@ -168,8 +174,8 @@ def start_conflicts(types: Sequence[RobotType], starts: NDArray[np.float64],
     near = shapely.STRtree(cores).query(cores, predicate="intersects")  # (2, P) index pairs
     near = near[:, near[0] < near[1]]
     near = near[:, np.lexsort((near[1], near[0]))]
-    found.extend(map(StartConflict, near[0].tolist(), ["robot"] * near.shape[1],
-                     near[1].tolist()))
+    found.extend(StartConflict(a, "robot", b)
+                 for a, b in zip(near[0].tolist(), near[1].tolist(), strict=True))
     tree = shapely.STRtree(shapes)
     for k, obstacle in enumerate(obstacles):
         hit = tree.query(shapely.Polygon(obstacle.polygon), predicate="dwithin",
