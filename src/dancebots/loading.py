@@ -18,7 +18,7 @@ from dancebots.diagnostics import (
     source_lines,
 )
 from dancebots.plan.compile import compile_scenario
-from dancebots.plan.planner import Plan, PlanParameters
+from dancebots.plan.planner import Plan, PlanParameters, Timing
 from dancebots.world import MISSING_WORLD_HINT, World, parse_world
 
 __all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show"]
@@ -53,7 +53,7 @@ class LoadedShow:
 
 
 def load_show(scenario_path: str, world_path: str | None = None, vmax: float | None = None,
-              check: CheckOptions | None = None) -> LoadedShow:
+              check: CheckOptions | None = None, timing: Timing = "thesis") -> LoadedShow:
     """Read and compile ``scenario_path`` (and place it in ``world_path``).
 
     vmax: the slowest robot's maximum speed, m/s (default: the world's slowest robot type,
@@ -77,7 +77,8 @@ def load_show(scenario_path: str, world_path: str | None = None, vmax: float | N
         return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)
     sources[scenario_path] = source_lines(text)
     speed = vmax or (world.slowest_speed() if world is not None else None) or DEFAULT_VMAX
-    _, plan, problems = compile_scenario(text, scenario_path, PlanParameters(vmax=speed))
+    _, plan, problems = compile_scenario(text, scenario_path,
+                                         PlanParameters(vmax=speed, timing=timing))
     diagnostics.extend(problems)
     if plan is None or has_errors(diagnostics):
         return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)

@@ -27,7 +27,13 @@ from dancebots.control.follower import (
     ForceSteering,
     thesis_follower_step,
 )
-from dancebots.geometry import Pose, points_to_world
+from dancebots.control.tracking import (
+    SlotReference,
+    TrackingParams,
+    slot_reference,
+    tracking_step,
+)
+from dancebots.geometry import Pose, compose_poses, points_to_world
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.fast import perceive_columns
 from dancebots.perception.obstacles import (
@@ -43,8 +49,14 @@ from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.world import RobotType
 
-__all__ = ["DETECTORS", "BrainOptions", "BrainState", "Command", "Detector", "RobotBrain",
-           "SensingConfig", "brain_for"]
+__all__ = ["DETECTORS", "FOLLOWERS", "BrainOptions", "BrainState", "Command", "Detector",
+           "Follower", "RobotBrain", "SensingConfig", "brain_for"]
+
+Follower = Literal["tracking", "thesis"]
+FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
+"""Followers: ``thesis`` (default): eq. 4.4 as written (``control/follower.py``);
+``tracking`` (an addition: feedforward of the slot's motion from the plan plus Kanayama's
+tracking law, ``control/tracking.py``)."""
 
 Detector = Literal["thesis", "compensated"]
 DETECTORS: tuple[Detector, ...] = get_args(Detector)
@@ -122,6 +134,7 @@ class _Sample:
     desired: tuple[float, float]
     required: float
     moving: bool
+    slot: SlotReference
 
 
 class RobotBrain:
@@ -132,14 +145,22 @@ class RobotBrain:
     """
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
-                 grid_period: float = 0.1, sensing: SensingConfig | None = None) -> None:
+                 grid_period: float = 0.1, sensing: SensingConfig | None = None,
+                 follower: Follower = "thesis",
+                 tracking: TrackingParams | None = None) -> None:
         self.sensing = sensing or SensingConfig(lidar=False)
         if self.sensing.detector not in DETECTORS:
             raise ValueError(f"unknown detector {self.sensing.detector!r}; choose from "
                              f"{', '.join(DETECTORS)}")
+        if follower not in FOLLOWERS:
+            raise ValueError(f"unknown follower {follower!r}; choose from "
+                             f"{', '.join(FOLLOWERS)}")
         self.plan = plan
         self.robot = robot
         self.params = params
+        self.follower = follower
+        self.tracking = tracking or TrackingParams(max_linear=params.max_linear,
+                                                   max_angular=params.max_angular)
         slot = plan.desired_poses(robot, np.zeros(1))[0]
         self.slot0 = Pose(float(slot[0]), float(slot[1]), float(slot[2]))
         self._to_own = self.slot0.inverse()
@@ -154,9 +175,13 @@ class RobotBrain:
         lateral = points_to_world(track.lateral[:, :2], own).tolist()
         desired = points_to_world(track.desired[:, :2], own).tolist()
         moving = np.any(track.leader_commands != 0.0, axis=1)
-        return [_Sample(tuple(a), tuple(p), tuple(e), r, m) for a, p, e, r, m in zip(
-            leader, lateral, desired, track.required_distance.tolist(), moving.tolist(),
+        leader_poses = compose_poses(np.array([own.x, own.y, own.theta]), track.leader)
+        slots = [slot_reference(tuple(p), tuple(o), tuple(c)) for p, o, c in zip(
+            leader_poses.tolist(), track.offsets.tolist(), track.leader_commands.tolist(),
             strict=True)]
+        return [_Sample(tuple(a), tuple(p), tuple(e), r, m, s) for a, p, e, r, m, s in zip(
+            leader, lateral, desired, track.required_distance.tolist(), moving.tolist(),
+            slots, strict=True)]
 
     def _sample(self, show_time: float) -> _Sample:
         if show_time >= self.plan.duration:  # the plan stands still after its end
@@ -193,9 +218,14 @@ class RobotBrain:
             if sensing.lidar and len(obstacles):
                 seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
             sample = self._sample(show_time)
-            follower, (linear, angular) = thesis_follower_step(
-                self.params, state.follower, show_time, pose, sample.leader,
-                sample.path_point, sample.desired, sample.required, sample.moving, seen.force)
+            if self.follower == "tracking":
+                follower = state.follower
+                linear, angular = tracking_step(self.tracking, pose, sample.slot, seen.force)
+            else:
+                follower, (linear, angular) = thesis_follower_step(
+                    self.params, state.follower, show_time, pose, sample.leader,
+                    sample.path_point, sample.desired, sample.required, sample.moving,
+                    seen.force)
             if (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 linear = 0.0
@@ -270,11 +300,13 @@ def _record_time(record: tuple[float, float, float, float]) -> float:
 class BrainOptions:
     """How a robot's brain works, the same in the simulator and on a real robot.
 
-    lidar: False for a robot without obstacle detection (no stops, no force field, no
-    sensor-age check); detector: ``DETECTORS``; force_radius: the virtual force field's reach,
-    m (0: off); force_steering: how the force steers (``FollowerParams.force_steering``).
+    follower: ``FOLLOWERS``; lidar: False for a robot without obstacle detection (no stops,
+    no force field, no sensor-age check); detector: ``DETECTORS``; force_radius: the virtual
+    force field's reach, m (0: off); force_steering: how the force steers the thesis
+    follower (``FollowerParams.force_steering``).
     """
 
+    follower: Follower = "thesis"
     lidar: bool = True
     detector: Detector = "compensated"
     force_radius: float = 1.0
@@ -291,4 +323,5 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
         max_angular=robot_type.max_angular_speed, force_steering=options.force_steering),
         sensing=SensingConfig(
             robot_type.length, robot_type.width, lidar=options.lidar,
-            detector=options.detector, force_radius=options.force_radius))
+            detector=options.detector, force_radius=options.force_radius),
+        follower=options.follower)

@@ -72,8 +72,11 @@ def test_ctrl_c_while_starting_or_running_exits_130_and_leaves_nothing(
 
 def test_choices_match_the_core() -> None:
     from dancebots.cli import follow, ros, run
+    from dancebots.cli.common import TIMINGS as CLI_TIMINGS
     from dancebots.leader_follower.controllers import CONTROLLERS
     from dancebots.leader_follower.detectors import DETECTORS
+    from dancebots.plan.planner import TIMINGS
+    from dancebots.robot import FOLLOWERS
     from dancebots.shows.queue import LEADERS
     from dancebots.sim.kinematics import PROFILES
     from dancebots.sync.start import START_STRATEGIES
@@ -83,3 +86,5 @@ def test_choices_match_the_core() -> None:
     assert follow.CONTROLLERS == CONTROLLERS
     assert follow.LEADERS == LEADERS
     assert set(ros.START_STRATEGIES) == set(START_STRATEGIES)
+    assert set(run.FOLLOWERS) == set(FOLLOWERS)
+    assert set(CLI_TIMINGS) == set(TIMINGS)

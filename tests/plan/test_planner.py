@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from dancebots.diagnostics import Diagnostic
 from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
-from dancebots.plan.planner import step_budget
+from dancebots.plan.planner import slot_speed_scale, step_budget
 from dancebots.scenario import parse_scenario
 from tests_support import plan_of
 
@@ -260,3 +260,31 @@ def test_every_circle_after_any_turn_is_reached(prefix: str, a: int, b: int, rad
     assert scenario is not None, diagnostics
     plan, diagnostics = build_plan(scenario)
     assert plan is not None, diagnostics
+
+
+def test_slot_speed_scale_slows_the_leader_for_its_fastest_slot() -> None:
+    offsets = np.array([[0.0, 0.6], [0.0, -0.6]])
+    assert slot_speed_scale(0.35, 0.0, offsets, 0.4) == 1.0
+    # turning right at w = -1: the left slot (oy 0.6) moves at 0.35 + 0.6 = 0.95 m/s
+    assert slot_speed_scale(0.35, -1.0, offsets, 0.4) == pytest.approx(0.4 / 0.95)
+
+
+def test_feasible_timing_keeps_every_slot_within_its_speed_and_the_path() -> None:
+    """7.1's corners ask the outer robot for more than vmax under the thesis's timing; the
+    feasible timing slows the leader there and nowhere else, along the same path."""
+    text = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\nmove 4 90\n"
+    thesis = plan_of(text)
+    feasible = plan_of(text, PlanParameters(timing="feasible"))
+
+    def slot_speeds(plan: Plan) -> np.ndarray:
+        leader = plan.formations[0].leader
+        v, w = leader.commands[:, 0], leader.commands[:, 1]
+        return np.abs(v[:, None] - w[:, None] * np.array([0.6, -0.6]))
+
+    assert slot_speeds(thesis).max() > 0.5
+    assert slot_speeds(feasible).max() <= 0.8 * 0.5 + 1e-9
+    assert feasible.duration > thesis.duration
+    np.testing.assert_allclose(feasible.formations[0].waypoints,
+                               thesis.formations[0].waypoints)
+    ends = feasible.formations[0].leader.poses[-1], thesis.formations[0].leader.poses[-1]
+    assert math.hypot(*(ends[0][:2] - ends[1][:2])) < 0.1  # within the waypoint tolerance

@@ -12,6 +12,7 @@ from dancebots.cli.common import (
     EXIT_OK,
     EXIT_WARNINGS,
     add_show_arguments,
+    add_timing_argument,
     positive,
     print_diagnostics,
 )
@@ -29,6 +30,7 @@ DESCRIPTION = ("Check a choreography like a compiler checks code: every problem 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_show_arguments(parser)
+    add_timing_argument(parser)
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
     parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
@@ -41,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.loading import load_show
 
     show = load_show(args.scenario, args.world, args.vmax,
-                     check=CheckOptions(clearance=args.clearance))
+                     check=CheckOptions(clearance=args.clearance), timing=args.timing)
     diagnostics = show.diagnostics
     invalid = has_errors(diagnostics)
     report = show.report if not invalid else None

@@ -521,6 +521,18 @@ def _umask() -> int:
     return umask
 
 
+TIMINGS = ("thesis", "feasible")
+"""``plan.planner.TIMINGS`` (the CLI imports only the standard library at start-up)."""
+
+
+def add_timing_argument(parser: argparse.ArgumentParser) -> None:
+    """--timing: how fast the virtual leader moves (``PlanParameters.timing``)."""
+    parser.add_argument("--timing", choices=TIMINGS, default="thesis",
+                        help="thesis (default): the leader's speeds as the thesis gives them; "
+                        "feasible: the leader slows wherever a robot's slot would move faster "
+                        "than 0.8 V (the outer robots of a turn), keeping its path")
+
+
 def add_show_arguments(parser: argparse.ArgumentParser, scenario_help: str | None = None,
                        world_help: str | None = None) -> None:
     """The arguments that name a show: SCENARIO, --world, --vmax."""

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 from dancebots.cli.common import (
     ShowOutcome,
     add_show_arguments,
+    add_timing_argument,
     bundled,
     in_range,
     positive,
@@ -53,6 +54,7 @@ PROFILES = ("ideal", "realistic")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
 DETECTORS = ("compensated", "thesis")
 FORCE_STEERINGS = ("blend", "thesis")
+FOLLOWERS = ("thesis", "tracking")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -86,6 +88,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(default): move its points by the robot's motion since the scan")
     parser.add_argument("--force-steering", choices=FORCE_STEERINGS, default="blend",
                         help="how the virtual force field steers (docs/safety.md)")
+    parser.add_argument("--follower", choices=FOLLOWERS, default="thesis",
+                        help="thesis (default): eq. 4.4 as written; tracking: each robot "
+                        "tracks its slot's motion from the plan (Kanayama's law, "
+                        "docs/control.md)")
+    add_timing_argument(parser)
     parser.add_argument("--final-tolerance", type=positive, default=None, metavar="M",
                         help="a robot ending further than this from its final slot fails the "
                         "show, m (default 0.5)")
@@ -103,7 +110,8 @@ def run(args: argparse.Namespace) -> int:
         args.scenario = short_path(bundled("open_day.dance"))
         if args.world is None:
             args.world = short_path(bundled("open_day.toml"))
-    show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions())
+    show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(),
+                     timing=args.timing)
     if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
     from dancebots.sim.setup import SetupError, prepare_show
@@ -148,7 +156,8 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
-    brain = BrainOptions(detector=args.detector, force_steering=args.force_steering)
+    brain = BrainOptions(follower=args.follower, detector=args.detector,
+                         force_steering=args.force_steering)
     config = SimConfig(profile=CORE_PROFILES[args.profile], seed=args.seed, lidar=lidar,
                        brain=brain, record_lidar=args.show_lidar and lidar is not None
                        and not args.no_animation)

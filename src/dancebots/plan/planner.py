@@ -15,6 +15,7 @@ import bisect
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Literal, get_args
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,15 +33,18 @@ from dancebots.plan.leader import (
 from dancebots.scenario.model import Circle, Formation, Move, Scenario, Span
 
 __all__ = [
+    "TIMINGS",
     "InstructionTiming",
     "LeaderTrajectory",
     "Plan",
     "PlanParameters",
     "PlannedFormation",
     "RobotTrack",
+    "Timing",
     "build_plan",
     "desired_pose",
     "nominal_duration",
+    "slot_speed_scale",
     "step_budget",
     "virtual_leader_pose",
 ]
@@ -68,6 +72,13 @@ class PlanParameters:
         ``max_duration / step`` leader steps per formation whatever the numbers of the show.
     arc_recovery_distance: on a circle, a leader further than this from the arc (m) steers
         back to it by eq. 4.1 instead of eq. 4.3 (see ``_run_leader``).
+    timing: ``feasible`` (an addition): wherever a slot of the formation would move
+        faster than ``slot_speed_fraction`` vmax (the outer robots of a turn: a slot at offset
+        (ox, oy) of a leader moving with (v, w) moves at |(v - w oy, w ox)|), the leader slows
+        down, v and w scaled together so that its path stays the same; ``thesis`` (default):
+        the leader's speeds of eq. 4.1-4.3 and 6.1 as written.
+    slot_speed_fraction: the fastest a slot may move under ``feasible`` timing, as a fraction
+        of vmax (the rest is left to the robots to close gaps, as the thesis leaves 30 %).
     """
 
     vmax: float = 0.5
@@ -77,6 +88,13 @@ class PlanParameters:
     new_vl_hold: float = 1.0
     max_duration: float = 3600.0
     arc_recovery_distance: float = 0.3
+    timing: Timing = "thesis"
+    slot_speed_fraction: float = 0.8
+
+
+Timing = Literal["feasible", "thesis"]
+"""How fast the virtual leader moves (:class:`PlanParameters`)."""
+TIMINGS: tuple[Timing, ...] = get_args(Timing)
 
 
 @dataclass(frozen=True, slots=True)
@@ -347,7 +365,8 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
         _check_nominal_duration(scenario.path, state.ideal, record.program, start + hold,
                                 params)
         trajectory, timings, waypoints, final = _run_leader(
-            scenario.path, state, record.program, start, hold, params)
+            scenario.path, state, record.program, start, hold, params,
+            tuple(record.offsets.values()))
         end = float(trajectory.times[-1])
         finals.append(final)
         ends.append(end)
@@ -469,7 +488,7 @@ def _join_warnings(scenario: Scenario, record: _Record, records: Sequence[_Recor
 
 def _run_leader(
     path: str, state: _LeaderState, program: Sequence[Move | Circle], start: float,
-    hold: float, params: PlanParameters,
+    hold: float, params: PlanParameters, offsets: Sequence[tuple[float, float]] = (),
 ) -> tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState]:
     """Integrate the leader through its instructions with the fixed step (thesis eq. 4.1-4.3).
 
@@ -480,9 +499,13 @@ def _run_leader(
     while the leader is more than ``arc_recovery_distance`` (or half the radius) off the arc,
     or faces back along it (more than ``ARC_REVERSED`` from its direction), it steers by
     eq. 4.1 towards the point ``ARC_CARROT_LENGTH`` (at most 1 rad) ahead on the arc (an
-    addition to the thesis).
+    addition to the thesis). With ``feasible`` timing every step's (v, w) is scaled down by
+    :func:`slot_speed_scale` of the formation's ``offsets`` (ox, oy), m.
     """
     dt = params.step
+    slots = np.array(offsets, dtype=float).reshape(-1, 2)
+    slot_limit = params.slot_speed_fraction * params.vmax if params.timing == "feasible" \
+        else math.inf
     times: list[float] = []
     rows: list[tuple[float, float, float, float, float]] = []
     x, y, theta = state.pose.x, state.pose.y, state.pose.theta
@@ -496,6 +519,9 @@ def _run_leader(
 
     def advance(v: float, w: float) -> None:
         nonlocal x, y, theta, step_count
+        if w != 0.0 and len(slots) and slot_limit < math.inf:
+            scale = slot_speed_scale(v, w, slots, slot_limit)
+            v, w = v * scale, w * scale
         times.append(now())
         rows.append((x, y, theta, v, w))
         half = 0.5 * w * dt
@@ -576,6 +602,14 @@ def _run_leader(
     trajectory = LeaderTrajectory(np.array(times), table[:, :3].copy(), table[:, 3:].copy())
     final = _LeaderState(Pose(x, y, theta), ideal)
     return trajectory, tuple(timings), np.array(waypoints), final
+
+
+def slot_speed_scale(v: float, w: float, offsets: FloatArray, limit: float) -> float:
+    """The factor (0, 1] by which a leader moving with (v m/s, w rad/s) slows so that no slot
+    at ``offsets`` (K, 2) (ox, oy in the leader's frame, m) moves faster than ``limit`` m/s:
+    a slot moves at |(v - w oy, w ox)|."""
+    fastest = float(np.max(np.hypot(v - w * offsets[:, 1], w * offsets[:, 0])))
+    return 1.0 if fastest <= limit else limit / fastest
 
 
 def step_budget(nominal_duration: float, dt: float, left: int) -> int:

@@ -1,0 +1,108 @@
+"""The tracking follower: the slot's reference motion, Kanayama's law (ICRA 1990) with the
+|vr| heading term, saturation along the path, and arrival at a standing slot."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from dancebots.control.tracking import (
+    SlotReference,
+    TrackingParams,
+    slot_reference,
+    tracking_step,
+)
+from dancebots.geometry import integrate_unicycle, wrap_angle
+
+PARAMS = TrackingParams()
+
+
+def test_a_slot_beside_a_straight_leader_moves_with_it() -> None:
+    slot = slot_reference((1.0, 2.0, 0.5), (0.0, 0.6), (0.35, 0.0))
+    assert slot.speed == pytest.approx(0.35)
+    assert slot.angular_speed == 0.0
+    assert slot.pose[2] == pytest.approx(0.5)
+    assert slot.pose[:2] == pytest.approx((1.0 - 0.6 * math.sin(0.5), 2.0 + 0.6 * math.cos(0.5)))
+
+
+def test_the_inner_slot_of_a_turn_on_the_spot_moves_backwards_facing_forwards() -> None:
+    """A leader turning left on the spot: its left slot (oy 0.6) moves backwards at 0.6 w."""
+    slot = slot_reference((0.0, 0.0, 0.0), (0.0, 0.6), (0.0, 1.0))
+    assert slot.speed == pytest.approx(-0.6)
+    assert slot.pose[2] == pytest.approx(0.0)
+    assert slot.angular_speed == 1.0
+
+
+def test_a_slot_behind_a_turning_leader_heads_along_its_motion() -> None:
+    """ox = -1: the slot moves sideways as well, (v, -w): its heading turns by atan2."""
+    slot = slot_reference((0.0, 0.0, 0.0), (-1.0, 0.0), (0.3, 0.3))
+    assert slot.pose[2] == pytest.approx(math.atan2(-0.3, 0.3))
+    assert slot.speed == pytest.approx(math.hypot(0.3, 0.3))
+
+
+def test_on_the_reference_the_command_is_the_feedforward() -> None:
+    slot = SlotReference((1.0, 1.0, 0.3), 0.3, 0.2)
+    assert tracking_step(PARAMS, (1.0, 1.0, 0.3), slot) == pytest.approx((0.3, 0.2))
+
+
+def _track(reference_at, start: tuple[float, float, float], seconds: float,
+           dt: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
+    """A unicycle driven by the tracking law at 1/dt Hz; returns its errors (position m,
+    heading rad) at every tick."""
+    x, y, theta = start
+    distance, heading = [], []
+    for k in range(round(seconds / dt)):
+        ref = reference_at(k * dt)
+        distance.append(math.hypot(ref.pose[0] - x, ref.pose[1] - y))
+        heading.append(abs(wrap_angle(ref.pose[2] - theta)))
+        v, w = tracking_step(PARAMS, (x, y, theta), ref)
+        nx, ny, nt = integrate_unicycle(*(np.array([q]) for q in (x, y, theta, v, w, dt)))
+        x, y, theta = float(nx[0]), float(ny[0]), float(nt[0])
+    return np.array(distance), np.array(heading)
+
+
+def circle(radius: float, speed: float):  # type: ignore[no-untyped-def]
+    """The reference of a point driving a circle (signed speed: negative drives backwards)."""
+    def at(t: float) -> SlotReference:
+        angle = speed / radius * t
+        return SlotReference((radius * math.sin(angle), radius * (1 - math.cos(angle)), angle),
+                             speed, speed / radius)
+    return at
+
+
+@pytest.mark.parametrize("speed", [0.3, -0.3])
+def test_the_error_decays_forwards_and_backwards_without_turning_round(speed: float) -> None:
+    distance, heading = _track(circle(2.0, speed), (-0.2, 0.3, 0.4), 30.0)
+    assert distance[0] > 0.3
+    assert distance[-50:].max() < 0.01
+    assert heading.max() < math.radians(60)  # never faces away from its slot's heading
+
+
+def test_saturation_keeps_the_curvature() -> None:
+    far = SlotReference((5.0, 3.0, 1.0), 0.4, 0.5)
+    v, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), far)
+    unsaturated = TrackingParams(max_linear=1e9, max_angular=1e9)
+    fv, fw = tracking_step(unsaturated, (0.0, 0.0, 0.0), far)
+    assert abs(v) <= PARAMS.max_linear + 1e-12
+    assert abs(w) <= PARAMS.max_angular + 1e-12
+    assert (abs(v) == pytest.approx(PARAMS.max_linear)
+            or abs(w) == pytest.approx(PARAMS.max_angular))
+    assert w / v == pytest.approx(fw / fv)
+
+
+def test_a_standing_slot_is_reached_then_faced() -> None:
+    standing = SlotReference((1.0, 0.5, 0.8), 0.0, 0.0)
+    distance, heading = _track(lambda t: standing, (0.0, 0.0, 0.0), 20.0)
+    assert distance[-1] <= PARAMS.arrival_distance
+    assert heading[-1] <= PARAMS.heading_tolerance
+
+
+def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:
+    behind = SlotReference((-0.3, 0.0, 0.0), 0.0, 0.0)
+    v, _ = tracking_step(PARAMS, (0.0, 0.0, 0.0), behind)
+    assert v < 0.0
+    distance, heading = _track(lambda t: behind, (0.0, 0.0, 0.0), 10.0)
+    assert distance[-1] <= PARAMS.arrival_distance
+    assert heading.max() < math.radians(10)  # it never turned round
