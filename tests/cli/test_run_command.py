@@ -32,6 +32,14 @@ def test_run_writes_every_output(capsys: Capture, examples: Path, tmp_path: Path
     assert log["t"].max() >= metrics["show_duration_s"]
     assert "collisions: 0" in stdout
     assert not list(tmp_path.glob(".run.partial-*"))
+    # what a spectator sees (issue 12): in the table, below it and in metrics.json
+    for column in ("RMS slot", "max", "heading", "reverse %"):
+        assert column in stdout
+    assert "formation error (every two robots of a formation" in stdout
+    assert "angular speed sign flips (chatter): R1 " in stdout
+    for key in ("reverse_fraction", "max_heading_error_deg", "max_formation_error_m"):
+        assert key in metrics
+        assert key in metrics["per_robot"]["R1"]
 
 
 def test_run_with_lidar_points_and_sound(capsys: Capture, examples: Path,
@@ -184,3 +192,41 @@ def test_check_warnings_are_repeated_before_simulating(capsys: Capture, examples
           str(tmp_path / "run")])
     err = capsys.readouterr().err
     assert "thesis_7_1.dance:4:1: warning: desired speed above the robot's maximum" in err
+
+
+def test_a_robot_that_reverses_makes_the_show_not_clean(capsys: Capture, tmp_path: Path,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """The verdict's new reasons reach the exit status, the printed verdict and metrics.json:
+    R2's simulated run is replaced by one on its slot but turned round and reversing."""
+    import numpy as np
+
+    from dancebots.geometry import wrap_angles
+    from dancebots.report import metrics as metrics_module
+    from dancebots.report.metrics import along_path_speeds
+    from dancebots.shows.formation import RunResult
+
+    original = metrics_module.run_metrics
+
+    def reversing(result: RunResult) -> metrics_module.RunMetrics:
+        track = result.plan.track("R2", result.times)
+        poses, velocities = result.desired.copy(), result.velocities.copy()
+        poses[1, :, 2] = wrap_angles(poses[1, :, 2] + np.pi)
+        velocities[1, :, 0] = -along_path_speeds(track.leader_commands, track.offsets)
+        return original(RunResult(**{
+            **{f: getattr(result, f) for f in result.__dataclass_fields__},
+            "poses": poses, "velocities": velocities}))
+
+    monkeypatch.setattr(metrics_module, "run_metrics", reversing)
+    show = tmp_path / "straight.dance"
+    show.write_text("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\n")
+    out = tmp_path / "run"
+    assert main(["run", str(show), "--no-lidar", "--no-animation", "--out", str(out)]) == 1
+    stdout = capsys.readouterr().out
+    failures = ["a robot drives against its desired direction (more than 5 % of the time the "
+                "slot moves): R2 100.0 %",
+                "a robot ends turned away from the final slot's heading (more than 30°): R2 "
+                "180°"]
+    assert stdout.endswith("verdict: NOT CLEAN\n" + "".join(f"  - {f}\n" for f in failures))
+    written = json.loads((out / "metrics.json").read_text())
+    assert written["verdict"] == {"clean": False, "failures": failures}
+    assert written["per_robot"]["R2"]["reverse_fraction"] == 1.0

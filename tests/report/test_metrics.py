@@ -2,14 +2,24 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from dancebots.geometry import wrap_angles
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
-from dancebots.report.metrics import run_metrics
+from dancebots.report.metrics import (
+    against_desired,
+    along_path_speeds,
+    formation_error,
+    heading_errors,
+    run_metrics,
+    sign_flips,
+)
+from dancebots.report.verdict import run_verdict
 from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim import prepare_show
 
@@ -59,3 +69,147 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
     assert set(data["per_robot"]) == {"R1", "R2"}  # type: ignore[arg-type]
     assert data["show_duration_s"] == pytest.approx(23.35)
     assert 0.05 < data["max_spacing_change_m"] < 0.25  # type: ignore[operator]
+    # the new figures (issue 12) beside every earlier key, per robot and over all robots
+    assert {"rms_slot_error_m", "max_slot_error_m", "max_final_error_m",
+            "rms_heading_error_deg", "max_heading_error_deg", "max_final_heading_error_deg",
+            "facing_away_fraction", "reverse_fraction", "angular_sign_flips",
+            "rms_formation_error_m", "max_formation_error_m"} <= set(data)
+    per_robot = data["per_robot"]
+    assert isinstance(per_robot, dict)
+    assert set(per_robot["R1"]) == {
+        "rms_error_m", "max_error_m", "rms_leader_distance_deviation_m",
+        "max_leader_distance_deviation_m", "stops", "stopped_s", "error", "final_error_m",
+        "rms_heading_error_deg", "max_heading_error_deg", "facing_away_fraction",
+        "reverse_fraction", "angular_sign_flips", "rms_formation_error_m",
+        "max_formation_error_m", "final_heading_error_deg"}
+    # two robots: the formation error is their one pair's, the rows' spacing change its max
+    assert data["max_formation_error_m"] == per_robot["R1"]["max_formation_error_m"]
+    assert data["max_formation_error_m"] == pytest.approx(data["max_spacing_change_m"],
+                                                          abs=1e-3)
+
+
+# What a spectator sees (issue 12): heading, driving against the slot's direction, chatter,
+# the formation error over every pair
+
+STRAIGHT = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\n"
+
+
+def replaced(result: RunResult, **fields: object) -> RunResult:
+    return RunResult(**{**{f: getattr(result, f) for f in result.__dataclass_fields__},
+                        **fields})
+
+
+def slot_speeds(result: RunResult) -> np.ndarray:
+    """(R, T) every robot's slot speed along its desired heading, m/s."""
+    tracks = [result.plan.track(robot, result.times) for robot in result.robots]
+    return np.stack([along_path_speeds(t.leader_commands, t.offsets) for t in tracks])
+
+
+def perfect_follower(result: RunResult) -> RunResult:
+    """Every robot exactly on its desired pose, driving at its slot's speed."""
+    velocities = np.zeros_like(result.velocities)
+    velocities[..., 0] = slot_speeds(result)
+    return replaced(result, poses=result.desired.copy(), velocities=velocities,
+                    commands=velocities.copy())
+
+
+def test_a_perfect_follower_shows_nothing_wrong() -> None:
+    result = perfect_follower(result_for(STRAIGHT))
+    metrics = run_metrics(result)
+    for robot in metrics.robots:
+        assert robot.rms_heading_error == robot.max_heading_error == 0.0
+        assert robot.final_heading_error == 0.0
+        assert robot.facing_away_fraction == robot.reverse_fraction == 0.0
+        assert robot.angular_sign_flips == 0
+        assert robot.rms_formation_error == pytest.approx(0.0, abs=1e-12)
+        assert robot.max_formation_error == pytest.approx(0.0, abs=1e-12)
+    assert metrics.reverse_fraction == metrics.facing_away_fraction == 0.0
+    assert metrics.max_formation_error == pytest.approx(0.0, abs=1e-12)
+    assert metrics.rms_slot_error == metrics.max_slot_error == 0.0
+    assert run_verdict(metrics).clean
+
+
+def test_a_robot_driving_backwards_along_a_straight_path() -> None:
+    """R2 on its slot but turned round, reversing at its slot's speed: reverse_fraction 1,
+    heading error 180° all the time, and the verdict names both failures."""
+    result = perfect_follower(result_for(STRAIGHT))
+    speeds = slot_speeds(result)
+    show = speeds[:, result.times <= result.plan.duration + 1e-9]
+    assert (show[:, :-1] > 0.15).all()  # 0.35 m/s, slowing down at the end
+    assert (show[:, -1] == 0.0).all()
+    poses = result.poses.copy()
+    poses[1, :, 2] = wrap_angles(poses[1, :, 2] + np.pi)
+    velocities = result.velocities.copy()
+    velocities[1, :, 0] = -speeds[1]
+    metrics = run_metrics(replaced(result, poses=poses, velocities=velocities))
+    r1, r2 = metrics.robots
+    assert r1.reverse_fraction == 0.0
+    assert r2.reverse_fraction == 1.0
+    assert r2.facing_away_fraction == 1.0
+    assert r2.rms_heading_error == r2.max_heading_error == r2.final_heading_error == 180.0
+    assert r2.rms_error == 0.0  # on its slot all the time: the position error cannot see it
+    assert metrics.reverse_fraction == 0.5  # both slots move for the same ticks
+    assert metrics.facing_away_fraction == 0.5
+    assert run_verdict(metrics).failures == (
+        "a robot drives against its desired direction (more than 5 % of the time the slot "
+        "moves): R2 100.0 %",
+        "a robot ends turned away from the final slot's heading (more than 30°): R2 180°",
+    )
+    data = metrics.to_json()
+    assert data["reverse_fraction"] == 0.5
+    assert data["max_final_heading_error_deg"] == 180.0
+    per_robot = data["per_robot"]
+    assert isinstance(per_robot, dict)
+    assert per_robot["R2"]["reverse_fraction"] == 1.0
+    assert per_robot["R2"]["final_heading_error_deg"] == 180.0
+
+
+def test_chatter_is_counted_on_the_commanded_angular_speed() -> None:
+    """Sign flips of the commanded w while the show runs, ignoring |w| < 0.05 rad/s."""
+    result = perfect_follower(result_for(STRAIGHT))
+    commands = result.commands.copy()
+    commands[0, 10:18, 1] = [0.3, 0.01, -0.3, -0.2, 0.04, 0.2, 0.0, -0.06]  # + - - + -
+    commands[1, 10:14, 1] = [0.04, -0.04, 0.04, -0.04]  # inside the deadband
+    commands[:, -1, 1] = 1.0  # after the show: not counted
+    metrics = run_metrics(replaced(result, commands=commands))
+    assert [r.angular_sign_flips for r in metrics.robots] == [3, 0]
+    assert metrics.angular_sign_flips == 3
+    assert metrics.to_json()["angular_sign_flips"] == 3
+
+
+def test_the_formation_error_covers_every_pair_in_the_same_formation() -> None:
+    """A moves 0.5 m from B at tick 0 (their desired distance is 1 m), C is in another
+    formation at tick 1: pair-ticks AB 0.5, AC 0, BC |2.5 - sqrt(5)|, AB 0 at tick 1."""
+    desired = np.array([[[0.0, 0.0]] * 2, [[1.0, 0.0]] * 2, [[0.0, 2.0]] * 2])  # (3, 2, 2)
+    positions = desired.copy()
+    positions[1, 0] = (1.5, 0.0)
+    positions[2, 1] = (0.0, 3.0)
+    formation = np.array([[0, 0], [0, 0], [0, 1]])
+    bc = 2.5 - math.sqrt(5.0)
+    error = formation_error(positions, desired, formation)
+    assert error.rms == pytest.approx(math.sqrt((0.25 + bc**2) / 4))
+    assert error.max == 0.5
+    assert error.robot_rms == pytest.approx((math.sqrt(0.25 / 3), math.sqrt((0.25 + bc**2) / 3),
+                                             math.sqrt(bc**2 / 2)))
+    assert error.robot_max == pytest.approx((0.5, 0.5, bc))
+    later = formation_error(positions, desired, formation, np.array([False, True]))
+    assert (later.rms, later.max) == (0.0, 0.0)
+    assert later.robot_max == (0.0, 0.0, None)  # C shares no formation at tick 1
+    alone = formation_error(positions[:1], desired[:1], formation[:1])
+    assert (alone.rms, alone.max, alone.robot_rms) == (None, None, (None,))
+
+
+def test_the_pure_helpers() -> None:
+    # a slot at (ox, oy) of a leader with (v, w) moves along the heading at v - w oy
+    speeds = along_path_speeds(np.array([[0.5, 0.0], [0.0, 1.0], [0.2, 0.5]]),
+                               np.array([[0.0, 0.6], [0.0, 0.6], [-0.5, -0.4]]))
+    assert speeds == pytest.approx([0.5, -0.6, 0.4])
+    # reversing while the slot moves forwards, forwards while it moves backwards; not: slow
+    # motion either way (noise, a turn on the spot)
+    against = against_desired(np.array([0.3, -0.3, -0.04, -0.3, 0.3, 0.0]),
+                              np.array([0.3, 0.3, 0.3, 0.04, -0.3, -0.3]))
+    assert against.tolist() == [False, True, False, False, True, False]
+    assert sign_flips(np.array([0.3, 0.01, -0.3, -0.2, 0.04, 0.2, 0.0, -0.06])) == 3
+    assert sign_flips(np.array([0.03, -0.03])) == sign_flips(np.array([])) == 0
+    assert heading_errors(np.array([3.0, math.pi]), np.array([-3.0, -math.pi])) == (
+        pytest.approx([2 * math.pi - 6.0, 0.0]))

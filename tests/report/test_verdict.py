@@ -4,7 +4,12 @@ from __future__ import annotations
 
 from dancebots.report.metrics import RobotMetrics, RunMetrics
 from dancebots.report.queue_metrics import FollowerMetrics, QueueMetrics
-from dancebots.report.verdict import queue_verdict, run_verdict
+from dancebots.report.verdict import (
+    FINAL_HEADING_TOLERANCE,
+    REVERSE_TOLERANCE,
+    queue_verdict,
+    run_verdict,
+)
 
 
 def metrics(robots: tuple[RobotMetrics, ...], events: tuple[dict[str, object], ...] = (),
@@ -61,3 +66,36 @@ def test_queue_verdict() -> None:
         "3 contacts (F1 1, F3 2)",
         "the queue is broken: F2 F3 no longer follow the one in front",
     )
+
+
+def moving(name: str, reverse: float = 0.0, heading: float = 0.0) -> RobotMetrics:
+    """A robot on its final slot that drove against its slot's direction for ``reverse`` of
+    the time and ends ``heading`` degrees off its final heading."""
+    return RobotMetrics(name, 0.1, 0.2, 0.1, 0.2, 0, 0.0, None, 0.1, reverse_fraction=reverse,
+                        final_heading_error=heading)
+
+
+def test_reversing_and_ending_turned_away_are_named() -> None:
+    verdict = run_verdict(metrics((moving("R1", reverse=0.86, heading=179.6),
+                                   moving("R2", reverse=0.0731), moving("R3", heading=31.0),
+                                   moving("R4", reverse=0.05, heading=30.0))))
+    assert verdict.failures == (
+        "robots drive against their desired direction (more than 5 % of the time the slot "
+        "moves): R1 86.0 %, R2 7.3 %",
+        "robots end turned away from the final slot's heading (more than 30°): R1 180°, R3 31°",
+    )
+    one = run_verdict(metrics((moving("R1", reverse=0.2, heading=90.0), robot("R2", 0.9))))
+    assert one.failures == (
+        "a robot ends away from the final slot (more than 0.5 m): R2 0.90 m",
+        "a robot drives against its desired direction (more than 5 % of the time the slot "
+        "moves): R1 20.0 %",
+        "a robot ends turned away from the final slot's heading (more than 30°): R1 90°",
+    )
+
+
+def test_the_reverse_and_heading_tolerances_are_parameters() -> None:
+    show = metrics((moving("R1", reverse=0.2, heading=90.0),))
+    assert not run_verdict(show).clean
+    assert run_verdict(show, reverse_tolerance=0.25, heading_tolerance=95.0).clean
+    assert REVERSE_TOLERANCE == 0.05
+    assert FINAL_HEADING_TOLERANCE == 30.0

@@ -217,17 +217,28 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     out = Console(soft_wrap=True, width=None if sys.stdout.isatty() else 120)
     table = Table(title=f"{result.plan.scenario.path} ({metrics.profile} profile, seed "
                   f"{metrics.seed})", title_justify="left")
-    for column in ("robot", "RMS error m", "max error m", "final error m",
+    for column in ("robot", "RMS slot err m", "max slot err m", "final err m",
+                   "max heading err °", "final heading err °", "reverse %",
                    "max |d_vl - d_req| m", "stops", "stopped s", "state"):
         table.add_column(column, justify="right" if column != "robot" else "left")
     for robot in metrics.robots:
         table.add_row(robot.robot, f"{robot.rms_error:.3f}", f"{robot.max_error:.3f}",
-                      f"{robot.final_error:.3f}", f"{robot.max_leader_distance_deviation:.3f}",
+                      f"{robot.final_error:.3f}", f"{robot.max_heading_error:.0f}",
+                      f"{robot.final_heading_error:.0f}", f"{100 * robot.reverse_fraction:.1f}",
+                      f"{robot.max_leader_distance_deviation:.3f}",
                       str(robot.stops), f"{robot.stopped_time:.1f}",
                       "ok" if robot.error is None else f"error: {robot.error}")
     out.print(table)
     change = metrics.max_spacing_change
     clearance = metrics.min_clearance
+    formation = metrics.max_formation_error
+    if formation is not None:
+        out.print(f"formation error (every two robots of a formation, distance against their "
+                  f"slots'): RMS {metrics.rms_formation_error or 0.0:.3f} m, max "
+                  f"{formation:.3f} m", highlight=False)
+    out.print("angular speed sign flips (chatter): " + ", ".join(
+        f"{robot.robot} {robot.angular_sign_flips}" for robot in metrics.robots),
+        highlight=False)
     out.print(f"show {metrics.show_duration:.1f} s, simulated {metrics.run_duration:.1f} s in "
               f"{wall:.2f} s ({metrics.run_duration / max(wall, 1e-9):.0f}x real time)",
               highlight=False)

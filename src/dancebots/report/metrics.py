@@ -5,6 +5,14 @@ thesis ch. 4.2) and the deviation of its distance to the leader from the desired
 d_req, eq. 4.4a, thesis fig. 7.5). Per row of each formation: the largest change of the
 distance between neighbours from their desired spacing (thesis ch. 7.2.1: "the maximal change
 in the distance between the robots ... around 16 cm for 2D and 18 cm for 3D").
+
+What a spectator sees (issue 12): per robot its heading error to its desired pose, how much of
+the time it faces away from it, how much of the time it drives against the direction its slot
+moves (a robot that turned round and reverses), how often its commanded angular speed changes
+sign (chatter), its heading error at the end; over every pair of robots in the same formation,
+the change of their distance from the distance between their desired poses (the formation
+error, not only row neighbours). All poses compared are in the world frame: ``RunResult.poses``
+and ``RunResult.desired`` (the desired poses as each robot computes them from its start pose).
 """
 
 from __future__ import annotations
@@ -16,20 +24,50 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.geometry import wrap_angles
 from dancebots.shows.formation import STATUS, RunResult
 
-__all__ = ["RobotMetrics", "RowMetrics", "RunMetrics", "run_metrics", "spacing_change"]
+__all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_SPEED_MIN",
+           "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics", "against_desired",
+           "along_path_speeds", "formation_error", "heading_errors", "run_metrics",
+           "sign_flips", "spacing_change"]
 
 FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+DESIRED_SPEED_MIN = 0.05
+"""m/s: the direction of a robot's desired motion counts only while its slot moves along the
+desired heading at least this fast (below it the slot is turning on the spot or standing)."""
+REVERSE_SPEED_MIN = 0.05
+"""m/s: a robot drives against its desired direction only when it drives at least this fast the
+other way (above the realistic profile's velocity noise, 0.01 m/s per step, about 0.014 m/s
+with its lag; a robot turning on the spot does not count)."""
+ANGULAR_DEADBAND = 0.05
+"""rad/s: commanded angular speeds smaller than this are ignored when counting sign flips
+(chatter): 0.3 -> 0.01 -> -0.3 is one flip, 0.03 -> -0.03 none."""
+FACING_AWAY_ANGLE = 90.0
+"""deg: a robot whose heading is more than this away from its desired heading faces away
+from it (its back to the direction it should face)."""
 
 
 @dataclass(frozen=True, slots=True)
 class RobotMetrics:
-    """One robot: RMS and max position error to its desired pose, m; RMS and max of
-    |d_act - d_req|, m; while the show runs (0 <= t <= show duration). stops: how often a stop
-    flag held it (thesis 5.2, each spoken once); stopped_time: s held; error: why it went
-    into the error state, if it did; final_error: distance from its final slot (its desired
-    pose at the end of the run) at the end of the run, m."""
+    """One robot: RMS and max position error to its desired pose (its slot error), m; RMS and
+    max of |d_act - d_req|, m; while the show runs (0 <= t <= show duration). stops: how often
+    a stop flag held it (thesis 5.2, each spoken once); stopped_time: s held; error: why it
+    went into the error state, if it did; final_error: distance from its final slot (its
+    desired pose at the end of the run) at the end of the run, m.
+
+    While the show runs: rms_heading_error, max_heading_error: |wrap(yaw - desired yaw)|, deg;
+    facing_away_fraction: the fraction of the ticks with a heading error above
+    :data:`FACING_AWAY_ANGLE`; reverse_fraction: of the ticks in which its slot moves along
+    the desired heading (:func:`along_path_speeds` at least :data:`DESIRED_SPEED_MIN`), the
+    fraction in which the robot drives the other way (:func:`against_desired`), 0 when its
+    slot never moves; angular_sign_flips: sign changes of its commanded angular speed
+    (:func:`sign_flips`); rms_formation_error, max_formation_error: the formation error
+    (:func:`formation_error`) over every pair it belongs to, m (None when it never shares a
+    formation). final_heading_error: |wrap(yaw - desired yaw)| at the end of the run, deg.
+    """
 
     robot: str
     rms_error: float
@@ -40,6 +78,14 @@ class RobotMetrics:
     stopped_time: float = 0.0
     error: str | None = None
     final_error: float = 0.0
+    rms_heading_error: float = 0.0
+    max_heading_error: float = 0.0
+    facing_away_fraction: float = 0.0
+    reverse_fraction: float = 0.0
+    angular_sign_flips: int = 0
+    rms_formation_error: float | None = None
+    max_formation_error: float | None = None
+    final_heading_error: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,7 +101,14 @@ class RowMetrics:
 
 @dataclass(frozen=True, slots=True)
 class RunMetrics:
-    """Everything ``metrics.json`` holds."""
+    """Everything ``metrics.json`` holds.
+
+    Over all robots, while the show runs (pooled over every robot's ticks, so a long-moving
+    robot weighs more): rms_slot_error (m), rms_heading_error (deg), facing_away_fraction,
+    reverse_fraction (of all ticks in which some robot's slot moves); rms_formation_error,
+    max_formation_error over every pair of robots in the same formation (m, None for fewer
+    than two robots). The maxima and sums over robots are properties.
+    """
 
     scenario: str
     profile: str
@@ -68,10 +121,41 @@ class RunMetrics:
     collision_events: tuple[dict[str, object], ...]
     min_clearance: float | None
     events: tuple[dict[str, object], ...] = ()
+    rms_slot_error: float = 0.0
+    rms_heading_error: float = 0.0
+    facing_away_fraction: float = 0.0
+    reverse_fraction: float = 0.0
+    rms_formation_error: float | None = None
+    max_formation_error: float | None = None
 
     @property
     def max_spacing_change(self) -> float | None:
         return max((r.max_spacing_change for r in self.rows), default=None)
+
+    @property
+    def max_slot_error(self) -> float:
+        """m: the largest distance of any robot from its desired pose while the show runs."""
+        return max((r.max_error for r in self.robots), default=0.0)
+
+    @property
+    def max_heading_error(self) -> float:
+        """deg: the largest heading error of any robot while the show runs."""
+        return max((r.max_heading_error for r in self.robots), default=0.0)
+
+    @property
+    def angular_sign_flips(self) -> int:
+        """Sign flips of the commanded angular speeds of all robots."""
+        return sum(r.angular_sign_flips for r in self.robots)
+
+    @property
+    def max_final_error(self) -> float:
+        """m: the furthest any robot ends from its final slot."""
+        return max((r.final_error for r in self.robots), default=0.0)
+
+    @property
+    def max_final_heading_error(self) -> float:
+        """deg: the largest heading error of any robot at the end of the run."""
+        return max((r.final_heading_error for r in self.robots), default=0.0)
 
     def to_json(self) -> dict[str, object]:
         def r3(value: float | None) -> float | None:
@@ -87,6 +171,17 @@ class RunMetrics:
             "collision_events": list(self.collision_events),
             "min_clearance_m": r3(self.min_clearance),
             "max_spacing_change_m": r3(self.max_spacing_change),
+            "rms_slot_error_m": r3(self.rms_slot_error),
+            "max_slot_error_m": r3(self.max_slot_error),
+            "max_final_error_m": r3(self.max_final_error),
+            "rms_heading_error_deg": r3(self.rms_heading_error),
+            "max_heading_error_deg": r3(self.max_heading_error),
+            "max_final_heading_error_deg": r3(self.max_final_heading_error),
+            "facing_away_fraction": r3(self.facing_away_fraction),
+            "reverse_fraction": r3(self.reverse_fraction),
+            "angular_sign_flips": self.angular_sign_flips,
+            "rms_formation_error_m": r3(self.rms_formation_error),
+            "max_formation_error_m": r3(self.max_formation_error),
             "per_robot": {
                 m.robot: {
                     "rms_error_m": r3(m.rms_error),
@@ -97,6 +192,14 @@ class RunMetrics:
                     "stopped_s": r3(m.stopped_time),
                     "error": m.error,
                     "final_error_m": r3(m.final_error),
+                    "rms_heading_error_deg": r3(m.rms_heading_error),
+                    "max_heading_error_deg": r3(m.max_heading_error),
+                    "facing_away_fraction": r3(m.facing_away_fraction),
+                    "reverse_fraction": r3(m.reverse_fraction),
+                    "angular_sign_flips": m.angular_sign_flips,
+                    "rms_formation_error_m": r3(m.rms_formation_error),
+                    "max_formation_error_m": r3(m.max_formation_error),
+                    "final_heading_error_deg": r3(m.final_heading_error),
                 } for m in self.robots
             },
             "stops": sum(m.stops for m in self.robots),
@@ -121,6 +224,17 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      result.poses[:, -1, 1] - result.desired[:, -1, 1])  # (R,)
     period = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     stopped = result.status == STATUS.index("stopped")
+    heading = np.degrees(heading_errors(result.poses[..., 2], result.desired[..., 2]))  # (R, T)
+    moving = np.empty(result.status.shape, dtype=bool)  # (R, T) the slot moves along its heading
+    against = np.empty(result.status.shape, dtype=bool)  # (R, T) ... and the robot the other way
+    for i, name in enumerate(result.robots):
+        track = plan.track(name, result.times)
+        desired_speed = along_path_speeds(track.leader_commands, track.offsets)
+        moving[i] = during & (np.abs(desired_speed) >= DESIRED_SPEED_MIN)
+        against[i] = moving[i] & against_desired(result.velocities[i, :, 0], desired_speed)
+    pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
+                            during)
+    flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
     robots = tuple(
         RobotMetrics(name, float(np.sqrt(np.mean(error[i] ** 2))), float(error[i].max()),
                      float(np.sqrt(np.mean(deviation[i] ** 2))), float(deviation[i].max()),
@@ -128,7 +242,11 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      float(stopped[i].sum() * period),
                      next((e.text for e in result.events
                            if e.robot == name and e.kind == "error"), None),
-                     float(final[i]))
+                     float(final[i]),
+                     _rms(heading[i, during]), float(heading[i, during].max()),
+                     float(np.mean(heading[i, during] > FACING_AWAY_ANGLE)),
+                     _fraction(against[i], moving[i]), flips[i],
+                     pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]))
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
@@ -137,7 +255,117 @@ def run_metrics(result: RunResult) -> RunMetrics:
                "x_m": round(c.x, 3), "y_m": round(c.y, 3)} for c in result.collisions),
         result.min_clearance,
         tuple({"t_s": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
-              for e in result.events))
+              for e in result.events),
+        _rms(error), _rms(heading[:, during]),
+        float(np.mean(heading[:, during] > FACING_AWAY_ANGLE)), _fraction(against, moving),
+        pairs.rms, pairs.max)
+
+
+def _rms(values: FloatArray) -> float:
+    return float(np.sqrt(np.mean(values ** 2)))
+
+
+def _fraction(part: BoolArray, whole: BoolArray) -> float:
+    """The share of ``whole``'s True entries that ``part`` has (part implies whole); 0 for none."""
+    count = int(whole.sum())
+    return float(part.sum()) / count if count else 0.0
+
+
+def heading_errors(yaw: FloatArray, desired_yaw: FloatArray) -> FloatArray:
+    """|wrap(yaw - desired_yaw)| in rad, in [0, pi]; any shapes that broadcast (headings in the
+    same frame, rad; e.g. (R, T) world-frame headings of ``RunResult.poses`` and ``desired``)."""
+    result: FloatArray = np.abs(wrap_angles(np.asarray(yaw) - np.asarray(desired_yaw)))
+    return result
+
+
+def along_path_speeds(leader_commands: FloatArray, offsets: FloatArray) -> FloatArray:
+    """The speed of a slot along its desired heading, m/s, shape (T,).
+
+    leader_commands (T, 2): its virtual leader's (v m/s, w rad/s); offsets (T, 2): the slot's
+    (x, y) offset in m in the leader's frame (``Plan.track``: ``leader_commands``,
+    ``offsets``). A slot at (ox, oy) moves with (v - w oy, w ox) in the leader's frame, and its
+    desired heading is the leader's, so its along-heading speed is v - w oy: negative where the
+    slot moves backwards (the inner slot of a turn tighter than its lateral offset), and a
+    unicycle that tracks it drives backwards exactly there. Frame-independent.
+    """
+    result: FloatArray = leader_commands[:, 0] - leader_commands[:, 1] * offsets[:, 1]
+    return result
+
+
+def against_desired(speed: FloatArray, desired_speed: FloatArray,
+                    desired_min: float = DESIRED_SPEED_MIN,
+                    actual_min: float = REVERSE_SPEED_MIN) -> BoolArray:
+    """Where a robot drives against the direction its slot moves, shape (T,).
+
+    speed (T,): the robot's actual linear speed, m/s (``RunResult.velocities[r, :, 0]``);
+    desired_speed (T,): its slot's along-heading speed (:func:`along_path_speeds`), m/s. True
+    where the slot moves at least ``desired_min`` one way and the robot at least
+    ``actual_min`` the other way: reversing while the plan drives forwards, or driving
+    forwards while the plan reverses.
+    """
+    result: BoolArray = (np.abs(desired_speed) >= desired_min) & (
+        speed * np.sign(desired_speed) <= -actual_min)
+    return result
+
+
+def sign_flips(angular: FloatArray, deadband: float = ANGULAR_DEADBAND) -> int:
+    """How often the angular speeds (T,) (rad/s, in time order) change sign, ignoring those
+    with |w| < ``deadband``: the chatter of a robot that steers left, right, left."""
+    signs = np.sign(angular[np.abs(angular) >= deadband])
+    return int(np.count_nonzero(signs[1:] != signs[:-1]))
+
+
+@dataclass(frozen=True, slots=True)
+class FormationError:
+    """The formation error of a run: |distance - desired distance| between two robots while
+    both follow the same formation (the desired distance: between their desired poses at the
+    same tick), m. rms and max over every such pair and tick (None without any); robot_rms,
+    robot_max over the pairs each robot belongs to (None where it has none), per robot."""
+
+    rms: float | None
+    max: float | None
+    robot_rms: tuple[float | None, ...]
+    robot_max: tuple[float | None, ...]
+
+
+def formation_error(positions: FloatArray, desired: FloatArray, formation: NDArray[np.int64],
+                    mask: BoolArray | None = None) -> FormationError:
+    """The formation error over every pair of robots in the same formation at a tick.
+
+    positions, desired (R, T, 2): the robots' actual and desired positions, m, in one frame
+    (``RunResult.poses[..., :2]`` and ``RunResult.desired[..., :2]``, world frame);
+    formation (R, T): the index of the formation each follows; mask (T,): the ticks to count
+    (default all). Every pair (not only row neighbours), one robot at a time against the
+    robots after it, so memory stays O(R T).
+    """
+    count, ticks = formation.shape
+    use = np.ones(ticks, dtype=bool) if mask is None else mask
+    squares = np.zeros(count)
+    samples = np.zeros(count, dtype=np.int64)
+    largest = np.full(count, -np.inf)
+    for i in range(count - 1):
+        others = slice(i + 1, count)
+        actual = np.hypot(positions[others, :, 0] - positions[i, :, 0],
+                          positions[others, :, 1] - positions[i, :, 1])  # (R-i-1, T)
+        wanted = np.hypot(desired[others, :, 0] - desired[i, :, 0],
+                          desired[others, :, 1] - desired[i, :, 1])
+        together = (formation[others] == formation[i]) & use  # (R-i-1, T)
+        change = np.where(together, np.abs(actual - wanted), 0.0)
+        squares[i] += float((change ** 2).sum())
+        samples[i] += int(together.sum())
+        largest[i] = max(largest[i], float(change.max(initial=-np.inf, where=together)))
+        squares[others] += (change ** 2).sum(axis=1)
+        samples[others] += together.sum(axis=1)
+        largest[others] = np.maximum(largest[others],
+                                     change.max(axis=1, initial=-np.inf, where=together))
+    robot_rms = tuple(float(np.sqrt(s / n)) if n else None
+                      for s, n in zip(squares.tolist(), samples.tolist(), strict=True))
+    robot_max = tuple(float(m) if n else None
+                      for m, n in zip(largest.tolist(), samples.tolist(), strict=True))
+    pairs = int(samples.sum()) // 2  # every pair-tick is counted for both of its robots
+    overall = float(np.sqrt(squares.sum() / 2.0 / pairs)) if pairs else None
+    return FormationError(overall, max((m for m in robot_max if m is not None), default=None),
+                          robot_rms, robot_max)
 
 
 def spacing_change(first: FloatArray, second: FloatArray, spacing: float) -> float:

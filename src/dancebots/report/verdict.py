@@ -1,9 +1,11 @@
 """The verdict on a simulated show: did it run clean, and if not, what went wrong.
 
 A show runs clean when no robot touched another robot, a wall, an obstacle or a person, no
-robot went into its error state, and every robot ends near its final slot (a formation show
-that ends out of formation did not look like one). Pure functions of the metrics; the shells
-turn a verdict into their exit status (0 clean, 1 not).
+robot went into its error state, every robot ends near its final slot (a formation show
+that ends out of formation did not look like one), no robot drives against the direction its
+slot moves for more than a small part of the time (a robot that turned round and reverses),
+and every robot ends facing about the way its final slot faces. Pure functions of the metrics;
+the shells turn a verdict into their exit status (0 clean, 1 not).
 """
 
 from __future__ import annotations
@@ -16,11 +18,19 @@ if TYPE_CHECKING:
     from dancebots.report.metrics import RunMetrics
     from dancebots.report.queue_metrics import QueueMetrics
 
-__all__ = ["FINAL_SLOT_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
+__all__ = ["FINAL_HEADING_TOLERANCE", "FINAL_SLOT_TOLERANCE", "REVERSE_TOLERANCE", "Verdict",
+           "queue_verdict", "run_verdict"]
 
 FINAL_SLOT_TOLERANCE = 0.5
 """m: a robot that ends further than this from its final slot fails the show (about a robot's
 length: the audience sees it out of place)."""
+REVERSE_TOLERANCE = 0.05
+"""A robot that drives against the direction its slot moves for more than this fraction of the
+time its slot moves (``RobotMetrics.reverse_fraction``) fails the show: 5 %, a second in a
+20-second show, is a short correction; more is a robot the audience sees reversing."""
+FINAL_HEADING_TOLERANCE = 30.0
+"""deg: a robot that ends with its heading further than this from its final slot's heading
+fails the show (the audience sees it end askew or facing the wrong way)."""
 
 _KINDS = {"robot": ("collision between robots", "collisions between robots"),
           "spectator": ("contact with a person", "contacts with people"),
@@ -54,8 +64,11 @@ def _contacts(events: Sequence[dict[str, object]]) -> list[str]:
     return failures
 
 
-def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERANCE) -> Verdict:
-    """The verdict on a formation show; final_tolerance in m."""
+def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERANCE,
+                reverse_tolerance: float = REVERSE_TOLERANCE,
+                heading_tolerance: float = FINAL_HEADING_TOLERANCE) -> Verdict:
+    """The verdict on a formation show; final_tolerance in m, reverse_tolerance a fraction,
+    heading_tolerance in deg."""
     failures = _contacts(metrics.collision_events)
     for robot in metrics.robots:
         if robot.error is not None:
@@ -65,6 +78,18 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
         listed = ", ".join(f"{r.robot} {r.final_error:.2f} m" for r in far)
         failures.append(f"{'robots end' if len(far) > 1 else 'a robot ends'} away from the "
                         f"final slot (more than {final_tolerance:g} m): {listed}")
+    against = [r for r in metrics.robots if r.reverse_fraction > reverse_tolerance]
+    if against:
+        listed = ", ".join(f"{r.robot} {100 * r.reverse_fraction:.1f} %" for r in against)
+        who = "robots drive against their" if len(against) > 1 else "a robot drives against its"
+        failures.append(f"{who} desired direction (more than {100 * reverse_tolerance:g} % of the "
+                        f"time the slot moves): {listed}")
+    askew = [r for r in metrics.robots if r.final_heading_error > heading_tolerance]
+    if askew:
+        listed = ", ".join(f"{r.robot} {r.final_heading_error:.0f}°" for r in askew)
+        failures.append(f"{'robots end' if len(askew) > 1 else 'a robot ends'} turned away "
+                        f"from the final slot's heading (more than {heading_tolerance:g}°): "
+                        f"{listed}")
     return Verdict(tuple(failures))
 
 
