@@ -44,8 +44,8 @@ HELP = "simulate a show and write metrics, plots, an animation and a log"
 DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops and the force "
                "field) and write metrics.json, plots, an animation and a CSV log. Exit 0 when "
                "the show ran clean; 1 when it did not (a collision, a contact with a person, a "
-               "robot in its error state, a robot far from its final slot); 2 when the input "
-               "is invalid.")
+               "robot in its error state, a robot far from its final slot or heading, a robot "
+               "driving against its slot's direction); 2 when the input is invalid.")
 
 OUTPUT_NAMES = ("log.csv", "speeds_distances.png", "trajectories.png", "animation.gif",
                 "animation.mp4", "sound.wav", "metrics.json")
