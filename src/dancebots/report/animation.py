@@ -1,13 +1,16 @@
-"""Animate a :class:`RunResult`: robots as oriented rectangles with trails (GIF or MP4).
+"""Animate a :class:`RunResult`: robots as oriented rectangles with a heading mark, their
+name and trails (GIF or MP4).
 
-The room, obstacles and the leaders' paths are the background; each frame moves the robots,
-their trails, the spectators, the LIDAR dots and the clock, drawn by the reports' frame
-engine (``report.frames``: blitting, GIF with Pillow, MP4 through ffmpeg).
+The room, obstacles, the leaders' paths (broken at ``newVL`` jumps) and the legend (below
+the room) are the background; each frame moves the robots, their trails, the spectators,
+the LIDAR dots and the clock, drawn by the reports' frame engine (``report.frames``:
+blitting, GIF with Pillow, MP4 through ffmpeg).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,21 +26,27 @@ __all__ = ["animate_run", "ffmpeg_available", "render_frames"]
 def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
                   trail: float = 8.0, size: float = 6.0, dpi: int = 80,
                   ) -> tuple[int, Iterator[NDArray[np.uint8]]]:
-    """(frame count, iterator of RGB frames (H, W, 3)).
+    """(frame count, iterator of RGB frames (H, W, 3), a size x size in figure at dpi).
 
-    speedup: show seconds per video second; trail: seconds of path behind each robot. When
-    the result holds LIDAR scans, each robot's latest delivered scan is drawn as dots in its
-    colour, where the things were when scanned (so the lag shows).
+    speedup: show seconds per video second; trail: seconds of path behind each robot. Robots
+    are drawn with a heading mark and their name (``frames.RobotMarks``); the virtual
+    leaders' paths break where a new leader takes over; the legend sits below the room and
+    the clock above it, next to the scenario's file name. When the result holds LIDAR scans,
+    each robot's latest delivered scan is drawn as dots in its colour, where the things were
+    when scanned (so the lag shows).
     """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.patches import Circle
+    from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     from matplotlib.patches import Polygon as PolygonPatch
 
     from dancebots.geometry import footprint_corners
-    from dancebots.report.run_plots import robot_colours
+    from dancebots.report.frames import Clock, RobotMarks
+    from dancebots.report.run_plots import broken_at_changes, robot_colours
     from dancebots.shows.formation import STATUS
 
     times = result.times
@@ -50,61 +59,78 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
     for obstacle in result.arena.obstacles:
         ax.add_patch(PolygonPatch(obstacle.polygon, closed=True, facecolor="0.35"))
     for i in range(len(result.robots)):
-        ax.plot(result.leader[i, :, 0], result.leader[i, :, 1], color="0.75", linewidth=0.8,
-                zorder=0)
+        leader = broken_at_changes(result.leader[i, :, :2], result.formation[i])
+        ax.plot(leader[:, 0], leader[:, 1], color="0.75", linewidth=0.8, zorder=0)
     ax.set_xlim(room[:, 0].min() - 0.5, room[:, 0].max() + 0.5)
     ax.set_ylim(room[:, 1].min() - 0.5, room[:, 1].max() + 0.5)
     ax.set_aspect("equal")
     ax.grid(True, linewidth=0.3)
-    ax.set_title(f"{result.plan.scenario.path} ({result.config.profile.name}, x{speedup:g})",
-                 fontsize="small")
+    ax.tick_params(labelsize="small")
+    ax.set_title(f"{Path(result.plan.scenario.path).name} ({result.config.profile.name}, "
+                 f"x{speedup:g})", fontsize="small", loc="left")
+    clock = Clock(ax)  # in the title's row: never clipped, never over the room
     colours = robot_colours(len(result.robots))
-    bodies: list[Any] = []
-    trails: list[Any] = []
-    for i, robot in enumerate(result.robots):
-        bodies.append(ax.add_patch(PolygonPatch(np.zeros((4, 2)), closed=True,
-                                                facecolor=colours[i], alpha=0.8,
-                                                edgecolor="black", label=robot,
-                                                animated=True)))
-        trails.append(ax.plot([], [], color=colours[i], linewidth=1.2, animated=True)[0])
-    leader_dots = ax.plot([], [], "k+", markersize=8, label="virtual leader", animated=True)[0]
-    people: list[Any] = [ax.add_patch(Circle((0.0, 0.0), radius, facecolor="purple", alpha=0.6,
-                                  animated=True, label="spectator" if k == 0 else None))
-              for k, radius in enumerate(result.spectator_radii.tolist())]
-    clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", animated=True)
-    scan_times = np.array([t for t, _ in result.lidar])
-    hits: list[Any] = [ax.plot([], [], ".", color=colours[i], markersize=3.0, alpha=0.7,
-                               animated=True)[0] for i in range(len(result.robots))] \
-        if result.lidar else []
-    ax.legend(handles=[*bodies, leader_dots, *people[:1]], loc="upper right",
-              fontsize="x-small")
     types = result.placement.types
+    trails: Any = ax.add_collection(LineCollection([], colors=colours, linewidths=1.2),
+                                    autolim=False)
+    lengths = np.array([kind.length for kind in types])
+    widths = np.array([kind.width for kind in types])
+    robots = RobotMarks(ax, result.robots, lengths, widths, colours)
+    held: Any = ax.add_collection(PolyCollection([], closed=True, facecolors="none",
+                                                 hatch="xx", zorder=3),
+                                  autolim=False)  # over a robot stopped or in error
+    leader_dots = ax.plot([], [], "k+", markersize=8)[0]
+    circle = np.exp(1j * np.linspace(0.0, 2.0 * np.pi, 32, endpoint=False))
+    disc = np.stack([circle.real, circle.imag], axis=1)  # (32, 2) the unit circle
+    radii = result.spectator_radii[:, None, None]
+    people: Any = ax.add_collection(PolyCollection([], closed=True, facecolors="purple",
+                                                   alpha=0.6, edgecolors="none"),
+                                    autolim=False)
+    scan_times = np.array([t for t, _ in result.lidar])
+    hits: list[Any] = [ax.plot([], [], ".", color=colours[i], markersize=3.0, alpha=0.7)[0]
+                       for i in range(len(result.robots))] if result.lidar else []
+    legend: list[Any] = [Line2D([], [], color="k", marker="+", linestyle="none",
+                                markersize=8, label="virtual leader")]
+    for code, colour in ((STATUS.index("stopped"), "red"), (STATUS.index("error"), "black")):
+        if np.any(result.status == code):  # the states this show has
+            legend.append(Patch(facecolor="none", edgecolor=colour, linewidth=1.5,
+                                hatch="xx", label=STATUS[code]))
+    if len(radii):
+        legend.append(Patch(facecolor="purple", alpha=0.6, label="spectator"))
+    if hits:
+        legend.append(Line2D([], [], color="0.3", marker=".", linestyle="none",
+                             label="LIDAR scan"))
+    ax.legend(handles=legend, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+              borderaxespad=2.6, ncols=len(legend), fontsize="x-small", frameon=False,
+              handlelength=1.5, columnspacing=1.2)  # below the tick labels
+    poses = result.poses  # (R, T, 3)
+    edge_colours = np.array([(0.0, 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0)])
+    edge_widths = np.array([0.8, 2.5, 2.5])  # per status code: ok, stopped, error
+    ok = STATUS.index("ok")
 
     def update(k: int) -> list[Any]:
         """Move every animated artist to tick k; they are drawn in the returned order."""
-        drawn: list[Any] = []
-        for i in range(len(result.robots)):
-            x, y, theta = result.poses[i, k]
-            bodies[i].set_xy(footprint_corners(np.array(x), np.array(y), np.array(theta),
-                                               types[i].length, types[i].width))
-            code = int(result.status[i, k])  # stopped: red outline; error: black
-            bodies[i].set_edgecolor(("black", "red", "black")[code])
-            bodies[i].set_linewidth((0.8, 2.5, 2.5)[code])
-            bodies[i].set_hatch("" if code == STATUS.index("ok") else "xx")
-            start = max(0, k - trail_ticks)
-            trails[i].set_data(result.poses[i, start:k + 1, 0], result.poses[i, start:k + 1, 1])
-            drawn += [trails[i], bodies[i]]
+        start = max(0, k - trail_ticks)
+        trails.set_segments(poses[:, start:k + 1, :2])
+        robots.move(poses[:, k])
+        codes = result.status[:, k].astype(int)  # stopped: red outline; error: black
+        robots.bodies.set_edgecolor(edge_colours[codes])
+        robots.bodies.set_linewidth(edge_widths[codes])
+        stopped = codes != ok
+        held.set_verts(footprint_corners(poses[stopped, k, 0], poses[stopped, k, 1],
+                                         poses[stopped, k, 2], lengths[stopped],
+                                         widths[stopped]))
+        held.set_edgecolor(edge_colours[codes[stopped]])
         leader_dots.set_data(result.leader[:, k, 0], result.leader[:, k, 1])
-        for person, (px, py) in zip(people, result.spectators[:, k].tolist(), strict=True):
-            person.set_center((px, py))
-        clock.set_text(f"t = {times[k]:5.1f} s")
+        people.set_verts(result.spectators[:, k, None, :] + radii * disc)
         if hits:  # the latest scan that has reached the robots: it lags
             latest = int(np.searchsorted(scan_times, times[k] + 1e-9)) - 1
             if latest >= 0:
                 for i, dots in enumerate(hits):
                     points = result.lidar[latest][1][i]
                     dots.set_data(points[:, 0], points[:, 1])
-        return [*drawn, *people, *hits, leader_dots, clock]
+        return [trails, robots.bodies, held, robots.headings, robots.arrows, people, *hits,
+                leader_dots, robots.names, clock.set_text(f"t = {times[k]:5.1f} s")]
 
     return len(ticks), blit_frames(fig, update, ticks.tolist())
 

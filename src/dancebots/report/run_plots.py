@@ -10,10 +10,12 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from dancebots.shows.formation import RunResult
 
-__all__ = ["plot_speeds_and_distances", "plot_trajectories", "robot_colours"]
+__all__ = ["broken_at_changes", "plot_speeds_and_distances", "plot_trajectories",
+           "robot_colours"]
 
 
 def robot_colours(count: int) -> list[Any]:
@@ -21,6 +23,19 @@ def robot_colours(count: int) -> list[Any]:
 
     cmap = plt.get_cmap("tab10" if count <= 10 else "tab20")
     return [cmap(i % cmap.N) for i in range(count)]
+
+
+def broken_at_changes(points: NDArray[np.float64], formation: NDArray[np.integer[Any]],
+                      ) -> NDArray[np.float64]:
+    """(T + B, D) the points (T, D) of a path with a row of NaN inserted before each of the
+    B samples where formation (T,) (the plan formation followed, ``RunResult.formation[i]``)
+    changes: there a new virtual leader may take over (``newVL``) and the leader and the
+    desired path jump, so a line drawn through the points breaks instead of joining the
+    jump."""
+    changes = np.flatnonzero(np.diff(formation)) + 1
+    broken: NDArray[np.float64] = np.insert(np.asarray(points, dtype=float), changes, np.nan,
+                                            axis=0)
+    return broken
 
 
 def plot_speeds_and_distances(result: RunResult) -> Any:
@@ -80,11 +95,12 @@ def plot_trajectories(result: RunResult) -> Any:
         ax.add_patch(PolygonPatch(obstacle.polygon, closed=True, facecolor="0.35",
                                   edgecolor="black"))
     colours = robot_colours(len(result.robots))
-    for i, robot in enumerate(result.robots):
-        ax.plot(result.leader[i, :, 0], result.leader[i, :, 1], color="black", linewidth=0.8,
+    for i, robot in enumerate(result.robots):  # leader and desired paths break at newVL jumps
+        leader = broken_at_changes(result.leader[i, :, :2], result.formation[i])
+        ax.plot(leader[:, 0], leader[:, 1], color="black", linewidth=0.8,
                 label="virtual leader" if i == 0 else None)
-        ax.plot(result.desired[i, :, 0], result.desired[i, :, 1], "--", color=colours[i],
-                linewidth=0.8)
+        desired = broken_at_changes(result.desired[i, :, :2], result.formation[i])
+        ax.plot(desired[:, 0], desired[:, 1], "--", color=colours[i], linewidth=0.8)
         ax.plot(result.poses[i, :, 0], result.poses[i, :, 1], color=colours[i], linewidth=1.6,
                 label=robot)
         kind = result.placement.types[i]
