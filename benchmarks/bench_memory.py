@@ -1,5 +1,5 @@
 """Memory of a simulated show per robot-second (the figure behind check's size limit,
-``check.MAX_SIMULATED_ROBOT_SECONDS``).
+``plan.placement.MAX_SIMULATED_ROBOT_SECONDS``).
 
 Run: ``.venv/bin/python benchmarks/bench_memory.py``. Simulates the same 20-robot formation
 (LIDAR on, no animation) for a short and a three times longer show, each in a fresh

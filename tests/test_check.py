@@ -11,6 +11,7 @@ from dancebots.check import CheckOptions, CheckReport, check_plan
 from dancebots.geometry import Pose
 from dancebots.plan.compile import compile_scenario
 from dancebots.world import World, load_world, parse_world
+from tests_support import plan_of
 
 
 def check(text: str, world: World | None = None, **options: float) -> CheckReport:
@@ -381,3 +382,11 @@ def test_a_show_too_large_to_simulate_is_an_error_of_check_and_refused_by_setup(
     assert errors[0].message.startswith("the show is too large to simulate: 1000 robots for ")
     with pytest.raises(SetupError, match="too large to simulate"):
         prepare_show(place_show(plan, None))
+
+
+def test_a_show_in_a_world_without_robots_is_centred_as_recorded(examples: Path) -> None:
+    """Golden: 7.3 in the thesis's room (no [[robots]]) is centred on the extent of its
+    desired positions at the placement's 0.1 s samples; a change of that sampling moves it."""
+    plan = plan_of((examples / "thesis_7_3.dance").read_text())
+    report = check_plan(plan, load_world(str(examples / "worlds" / "thesis_room.toml")))
+    assert report.world_transform == Pose(4.317989750195567, 5.588761409272698, 0.0)

@@ -9,7 +9,7 @@ from dancebots.check import check_show
 from dancebots.plan.placement import place_show, sample_show
 from dancebots.plan.planner import Plan
 from dancebots.sim.setup import prepare_show
-from dancebots.world import parse_world
+from dancebots.world import DEFAULT_ROBOT_TYPE, parse_world
 from tests_support import plan_of
 
 SHOW = "robots A B\nrow A,B 0 1.2\nmove 2 0\ncircle 1.5 90 0.2\n"
@@ -50,24 +50,33 @@ def test_check_and_setup_sample_the_plan_once(monkeypatch: pytest.MonkeyPatch) -
     assert np.array_equal(placement.starts, show.starts)
 
 
-def test_open_arena_holds_every_footprint_with_its_margin() -> None:
-    show = place_show(plan_of(SHOW))
-    low, high = show.footprint_extent()
-    arena, _ = prepare_show(show)
-    assert np.all(arena.room.min(axis=0) <= low - 2.0)
-    assert np.all(arena.room.max(axis=0) >= high + 2.0)
-    assert np.all(arena.room == np.round(arena.room))  # corners on whole metres
+def test_the_open_arena_is_the_footprints_plus_two_metres_on_whole_metres() -> None:
+    """One robot of the default type driving straight along x from its
+    first slot to its last: the room spans its footprint at both ends, plus 2 m, rounded
+    outwards to whole metres."""
+    plan = plan_of("robots A\nrow A 0 0\nmove 2 0\n")
+    kind = DEFAULT_ROBOT_TYPE
+    first, last = (plan.desired_poses("A", np.array([t]))[0] for t in (0.0, plan.duration))
+    assert first[1] == last[1] == 0.0
+    assert first[2] == last[2] == 0.0
+    arena, _ = prepare_show(place_show(plan))
+    low = np.floor([first[0] - kind.length / 2 - 2.0, -kind.width / 2 - 2.0])
+    high = np.ceil([last[0] + kind.length / 2 + 2.0, kind.width / 2 + 2.0])
+    assert arena.room.tolist() == [[low[0], low[1]], [high[0], low[1]], [high[0], high[1]],
+                                   [low[0], high[1]]]
 
 
 def test_a_world_without_robots_centres_the_show() -> None:
+    """A straight show from x0 to x1 on y = 0, in a 20 m room without [[robots]]: the show
+    frame is shifted by (10 - (x0 + x1) / 2, 10) and not turned."""
+    plan = plan_of("robots A\nrow A 0 0\nmove 2 0\n")
+    x0, x1 = (float(plan.desired_poses("A", np.array([t]))[0, 0]) for t in (0.0, plan.duration))
     world, _ = parse_world("[room]\nsize = 20\n", "hall.toml")
     assert world is not None
-    show = place_show(plan_of(SHOW), world)
+    show = place_show(plan, world)
     assert show.transform is not None
-    assert show.transform.theta == 0.0
-    points = show.samples.poses[..., :2] + [show.transform.x, show.transform.y]
-    centre = 0.5 * (points.min(axis=(0, 1)) + points.max(axis=(0, 1)))
-    assert centre == pytest.approx([10.0, 10.0])
+    assert (show.transform.x, show.transform.y, show.transform.theta) == pytest.approx(
+        (10.0 - 0.5 * (x0 + x1), 10.0, 0.0), abs=1e-12)
 
 
 def test_a_world_that_places_some_robots_is_an_error_and_no_placement() -> None:

@@ -12,6 +12,7 @@ import argparse
 import json
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -120,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
         arena, placement = prepare_show(show.report.placement)  # placed once, by the check
     except SetupError as exc:
         return refuse(NAME, args.json, str(exc))
+    show = replace(show, report=None)  # the placement's samples are not needed any more
     console = Console(stderr=True, soft_wrap=True)
     if args.sound:
         from dancebots.report.sound import espeak_available

@@ -32,8 +32,9 @@ from sklearn.cluster import DBSCAN
 from dancebots.leader_follower.kalman import kalman_predict, kalman_update
 from dancebots.leader_follower.scan import Detection, Scan, TrackedObject, to_odom
 
-__all__ = ["DETECTORS", "ClusterParams", "ClusterState", "QueueDetector", "TrackingParams",
-           "TrackingState", "bin_scan", "cluster_step", "scan_objects", "tracking_step"]
+__all__ = ["DETECTORS", "ClusterParams", "ClusterState", "QueueDetector", "TargetRule",
+           "TrackingParams", "TrackingState", "bin_scan", "cluster_step", "scan_objects",
+           "tracking_step"]
 
 FloatArray = NDArray[np.float64]
 QueueDetector = Literal["a1", "a2", "a2-track"]
@@ -119,6 +120,10 @@ def cluster_step(params: ClusterParams, state: ClusterState, scan: Scan,
     return ClusterState(chosen.position, 0), Detection(chosen, tuple(objects))
 
 
+TargetRule = Literal["seed", "track"]
+"""How A2 picks its target among the tracks (see the module)."""
+
+
 @dataclass(frozen=True, slots=True)
 class TrackingParams:
     """A2. gap: readings further apart than max(gap, gap_factor x range x beam spacing) start
@@ -141,7 +146,7 @@ class TrackingParams:
     max_misses: int = 10
     field_of_view: float = math.radians(140.0)
     max_range: float = 3.0
-    rule: str = "seed"
+    rule: TargetRule = "seed"
     max_jump: float = 0.5
     lost_scans: int = 10
     coast_time: float = 2.0

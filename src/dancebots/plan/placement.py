@@ -65,7 +65,8 @@ def robot_types(plan: Plan, world: World | None,
 
 
 MAX_ROBOT_SAMPLES = 2_000_000
-"""Most desired poses (robots x sample times) that one check holds (48 MB per array)."""
+"""Most desired poses (robots x sample times) that one placement holds (48 MB of poses and
+16 MB of formation indices; ``run`` lets them go once the show is set up)."""
 
 
 

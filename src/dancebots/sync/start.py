@@ -89,7 +89,9 @@ class StartAgreement:
 
 def new_agreement(role: str, roles: tuple[str, ...] | frozenset[str],
                   strategy: str = "agreed") -> StartAgreement:
-    """The agreement of robot ``role`` in a formation of ``roles`` (which include it)."""
+    """The agreement of robot ``role`` in a formation of ``roles`` (which include it).
+    ``strategy`` is a plain string because it comes from a node parameter: it is checked
+    against :data:`START_STRATEGIES` here (a ``ValueError`` names the choices)."""
     if strategy not in START_STRATEGIES:
         raise ValueError(f"unknown start strategy {strategy!r}; use one of "
                          f"{', '.join(START_STRATEGIES)}")
