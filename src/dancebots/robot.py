@@ -30,7 +30,7 @@ from dancebots.control.follower import (
 from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
-    slot_reference,
+    slot_references,
     tracking_step,
 )
 from dancebots.geometry import Pose, compose_poses, points_to_world
@@ -134,7 +134,6 @@ class _Sample:
     desired: tuple[float, float]
     required: float
     moving: bool
-    slot: SlotReference
 
 
 class RobotBrain:
@@ -167,7 +166,9 @@ class RobotBrain:
         self.grid_period = grid_period
         count = math.ceil(plan.duration / grid_period) + 1
         grid = np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
-        self._grid = self._samples(plan.track(robot, grid))
+        track = plan.track(robot, grid)
+        self._grid = self._samples(track)
+        self._slot_grid = self._slot_rows(track) if follower == "tracking" else None
 
     def _samples(self, track: RobotTrack) -> list[_Sample]:
         own = self._to_own
@@ -175,13 +176,32 @@ class RobotBrain:
         lateral = points_to_world(track.lateral[:, :2], own).tolist()
         desired = points_to_world(track.desired[:, :2], own).tolist()
         moving = np.any(track.leader_commands != 0.0, axis=1)
-        leader_poses = compose_poses(np.array([own.x, own.y, own.theta]), track.leader)
-        slots = [slot_reference(tuple(p), tuple(o), tuple(c)) for p, o, c in zip(
-            leader_poses.tolist(), track.offsets.tolist(), track.leader_commands.tolist(),
-            strict=True)]
-        return [_Sample(tuple(a), tuple(p), tuple(e), r, m, s) for a, p, e, r, m, s in zip(
+        return [_Sample(tuple(a), tuple(p), tuple(e), r, m) for a, p, e, r, m in zip(
             leader, lateral, desired, track.required_distance.tolist(), moving.tolist(),
-            slots, strict=True)]
+            strict=True)]
+
+    def _slot_rows(self, track: RobotTrack) -> np.ndarray:
+        """The slot's references (T, 5) in the robot's own frame (``slot_references``)."""
+        own = self._to_own
+        leaders = compose_poses(np.array([own.x, own.y, own.theta]), track.leader)
+        return slot_references(leaders, track.offsets, track.leader_commands)
+
+    def slot_at(self, show_time: float) -> SlotReference:
+        """The slot's reference at ``show_time`` s in the robot's own frame (from the 10 Hz
+        grid, or computed exactly off it), for the tracking follower."""
+        row = None
+        if show_time >= self.plan.duration and self._slot_grid is not None:
+            row = self._slot_grid[-1]
+        else:
+            k = round(show_time / self.grid_period)
+            if (self._slot_grid is not None and 0 <= k < len(self._slot_grid)
+                    and abs(k * self.grid_period - show_time) < 1e-9):
+                row = self._slot_grid[k]
+        if row is None:
+            row = self._slot_rows(self.plan.track(
+                self.robot, np.array([min(show_time, self.plan.duration)])))[0]
+        return SlotReference((float(row[0]), float(row[1]), float(row[2])), float(row[3]),
+                             float(row[4]))
 
     def _sample(self, show_time: float) -> _Sample:
         if show_time >= self.plan.duration:  # the plan stands still after its end
@@ -220,7 +240,8 @@ class RobotBrain:
             sample = self._sample(show_time)
             if self.follower == "tracking":
                 follower = state.follower
-                linear, angular = tracking_step(self.tracking, pose, sample.slot, seen.force)
+                linear, angular = tracking_step(self.tracking, pose, self.slot_at(show_time),
+                                                seen.force)
             else:
                 follower, (linear, angular) = thesis_follower_step(
                     self.params, state.follower, show_time, pose, sample.leader,

@@ -35,9 +35,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from dancebots.geometry import Pose, wrap_angle
+import numpy as np
+from numpy.typing import NDArray
 
-__all__ = ["SlotReference", "TrackingParams", "slot_reference", "tracking_step"]
+from dancebots.geometry import Pose, compose_poses, wrap_angle
+
+__all__ = ["SlotReference", "TrackingParams", "slot_reference", "slot_references",
+           "tracking_step"]
+
+FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,17 +96,30 @@ class SlotReference:
         return abs(self.speed) > 1e-9 or abs(self.angular_speed) > 1e-9
 
 
+def slot_references(leaders: FloatArray, offsets: FloatArray,
+                    leader_commands: FloatArray) -> FloatArray:
+    """The references of slots at ``offsets`` (T, 2) (ox, oy, m, in the leader's frame) of
+    leaders at poses ``leaders`` (T, 3) (x, y, theta) moving with ``leader_commands`` (T, 2)
+    (v m/s, w rad/s). Returns (T, 5): the slot's pose x, y, theta, its signed speed and its
+    angular speed (a compact :class:`SlotReference` per row)."""
+    v, w = leader_commands[:, 0], leader_commands[:, 1]
+    along = v - w * offsets[:, 1]  # the slot's velocity in the leader's frame
+    across = w * offsets[:, 0]
+    forwards = along >= 0.0
+    turn = np.where(forwards, np.arctan2(across, along), np.arctan2(-across, -along))
+    speed = np.where(along != 0.0, np.copysign(np.hypot(along, across), along),
+                     np.abs(across))
+    slots = compose_poses(leaders, np.column_stack([offsets, turn]))
+    return np.column_stack([slots, speed, w])
+
+
 def slot_reference(leader: tuple[float, float, float], offset: tuple[float, float],
                    leader_command: tuple[float, float]) -> SlotReference:
-    """The reference of a slot at ``offset`` (ox, oy, m, in the leader's frame) of a leader at
-    pose ``leader`` (x, y, theta) moving with ``leader_command`` (v m/s, w rad/s)."""
-    v, w = leader_command
-    ox, oy = offset
-    along, across = v - w * oy, w * ox  # the slot's velocity in the leader's frame
-    turn = math.atan2(across, along) if along >= 0.0 else math.atan2(-across, -along)
-    speed = math.copysign(math.hypot(along, across), along) if along != 0.0 else abs(across)
-    slot = Pose(*leader).compose(Pose(ox, oy, turn))
-    return SlotReference((slot.x, slot.y, slot.theta), speed, w)
+    """One slot's reference (:func:`slot_references` for a single leader pose)."""
+    row = slot_references(np.array([leader], dtype=float), np.array([offset], dtype=float),
+                          np.array([leader_command], dtype=float))[0]
+    return SlotReference((float(row[0]), float(row[1]), float(row[2])), float(row[3]),
+                         float(row[4]))
 
 
 def _saturate(linear: float, angular: float, params: TrackingParams) -> tuple[float, float]:
