@@ -18,7 +18,8 @@ from dancebots.cli import main
 import dancebots.ros1, dancebots.ros1.naming, dancebots.sync, dancebots.ros1.launching
 import dancebots.cli.ros
 assert main(["check", "examples/thesis_7_1.dance"]) == 0
-assert main(["run", "examples/thesis_7_1.dance", "--no-animation", "--out", sys.argv[1]]) == 0
+# it runs (0: clean, 1: not clean; 7.1's thesis follower drives a robot backwards)
+assert main(["run", "examples/thesis_7_1.dance", "--no-animation", "--out", sys.argv[1]]) in (0, 1)
 assert main(["ros", "simulate", "examples/thesis_7_1.dance", "--print-command"]) == 0
 print("fine without ROS")
 """
