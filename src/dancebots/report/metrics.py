@@ -127,6 +127,8 @@ class RunMetrics:
     reverse_fraction: float = 0.0
     rms_formation_error: float | None = None
     max_formation_error: float | None = None
+    follower: str = "thesis"
+    timing: str = "thesis"
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -165,6 +167,8 @@ class RunMetrics:
             "scenario": self.scenario,
             "profile": self.profile,
             "seed": self.seed,
+            "follower": self.follower,
+            "timing": self.timing,
             "show_duration_s": r3(self.show_duration),
             "run_duration_s": r3(self.run_duration),
             "collisions": self.collisions,
@@ -258,7 +262,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
               for e in result.events),
         _rms(error), _rms(heading[:, during]),
         float(np.mean(heading[:, during] > FACING_AWAY_ANGLE)), _fraction(against, moving),
-        pairs.rms, pairs.max)
+        pairs.rms, pairs.max,
+        follower=result.config.brain.follower, timing=plan.parameters.timing)
 
 
 def _rms(values: FloatArray) -> float:
