@@ -1,5 +1,6 @@
-"""Start-up time of the ``dancebots`` command (target: at most 0.3 s for ``--help`` and for
-``check`` of a thesis listing on a 2-core machine).
+"""Start-up time of the ``dancebots`` command (targets on a 2-core machine: at most 0.3 s for
+``--help`` and for ``check --rigid-only`` of a thesis listing; at most 1 s for ``check`` with
+its simulation pass, issue 12).
 
 Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat N]``. Each command runs N times
 (default 10) as a fresh process, after one warm-up run that fills the OS file cache; prints
@@ -19,7 +20,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = Path(sys.executable).parent / "dancebots"
 TARGET = 0.3
-"""s: the wall-time target of --help and check."""
+"""s: the wall-time target of --help and the rigid check."""
+SIMULATED_TARGET = 1.0
+"""s: the wall-time target of check with its simulation pass."""
 
 
 def wall_times(command: list[str], repeat: int) -> list[float]:
@@ -41,6 +44,10 @@ def main() -> int:
     commands = {
         "python -c pass": [sys.executable, "-c", "pass"],
         "dancebots --help": [*dancebots, "--help"],
+        "dancebots check --rigid-only 7_1": [*dancebots, "check", "--rigid-only",
+                                             "examples/thesis_7_1.dance"],
+        "dancebots check --rigid-only 6_3": [*dancebots, "check", "--rigid-only",
+                                             "examples/thesis_6_3.dance"],
         "dancebots check thesis_7_1": [*dancebots, "check", "examples/thesis_7_1.dance"],
         "dancebots check thesis_6_3": [*dancebots, "check", "examples/thesis_6_3.dance"],
         "dancebots demo": [*dancebots, "demo"],
@@ -54,9 +61,12 @@ def main() -> int:
         baseline = baseline or median
         print(f"{name:<30} {median:>9.3f} {min(times):>7.3f} {max(times):>7.3f} "
               f"{median / baseline:>9.1f}")
-        if name.startswith("dancebots") and median > TARGET:
+        simulated = name.startswith("dancebots check thesis")
+        if name.startswith("dancebots") and median > (SIMULATED_TARGET if simulated
+                                                      else TARGET):
             over.append(name)
-    print(f"target: at most {TARGET} s median; "
+    print(f"target: at most {TARGET} s median ({SIMULATED_TARGET} s for check with its "
+          "simulation); "
           + ("met" if not over else f"NOT met by {', '.join(over)}"))
     return 1 if over else 0
 

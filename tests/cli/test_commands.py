@@ -38,11 +38,34 @@ def test_check_valid_prints_summary(capsys: Capture, tmp_path: Path) -> None:
 
 def test_warnings_and_strict(capsys: Capture, examples: Path) -> None:
     path = str(examples / "thesis_7_1.dance")
-    status, out, err = run(capsys, "check", path)
+    status, out, err = run(capsys, "check", "--rigid-only", path)
     assert status == 0
     assert "thesis_7_1.dance:4:1: warning: desired speed above the robot's maximum" in err
+    assert "simulated" not in err
     assert out.rstrip().endswith("ok (2 warnings)")
-    assert run(capsys, "check", "--strict", path)[0] == 1
+    assert run(capsys, "check", "--strict", "--rigid-only", path)[0] == 1
+
+
+def test_check_runs_the_show_and_reports_at_the_instruction(capsys: Capture,
+                                                             examples: Path) -> None:
+    """The simulation pass: 7.1's thesis follower turns R2 round in the corner of line 4;
+    --follower tracking --timing feasible leaves nothing to report; the findings are
+    warnings (exit 1 only with --strict)."""
+    path = str(examples / "thesis_7_1.dance")
+    status, out, err = run(capsys, "check", path)
+    assert status == 0
+    assert ("thesis_7_1.dance:4:1: warning: simulated (ideal profile, thesis follower): R2 "
+            "drives against its slot's direction from t = 8.4 s to 23.3 s") in err
+    assert out.rstrip().endswith("ok (9 warnings)")
+    # the tracking follower on the feasible timing: no speed above a robot's maximum, nobody
+    # turned round, everyone within 0.5 m of its slot and at its final place
+    status, out, err = run(capsys, "check", "--follower", "tracking", "--timing", "feasible",
+                           path)
+    assert (status, err) == (0, "")
+    assert out.rstrip().endswith("thesis_7_1.dance: ok")
+    report = json.loads(run(capsys, "check", "--json", path)[1])
+    assert any(d["message"].startswith("simulated (ideal profile, thesis follower): R2 drives")
+               for d in report["diagnostics"])
 
 
 def test_json_report(capsys: Capture, examples: Path) -> None:
@@ -77,7 +100,12 @@ def test_demo_passes_strict_check(capsys: Capture, tmp_path: Path) -> None:
         assert keyword in out
     demo = tmp_path / "demo.dance"
     demo.write_text(out)
-    status, _, err = run(capsys, "check", "--strict", str(demo))
+    # its plan is clean; simulated, the thesis follower turns robots round (issue 12) but the
+    # tracking follower on the feasible timing performs it without a finding
+    status, _, err = run(capsys, "check", "--strict", "--rigid-only", str(demo))
+    assert (status, err) == (0, "")
+    status, _, err = run(capsys, "check", "--strict", "--follower", "tracking", "--timing",
+                         "feasible", str(demo))
     assert (status, err) == (0, "")
 
 

@@ -38,7 +38,13 @@ def test_help_and_demo_import_no_heavy_library() -> None:
 
 
 def test_check_imports_only_what_checking_needs() -> None:
-    assert imported_by("check", "examples/thesis_7_1.dance") == ["numpy", "shapely"]
+    """The rigid pass needs NumPy and shapely; the simulation pass the simulator (numba,
+    which brings SciPy) and rich for its progress, but never the plots or the queue's
+    scikit-learn."""
+    assert imported_by("check", "--rigid-only", "examples/thesis_7_1.dance") == [
+        "numpy", "shapely"]
+    assert imported_by("check", "examples/thesis_7_1.dance") == [
+        "numba", "numpy", "rich", "scipy", "shapely"]
 
 
 DANCEBOTS = Path(sys.executable).parent / "dancebots"
@@ -72,6 +78,7 @@ def test_ctrl_c_while_starting_or_running_exits_130_and_leaves_nothing(
 
 def test_choices_match_the_core() -> None:
     from dancebots.cli import follow, ros, run
+    from dancebots.cli.common import FOLLOWERS as CLI_FOLLOWERS
     from dancebots.cli.common import TIMINGS as CLI_TIMINGS
     from dancebots.leader_follower.controllers import CONTROLLERS
     from dancebots.leader_follower.detectors import DETECTORS
@@ -86,5 +93,5 @@ def test_choices_match_the_core() -> None:
     assert follow.CONTROLLERS == CONTROLLERS
     assert follow.LEADERS == LEADERS
     assert set(ros.START_STRATEGIES) == set(START_STRATEGIES)
-    assert set(run.FOLLOWERS) == set(FOLLOWERS)
+    assert set(CLI_FOLLOWERS) == set(FOLLOWERS)
     assert set(CLI_TIMINGS) == set(TIMINGS)

@@ -11,6 +11,7 @@ from dancebots.cli.common import (
     EXIT_INVALID,
     EXIT_OK,
     EXIT_WARNINGS,
+    add_follower_argument,
     add_show_arguments,
     add_timing_argument,
     positive,
@@ -19,18 +20,27 @@ from dancebots.cli.common import (
 
 if TYPE_CHECKING:
     from dancebots.check import CheckReport
+    from dancebots.diagnostics import Diagnostic
     from dancebots.plan.planner import Plan
 
 NAME = "check"
 HELP = "check a choreography and summarise its plan"
 DESCRIPTION = ("Check a choreography like a compiler checks code: every problem with its "
-               "file:line:col and a hint, and a summary of the plan. Exit 0 when valid, 2 "
-               "when not, 1 with --strict when there are warnings.")
+               "file:line:col and a hint, and a summary of the plan. Two passes: the rigid "
+               "desired poses (clearances, speeds, the room), then the show simulated in the "
+               "ideal profile (contacts, robots driving against their slot's direction or far "
+               "from it, robots that miss their final slot), each at the line of the "
+               "instruction concerned. Exit 0 when valid, 2 when not, 1 with --strict when "
+               "there are warnings.")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_show_arguments(parser)
     add_timing_argument(parser)
+    add_follower_argument(parser)
+    parser.add_argument("--rigid-only", action="store_true",
+                        help="skip the simulation pass: only the checks on the rigid desired "
+                        "poses (fast)")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
     parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
@@ -47,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
     diagnostics = show.diagnostics
     invalid = has_errors(diagnostics)
     report = show.report if not invalid else None
+    if report is not None and not args.rigid_only:
+        diagnostics = (*diagnostics, *_simulated(args, report))
     if args.json:
         print(json.dumps({
             "valid": not invalid,
@@ -88,3 +100,31 @@ def summary_text(report: CheckReport, plan: Plan | None) -> str:
         lines.append(f"{s.name:<10} {s.robot_type.name:<6} {s.path_length:>8.2f} "
                      f"{s.max_speed:>12.2f} {s.max_angular_speed:>14.2f}")
     return "\n".join(lines)
+
+
+def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:
+    """The second pass: the show run in the ideal profile with LIDAR, and what went wrong."""
+    import sys
+
+    from rich.console import Console
+
+    from dancebots.cli.common import progress
+    from dancebots.report.findings import simulated_findings
+    from dancebots.robot import BrainOptions
+    from dancebots.shows.formation import SimConfig, simulate
+    from dancebots.sim.kernels import kernels_to_compile
+    from dancebots.sim.setup import prepare_show
+
+    assert report.placement is not None  # a valid show is placed
+    arena, placement = prepare_show(report.placement)
+    console = Console(stderr=True, soft_wrap=True)
+    compile_first = kernels_to_compile()
+    if compile_first:
+        console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
+                      "run on this machine only, 10-20 s)", style="yellow", highlight=False)
+    config = SimConfig(brain=BrainOptions(follower=args.follower))
+    with progress(console, "simulating  (show s)") as update:
+        result = simulate(report.placement.plan, arena, placement, config, update)
+    sys.stderr.flush()
+    return simulated_findings(result, f"ideal profile, {args.follower} follower")
+

@@ -521,6 +521,8 @@ def _umask() -> int:
     return umask
 
 
+FOLLOWERS = ("thesis", "tracking")
+"""``robot.FOLLOWERS`` (the CLI imports only the standard library at start-up)."""
 TIMINGS = ("thesis", "feasible")
 """``plan.planner.TIMINGS`` (the CLI imports only the standard library at start-up)."""
 
@@ -531,6 +533,14 @@ def add_timing_argument(parser: argparse.ArgumentParser) -> None:
                         help="thesis (default): the leader's speeds as the thesis gives them; "
                         "feasible: the leader slows wherever a robot's slot would move faster "
                         "than 0.8 V (the outer robots of a turn), keeping its path")
+
+
+def add_follower_argument(parser: argparse.ArgumentParser) -> None:
+    """--follower: how each robot follows its slot (``BrainOptions.follower``)."""
+    parser.add_argument("--follower", choices=FOLLOWERS, default="thesis",
+                        help="thesis (default): eq. 4.4 as written; tracking: each robot "
+                        "tracks its slot's motion from the plan (Kanayama's law, "
+                        "docs/control.md)")
 
 
 def add_show_arguments(parser: argparse.ArgumentParser, scenario_help: str | None = None,

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
     ShowOutcome,
+    add_follower_argument,
     add_show_arguments,
     add_timing_argument,
     bundled,
@@ -55,7 +56,6 @@ PROFILES = ("ideal", "realistic")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
 DETECTORS = ("compensated", "thesis")
 FORCE_STEERINGS = ("blend", "thesis")
-FOLLOWERS = ("thesis", "tracking")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -89,10 +89,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(default): move its points by the robot's motion since the scan")
     parser.add_argument("--force-steering", choices=FORCE_STEERINGS, default="blend",
                         help="how the virtual force field steers (docs/safety.md)")
-    parser.add_argument("--follower", choices=FOLLOWERS, default="thesis",
-                        help="thesis (default): eq. 4.4 as written; tracking: each robot "
-                        "tracks its slot's motion from the plan (Kanayama's law, "
-                        "docs/control.md)")
+    add_follower_argument(parser)
     add_timing_argument(parser)
     parser.add_argument("--final-tolerance", type=positive, default=None, metavar="M",
                         help="a robot ending further than this from its final slot fails the "

@@ -1,0 +1,63 @@
+"""check's simulation pass: what a simulated show predicts, at the scenario's lines."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from dancebots.plan.placement import place_show
+from dancebots.report.findings import FindingLimits, simulated_findings
+from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.sim.setup import prepare_show
+from tests_support import plan_of
+
+
+def simulated(text: str, config: SimConfig | None = None) -> RunResult:
+    plan = plan_of(text, path="show.dance")
+    return simulate(plan, *prepare_show(place_show(plan)), config or SimConfig())
+
+
+def test_a_show_that_goes_well_has_no_findings() -> None:
+    result = simulated("robots A B\nrow A,B 0 1.2\nmove 3 0\n")
+    assert simulated_findings(result, "ideal profile") == []
+
+
+def test_a_robot_turned_round_is_reported_at_the_corner(examples: Path) -> None:
+    """7.1 with the thesis follower: R2 turns round in the first sharp corner (line 4) and
+    drives backwards to the end; at the end it faces 177 deg away from its slot."""
+    result = simulated((examples / "thesis_7_1.dance").read_text())
+    found = [f"{d.line}:{d.col}: {d.message}" for d in simulated_findings(result, "x")]
+    assert ("4:1: simulated (x): R2 drives against its slot's direction from t = 8.4 s to "
+            "23.3 s") in found
+    assert "5:1: simulated (x): R2 ends 0.10 m and 177 deg away from its final slot" in found
+
+
+def test_crossing_paths_are_a_contact_at_the_instruction(examples: Path) -> None:
+    """7.4 without LIDAR: after the split the two robots' paths cross (check's rigid pass
+    warns of it), and the simulated robots touch during line 15's move."""
+    result = simulated((examples / "thesis_7_4.dance").read_text(), SimConfig(lidar=None))
+    contacts = [d for d in simulated_findings(result, "x") if "touches" in d.message]
+    assert [(d.line, d.message) for d in contacts] == [
+        (15, "simulated (x): R1 touches R2 at t = 7.9 s")]
+    assert contacts[0].hint is not None
+    assert "paths cross" in contacts[0].hint
+
+
+def test_many_findings_of_a_kind_end_in_a_count(examples: Path) -> None:
+    result = simulated((examples / "thesis_7_1.dance").read_text())
+    everything = simulated_findings(result, "x", FindingLimits(slot_distance=0.05,
+                                                                 min_duration=0.1))
+    capped = simulated_findings(result, "x", FindingLimits(slot_distance=0.05,
+                                                            min_duration=0.1, per_kind=2))
+    off = [d.message for d in everything if "from its slot" in d.message]
+    messages = [d.message for d in capped]
+    assert len(off) > 3
+    assert off[0] in messages
+    assert off[1] not in messages  # counted instead
+    assert f"simulated (x): ... and {len(off) - 1} more like the ones above" in messages
+
+
+def test_the_final_finding_uses_the_verdicts_tolerances(examples: Path) -> None:
+    result = simulated((examples / "thesis_7_1.dance").read_text())
+    lenient = replace(FindingLimits(), final_heading=180.0)
+    assert not any("ends" in d.message for d in simulated_findings(result, "x", lenient))
