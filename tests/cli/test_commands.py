@@ -228,3 +228,15 @@ def test_a_missing_world_file_gets_a_world_hint(capsys: Capture, examples: Path)
     status, _, err = run(capsys, "follow", "--world", "nosuch")
     assert status == 2
     assert err.splitlines()[1].endswith("; or name a bundled world: course, crossing")
+
+
+def test_check_does_not_simulate_a_show_too_large_for_it(
+        capsys: Capture, examples: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import dancebots.cli.check
+
+    monkeypatch.setattr(dancebots.cli.check, "SIMULATION_LIMIT", 40)
+    status, _, err = run(capsys, "check", str(examples / "thesis_7_1.dance"))
+    assert status == 0
+    assert ("thesis_7_1.dance:1:1: warning: not simulated: 2 robots for 23 s is 47 "
+            "robot-seconds, more than check simulates (40)") in err
+    assert "simulated (" not in err

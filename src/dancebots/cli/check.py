@@ -102,11 +102,29 @@ def summary_text(report: CheckReport, plan: Plan | None) -> str:
     return "\n".join(lines)
 
 
+SIMULATION_LIMIT = 20_000
+"""Robots times show duration (s) up to which check simulates a show (20 robots for about
+17 minutes: a few seconds); a larger show gets a warning that it was not simulated."""
+
+
 def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:
     """The second pass: the show run in the ideal profile with LIDAR, and what went wrong."""
     import sys
 
     from rich.console import Console
+
+    from dancebots.diagnostics import Diagnostic, Severity
+
+    assert report.placement is not None  # a valid show is placed
+    plan = report.placement.plan
+    size = len(plan.robots) * plan.duration
+    if size > SIMULATION_LIMIT:
+        where = plan.scenario.robots_span
+        return [Diagnostic(
+            plan.scenario.path, where.line, where.col, Severity.WARNING,
+            f"not simulated: {len(plan.robots)} robots for {plan.duration:.0f} s is "
+            f"{size:,.0f} robot-seconds, more than check simulates ({SIMULATION_LIMIT:,})",
+            "`dancebots run` simulates it; check's rigid pass above still applies")]
 
     from dancebots.cli.common import progress
     from dancebots.report.findings import simulated_findings
@@ -115,7 +133,6 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     from dancebots.sim.kernels import kernels_to_compile
     from dancebots.sim.setup import prepare_show
 
-    assert report.placement is not None  # a valid show is placed
     arena, placement = prepare_show(report.placement)
     console = Console(stderr=True, soft_wrap=True)
     compile_first = kernels_to_compile()
@@ -124,7 +141,7 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     config = SimConfig(brain=BrainOptions(follower=args.follower))
     with progress(console, "simulating  (show s)") as update:
-        result = simulate(report.placement.plan, arena, placement, config, update)
+        result = simulate(plan, arena, placement, config, update)
     sys.stderr.flush()
     return simulated_findings(result, f"ideal profile, {args.follower} follower")
 
