@@ -21,7 +21,9 @@ from pathlib import Path
 from dancebots.cli.common import (
     EXIT_INVALID,
     EXIT_OK,
+    add_follower_argument,
     add_show_arguments,
+    add_timing_argument,
     fail,
     print_diagnostics,
 )
@@ -55,6 +57,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                            "the network does; thesis: as thesis 4.2 wrote it (docs/ros.md)")
     formation.add_argument("--no-lidar", action="store_true",
                            help="run without obstacle detection (no stops, no force field)")
+    add_follower_argument(formation)
+    add_timing_argument(formation)
     formation.add_argument("--print-command", action="store_true",
                            help="print what would run (the roslaunch command) and exit")
     formation.set_defaults(subparser=formation)
@@ -66,6 +70,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           help="the simulated robots' dynamics (default: ideal)")
     simulate.add_argument("--no-lidar", action="store_true",
                           help="robots without LIDAR (no stops, no force field)")
+    add_follower_argument(simulate)
+    add_timing_argument(simulate)
     simulate.add_argument("--record", default="", metavar="FILE.npz",
                           help="write the run's poses and commands here")
     simulate.add_argument("--print-command", "--print-launch", dest="print_command",
@@ -87,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.ros1.launching import START_ALLOWANCE, ros_environment, simulation_launch
     from dancebots.sim.setup import SetupError, prepare_show
 
-    show = load_show(args.scenario, args.world, args.vmax)
+    show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)
     if show.plan is None or not show.valid:
         print_diagnostics(show.diagnostics, show.sources)
         return EXIT_INVALID
@@ -105,7 +111,8 @@ def run(args: argparse.Namespace) -> int:
         command = [roslaunch, "dancebots_ros", "formation.launch", f"scenario:={scenario}",
                    f"role:={args.role}", f"world:={world_file}", f"vmax:={vmax}",
                    f"robot_name:={args.robot_name}", f"start_strategy:={args.start_strategy}",
-                   f"lidar:={str(not args.no_lidar).lower()}",
+                   f"lidar:={str(not args.no_lidar).lower()}", f"follower:={args.follower}",
+                   f"timing:={args.timing}",
                    # bash does not export HOSTNAME: pass the host's name when it is unset
                    f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
         if args.print_command:
@@ -120,7 +127,8 @@ def run(args: argparse.Namespace) -> int:
         scenario, plan.robots, world_file, vmax, args.profile, not args.no_lidar,
         str(Path(args.record).resolve()) if args.record else "",
         plan.duration + START_ALLOWANCE,
-        tuple((t.length, t.width, t.max_speed) for t in placement.types))
+        tuple((t.length, t.width, t.max_speed) for t in placement.types),
+        args.follower, args.timing)
     if args.print_command:
         print(text, end="")
         return EXIT_OK

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from dancebots.plan.planner import Plan
+from dancebots.plan.planner import TIMINGS, Plan
 from dancebots.sync import EchoMessage, StartProposal, SyncMessageError, parse_message
 from dancebots.world import World
 
@@ -35,13 +35,17 @@ not daemons and may wait on dead peers); then the process ends with os._exit."""
 
 
 def load_show(scenario: str, world: str | None = None, vmax: float | None = None,
-              ) -> tuple[Plan, World | None]:
-    """The plan every robot computes identically (same scenario, world and vmax), or exit
-    with the scenario's positioned diagnostics on stderr (exit status 2)."""
+              timing: str = "thesis") -> tuple[Plan, World | None]:
+    """The plan every robot computes identically (same scenario, world, vmax and timing), or
+    exit with the scenario's positioned diagnostics (or the unknown timing) on stderr (exit
+    status 2)."""
     from dancebots.diagnostics import format_diagnostics
     from dancebots.loading import load_show as load
 
-    show = load(scenario, world or None, vmax or None)
+    if timing not in TIMINGS:
+        print(f"unknown timing {timing!r}; use one of {', '.join(TIMINGS)}", file=sys.stderr)
+        sys.exit(2)
+    show = load(scenario, world or None, vmax or None, timing=timing)
     if show.plan is None or not show.valid:
         print(format_diagnostics(show.diagnostics, dict(show.sources)), file=sys.stderr)
         sys.exit(2)

@@ -4,7 +4,9 @@ messages in; Twist, /sync proposals and speech out.
 
 Parameters: ``~scenario``, ``~role`` (required); ``~world`` and ``~vmax`` (optional, the same
 on every robot: they set the plan's vmax); ``~robot_name`` (optional prefix of topics and
-frames); ``~start_strategy`` ("agreed", or "thesis" as written); ``~lidar`` (default true:
+frames); ``~start_strategy`` ("agreed", or "thesis" as written); ``~follower`` ("thesis",
+or "tracking"; docs/control.md) and ``~timing`` ("thesis", or "feasible"; the same on every
+robot: it sets the plan's timing); ``~lidar`` (default true:
 read ``obstacles`` and stop for them); ``~max_speed`` and ``~max_angular_speed`` (default:
 the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
 ``obstacle_detection`` node through the roslaunch API, as the thesis does);
@@ -44,7 +46,7 @@ from std_msgs.msg import Bool, String
 
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
+from dancebots.robot import FOLLOWERS, BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.ros1.common import (
     NodeLife,
     QueuedLog,
@@ -83,7 +85,8 @@ def main() -> None:
     scenario = str(required_param("~scenario"))
     role = str(required_param("~role"))
     world_file = str(rospy.get_param("~world", "")) or None
-    plan, _ = load_show(scenario, world_file, float(rospy.get_param("~vmax", 0.0)) or None)
+    plan, _ = load_show(scenario, world_file, float(rospy.get_param("~vmax", 0.0)) or None,
+                        str(rospy.get_param("~timing", "thesis")))
     names = RobotNames(str(rospy.get_param("~robot_name", "")))
     kind = robot_type_for_host(socket.gethostname())
     length = float(rospy.get_param(names.param("length"), kind.length))
@@ -95,7 +98,12 @@ def main() -> None:
         this_robot = RobotType(
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
-        brain = brain_for(plan, role, this_robot, BrainOptions(lidar=use_lidar))
+        follower = str(rospy.get_param("~follower", "thesis"))
+        if follower not in FOLLOWERS:
+            raise ValueError(f"unknown follower {follower!r}; use one of "
+                             f"{', '.join(FOLLOWERS)}")
+        brain = brain_for(plan, role, this_robot, BrainOptions(
+            follower=follower, lidar=use_lidar))
     except ValueError as exc:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None

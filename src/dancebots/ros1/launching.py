@@ -31,9 +31,11 @@ def ros_environment(base: dict[str, str] | None = None) -> dict[str, str]:
 def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                       vmax: float = 0.0, profile: str = "ideal", lidar: bool = True,
                       record: str = "", stop_after: float = 0.0,
-                      types: tuple[tuple[float, float, float], ...] = ()) -> str:
+                      types: tuple[tuple[float, float, float], ...] = (),
+                      follower: str = "thesis", timing: str = "thesis") -> str:
     """The launch file of a ROS simulation: the bridge, and formation.launch per robot with
-    its name as prefix; types: per robot (length, width, max speed) of the simulated robot."""
+    its name as prefix; types: per robot (length, width, max speed) of the simulated robot;
+    follower and timing: the strategies (``--follower``, ``--timing``)."""
     def attr(value: object) -> str:
         return quoteattr(str(value))
 
@@ -44,6 +46,7 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
              f"    <param name=\"world\" value={attr(world)}/>",
              f"    <param name=\"vmax\" value={attr(vmax)}/>",
              f"    <param name=\"profile\" value={attr(profile)}/>",
+             f"    <param name=\"timing\" value={attr(timing)}/>",
              f"    <param name=\"lidar\" value={attr(str(lidar).lower())}/>",
              f"    <param name=\"record\" value={attr(record)}/>",
              f"    <param name=\"stop_after\" value={attr(stop_after)}/>",
@@ -52,7 +55,8 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
         lines.append('  <include file="$(find dancebots_ros)/launch/formation.launch">')
         for key, value in (("scenario", scenario), ("role", robot), ("world", world),
                            ("vmax", vmax), ("robot_name", robot),
-                           ("lidar", str(lidar).lower())):
+                           ("lidar", str(lidar).lower()), ("follower", follower),
+                           ("timing", timing)):
             lines.append(f"    <arg name=\"{key}\" value={attr(value)}/>")
         if types:  # the simulated robot's size and speed, not this host's
             for key, value in zip(("length", "width", "max_speed"), types[i], strict=True):

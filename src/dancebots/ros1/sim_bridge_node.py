@@ -48,7 +48,8 @@ def main() -> None:
     log = QueuedLog()
     world_file = str(rospy.get_param("~world", "")) or None
     plan, world = load_show(str(required_param("~scenario")), world_file,
-                            float(rospy.get_param("~vmax", 0.0)) or None)
+                            float(rospy.get_param("~vmax", 0.0)) or None,
+                            str(rospy.get_param("~timing", "thesis")))
     profile = str(rospy.get_param("~profile", "ideal"))
     if profile not in PROFILES:
         rospy.logfatal(f"unknown profile {profile!r}; use one of {', '.join(PROFILES)}")
