@@ -390,3 +390,33 @@ def test_a_show_in_a_world_without_robots_is_centred_as_recorded(examples: Path)
     plan = plan_of((examples / "thesis_7_3.dance").read_text())
     report = check_plan(plan, load_world(str(examples / "worlds" / "thesis_room.toml")))
     assert report.world_transform == Pose(4.317989750195567, 5.588761409272698, 0.0)
+
+
+def test_ways_that_meet_at_a_formation_change_and_the_assignment_that_avoids_it() -> None:
+    """A row that mirrors itself: R1 and R3 change sides through R2. The shortest assignment
+    (Hungarian method) keeps every robot where it is, so check says to swap R1 and R3."""
+    report = check("robots R1 R2 R3\nrow R1,R2,R3 0 1.5\nmove 2 0\nrow R3,R2,R1 0 1.5\n"
+                   "move 2 0\n")
+    [warning] = [d for d in report.diagnostics if "formation change" in d.message]
+    assert (warning.line, warning.col) == (4, 1)
+    assert warning.message == ("the ways of R1 and R2, R1 and R3, R2 and R3 to their new "
+                               "slots meet at this formation change")
+    assert warning.hint == ("swap R1 and R3 in this line: their ways then stay apart (the "
+                            "shortest assignment)")
+
+
+def test_a_rotation_of_the_slots_is_undone_robot_by_robot() -> None:
+    """Four robots in a square whose names move one corner round: every way crosses the
+    square, the shortest assignment puts each robot in the slot nearest to it."""
+    report = check("robots A B C D\nsquare A,B;C,D 1.5 1.5\nmove 2 0\n"
+                   "square C,A;D,B 1.5 1.5\nmove 2 0\n")
+    [warning] = [d for d in report.diagnostics if "formation change" in d.message]
+    assert warning.line == 4
+    assert warning.hint is not None
+    assert warning.hint.startswith("put ")
+    assert "in this line: their ways then stay apart" in warning.hint
+
+
+def test_ways_that_stay_apart_are_not_reported() -> None:
+    report = check("robots R1 R2\nrow R1,R2 0 1.5\nmove 2 0\nrow R1,R2 0 3\nmove 2 0\n")
+    assert not any("formation change" in d.message for d in report.diagnostics)

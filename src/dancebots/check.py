@@ -130,6 +130,7 @@ def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckRe
     min_gap = _check_clearance(plan, types, samples.times, samples.poses, samples.formations,
                                options, diagnostics)
     _check_circles(plan, diagnostics)
+    _check_transitions(plan, types, diagnostics)
     diagnostics.extend(show.diagnostics)
     transform = show.transform if show.world is not None else None
     return CheckReport(scenario.path, scenario.robots, scenario.groups, plan.duration,
@@ -448,3 +449,71 @@ def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                       "would have to reverse",
                       f"use a radius larger than {lateral:g} m or a narrower formation",
                       diagnostics)
+
+
+# --- transitions -----------------------------------------------------------------------------
+
+def _meeting_ways(starts: FloatArray, ends: FloatArray,
+                  reach: FloatArray) -> list[tuple[int, int]]:
+    """Pairs (i < j) of robots whose straight ways starts[i] -> ends[i] (points (M, 2), m)
+    come nearer than reach[i] + reach[j] (m): crossing, or running through each other."""
+    moving = np.hypot(*(ends - starts).T) > 1e-9
+    ways = np.where(moving, shapely.linestrings(np.stack([starts, ends], axis=1)),
+                    shapely.points(starts))
+    tree = shapely.STRtree(ways)
+    first, second = tree.query(ways, predicate="dwithin", distance=2.0 * float(reach.max()))
+    keep = first < second
+    first, second = first[keep], second[keep]
+    near = shapely.distance(ways[first], ways[second]) < reach[first] + reach[second]
+    return sorted(zip(first[near].tolist(), second[near].tolist(), strict=True))
+
+
+def _check_transitions(plan: Plan, types: Sequence[RobotType],
+                       diagnostics: list[Diagnostic]) -> None:
+    """Formation changes in which robots' ways to their new slots meet, and a slot assignment
+    in which fewer do.
+
+    A robot's way is taken as the straight line from its slot just before the change to its
+    slot in the new formation at the change; two ways meet when they come nearer than the
+    robots' half widths together (the robots would touch if they passed there at the same
+    time). The assignment that minimises the sum of the squared lengths of the ways (SciPy's
+    ``linear_sum_assignment``, the Hungarian method) has no crossing ways (exchanging the ends
+    of two crossing segments shortens that sum); it is suggested when fewer ways meet in it.
+    """
+    width = {r: types[k].width for k, r in enumerate(plan.robots)}
+    changes = [f for f in plan.formations if f.start > 0.0 and len(f.robots) >= 2]
+    sampled: dict[str, dict[float, FloatArray]] = {}  # robot -> time -> desired (x, y)
+    for robot in plan.robots:  # one plan evaluation per robot, at every change it is in
+        times = sorted({t for f in changes if robot in f.robots
+                        for t in (f.start - 1e-3, f.start)})
+        if times:
+            poses = plan.desired_poses(robot, np.array(times))
+            sampled[robot] = {t: poses[k, :2] for k, t in enumerate(times)}
+    for formation in changes:
+        robots = list(formation.robots)
+        starts = np.stack([sampled[r][formation.start - 1e-3] for r in robots])
+        ends = np.stack([sampled[r][formation.start] for r in robots])
+        reach = 0.5 * np.array([width[r] for r in robots])
+        meeting = _meeting_ways(starts, ends, reach)
+        if not meeting:
+            continue
+        shown = ", ".join(f"{robots[i]} and {robots[j]}" for i, j in meeting[:5]) + (
+            f" and {len(meeting) - 5} more pairs" if len(meeting) > 5 else "")
+        hint = "let one group move first (a move of the others before this line), or " \
+               "change the slots so that the ways stay apart"
+        from scipy.optimize import linear_sum_assignment  # only here: check starts fast
+
+        cost = ((starts[:, None, :] - ends[None, :, :]) ** 2).sum(axis=2)  # robot i -> slot j
+        _, slot_of = linear_sum_assignment(cost)
+        better = len(_meeting_ways(starts, ends[slot_of], reach)) < len(meeting)
+        moves = [(robots[i], robots[int(j)]) for i, j in enumerate(slot_of) if int(j) != i]
+        if better and moves:
+            swaps = [(a, b) for a, b in moves if (b, a) in moves and a < b]
+            if len(swaps) * 2 == len(moves):
+                advice = "; ".join(f"swap {a} and {b}" for a, b in swaps)
+            else:
+                advice = ", ".join(f"put {a} in {b}'s slot" for a, b in moves)
+            hint = f"{advice} in this line: their ways then stay apart (the shortest assignment)"
+        _warn(plan, (formation.span.line, formation.span.col),
+              f"the ways of {shown} to their new slots meet at this formation change", hint,
+              diagnostics)
