@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.geometry import Pose, footprint_corners
 from dancebots.perception.obstacles import DetectorParams
-from dancebots.plan.placement import PlacedShow, instruction_position, place_show
+from dancebots.plan.placement import PlacedShow, ShowSamples, instruction_position, place_show
 from dancebots.plan.planner import Plan
 from dancebots.scenario.model import Circle
 from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
@@ -130,7 +130,7 @@ def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckRe
     min_gap = _check_clearance(plan, types, samples.times, samples.poses, samples.formations,
                                options, diagnostics)
     _check_circles(plan, diagnostics)
-    _check_transitions(plan, types, diagnostics)
+    _check_transitions(plan, types, samples, diagnostics)
     diagnostics.extend(show.diagnostics)
     transform = show.transform if show.world is not None else None
     return CheckReport(scenario.path, scenario.robots, scenario.groups, plan.duration,
@@ -453,54 +453,67 @@ def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
 
 # --- transitions -----------------------------------------------------------------------------
 
+_MAX_WAY_PAIRS = 20_000
+"""Candidate pairs of ways that one formation change examines (a pile of 1,000 robots on one
+spot has 500,000): the first ones in index order; more meet anyway."""
+_MAX_ASSIGNED = 300
+"""Robots of one formation up to which check computes the assignment it suggests (the
+Hungarian method takes cubic time)."""
+
+
 def _meeting_ways(starts: FloatArray, ends: FloatArray,
                   reach: FloatArray) -> list[tuple[int, int]]:
     """Pairs (i < j) of robots whose straight ways starts[i] -> ends[i] (points (M, 2), m)
-    come nearer than reach[i] + reach[j] (m): crossing, or running through each other."""
+    come nearer than reach[i] + reach[j] (m): crossing, or running through each other (at
+    most :data:`_MAX_WAY_PAIRS` candidate pairs are examined)."""
     moving = np.hypot(*(ends - starts).T) > 1e-9
     ways = np.where(moving, shapely.linestrings(np.stack([starts, ends], axis=1)),
                     shapely.points(starts))
     tree = shapely.STRtree(ways)
     first, second = tree.query(ways, predicate="dwithin", distance=2.0 * float(reach.max()))
     keep = first < second
-    first, second = first[keep], second[keep]
+    first, second = first[keep][:_MAX_WAY_PAIRS], second[keep][:_MAX_WAY_PAIRS]
     near = shapely.distance(ways[first], ways[second]) < reach[first] + reach[second]
     return sorted(zip(first[near].tolist(), second[near].tolist(), strict=True))
 
 
-def _check_transitions(plan: Plan, types: Sequence[RobotType],
+def _check_transitions(plan: Plan, types: Sequence[RobotType], samples: ShowSamples,
                        diagnostics: list[Diagnostic]) -> None:
     """Formation changes in which robots' ways to their new slots meet, and a slot assignment
     in which fewer do.
 
-    A robot's way is taken as the straight line from its slot just before the change to its
-    slot in the new formation at the change; two ways meet when they come nearer than the
+    A robot's way is taken as the straight line from its slot at the sample before the change
+    to its slot in the new formation at the change (the samples include every formation's
+    start); two ways meet when they come nearer than the
     robots' half widths together (the robots would touch if they passed there at the same
     time). The assignment that minimises the sum of the squared lengths of the ways (SciPy's
     ``linear_sum_assignment``, the Hungarian method) has no crossing ways (exchanging the ends
     of two crossing segments shortens that sum); it is suggested when fewer ways meet in it.
     """
     width = {r: types[k].width for k, r in enumerate(plan.robots)}
-    changes = [f for f in plan.formations if f.start > 0.0 and len(f.robots) >= 2]
-    sampled: dict[str, dict[float, FloatArray]] = {}  # robot -> time -> desired (x, y)
-    for robot in plan.robots:  # one plan evaluation per robot, at every change it is in
-        times = sorted({t for f in changes if robot in f.robots
-                        for t in (f.start - 1e-3, f.start)})
-        if times:
-            poses = plan.desired_poses(robot, np.array(times))
-            sampled[robot] = {t: poses[k, :2] for k, t in enumerate(times)}
-    for formation in changes:
+    row = {r: k for k, r in enumerate(plan.robots)}
+    for formation in plan.formations:
+        if formation.start <= 0.0 or len(formation.robots) < 2:
+            continue
         robots = list(formation.robots)
-        starts = np.stack([sampled[r][formation.start - 1e-3] for r in robots])
-        ends = np.stack([sampled[r][formation.start] for r in robots])
+        rows = [row[r] for r in robots]
+        at = min(int(np.searchsorted(samples.times, formation.start)), len(samples.times) - 1)
+        starts = samples.poses[rows, max(at - 1, 0), :2]
+        ends = samples.poses[rows, at, :2]
         reach = 0.5 * np.array([width[r] for r in robots])
         meeting = _meeting_ways(starts, ends, reach)
         if not meeting:
             continue
+        more = "at least " if len(meeting) >= _MAX_WAY_PAIRS else ""
         shown = ", ".join(f"{robots[i]} and {robots[j]}" for i, j in meeting[:5]) + (
-            f" and {len(meeting) - 5} more pairs" if len(meeting) > 5 else "")
+            f" and {more}{len(meeting) - 5} more pairs" if len(meeting) > 5 else "")
         hint = "let one group move first (a move of the others before this line), or " \
                "change the slots so that the ways stay apart"
+        if len(robots) > _MAX_ASSIGNED:
+            _warn(plan, (formation.span.line, formation.span.col),
+                  f"the ways of {shown} to their new slots meet at this formation change",
+                  hint, diagnostics)
+            continue
         from scipy.optimize import linear_sum_assignment  # only here: check starts fast
 
         cost = ((starts[:, None, :] - ends[None, :, :]) ** 2).sum(axis=2)  # robot i -> slot j
