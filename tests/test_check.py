@@ -8,8 +8,10 @@ from pathlib import Path
 import pytest
 
 from dancebots.check import CheckOptions, CheckReport, check_plan
+from dancebots.diagnostics import Severity
 from dancebots.geometry import Pose
 from dancebots.plan.compile import compile_scenario
+from dancebots.plan.planner import PlanParameters
 from dancebots.world import World, load_world, parse_world
 from tests_support import plan_of
 
@@ -420,3 +422,17 @@ def test_a_rotation_of_the_slots_is_undone_robot_by_robot() -> None:
 def test_ways_that_stay_apart_are_not_reported() -> None:
     report = check("robots R1 R2\nrow R1,R2 0 1.5\nmove 2 0\nrow R1,R2 0 3\nmove 2 0\n")
     assert not any("formation change" in d.message for d in report.diagnostics)
+
+
+def test_feasible_timing_notes_where_the_leader_slows() -> None:
+    """Under --timing feasible, check says where and how much the leader slows (a note, not
+    a warning: nothing to fix); under the thesis's timing, nothing."""
+    text = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\n"
+    _, plan, _ = compile_scenario(text, "show.dance", PlanParameters(timing="feasible"))
+    assert plan is not None
+    notes = [d for d in check_plan(plan).diagnostics if d.severity is Severity.NOTE]
+    assert [(d.line, d.col) for d in notes] == [(4, 1)]
+    assert notes[0].message.startswith("the virtual leader slows to ")
+    assert notes[0].message.endswith(" % of its speed here, so that no robot's slot moves "
+                                     "faster than 0.40 m/s (--timing feasible)")
+    assert not any(d.severity is Severity.NOTE for d in check(text).diagnostics)

@@ -130,6 +130,7 @@ def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckRe
     min_gap = _check_clearance(plan, types, samples.times, samples.poses, samples.formations,
                                options, diagnostics)
     _check_circles(plan, diagnostics)
+    _note_slowdowns(plan, diagnostics)
     _check_transitions(plan, types, samples, diagnostics)
     diagnostics.extend(show.diagnostics)
     transform = show.transform if show.world is not None else None
@@ -449,6 +450,22 @@ def _check_circles(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                       "would have to reverse",
                       f"use a radius larger than {lateral:g} m or a narrower formation",
                       diagnostics)
+
+
+def _note_slowdowns(plan: Plan, diagnostics: list[Diagnostic]) -> None:
+    """Notes at the instructions where the ``feasible`` timing slowed the leader, and by how
+    much (``InstructionTiming.speed_fraction``)."""
+    if plan.parameters.timing != "feasible":
+        return
+    limit = plan.parameters.slot_speed_fraction * plan.parameters.vmax
+    for formation in plan.formations:
+        for timing in formation.timings:
+            if timing.speed_fraction < 0.995:
+                diagnostics.append(Diagnostic(
+                    plan.scenario.path, timing.span.line, timing.span.col, Severity.NOTE,
+                    f"the virtual leader slows to {100 * timing.speed_fraction:.0f} % of its "
+                    f"speed here, so that no robot's slot moves faster than {limit:.2f} m/s "
+                    "(--timing feasible)", None, timing.span.end_col))
 
 
 # --- transitions -----------------------------------------------------------------------------

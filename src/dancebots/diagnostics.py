@@ -34,8 +34,12 @@ MAX_REPORTED = 100
 
 
 class Severity(enum.Enum):
+    """error: the input cannot be used; warning: it can, but something will look wrong or be
+    unsafe; note: what dancebots decided for you (``check --strict`` ignores notes)."""
+
     ERROR = "error"
     WARNING = "warning"
+    NOTE = "note"
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,9 +120,11 @@ def format_diagnostics(
     if hidden:
         blocks.append(f"... and {hidden} more diagnostics not shown")
     errors = sum(d.is_error for d in ordered)
-    warnings = len(ordered) - errors
+    notes = sum(d.severity is Severity.NOTE for d in ordered)
+    warnings = len(ordered) - errors - notes
     if ordered:
-        blocks.append(f"{_plural(errors, 'error')}, {_plural(warnings, 'warning')}")
+        blocks.append(f"{_plural(errors, 'error')}, {_plural(warnings, 'warning')}"
+                      + (f", {_plural(notes, 'note')}" if notes else ""))
     return "\n".join(blocks)
 
 

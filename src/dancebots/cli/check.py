@@ -59,6 +59,7 @@ def run(args: argparse.Namespace) -> int:
     report = show.report if not invalid else None
     if report is not None and not args.rigid_only:
         diagnostics = (*diagnostics, *_simulated(args, report))
+    warnings = [d for d in diagnostics if d.severity.value == "warning"]  # notes do not count
     if args.json:
         print(json.dumps({
             "valid": not invalid,
@@ -71,12 +72,12 @@ def run(args: argparse.Namespace) -> int:
             print(summary_text(report, show.plan))
         print_diagnostics(diagnostics, show.sources)
         if not invalid:
-            count = len(diagnostics)
+            count = len(warnings)
             print(f"{args.scenario}: ok" + (
                 f" ({count} warning{'s' if count > 1 else ''})" if count else ""))
     if invalid:
         return EXIT_INVALID
-    return EXIT_WARNINGS if args.strict and diagnostics else EXIT_OK
+    return EXIT_WARNINGS if args.strict and warnings else EXIT_OK
 
 
 def summary_text(report: CheckReport, plan: Plan | None) -> str:

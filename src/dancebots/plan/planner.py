@@ -99,11 +99,14 @@ TIMINGS: tuple[Timing, ...] = get_args(Timing)
 
 @dataclass(frozen=True, slots=True)
 class InstructionTiming:
-    """When a formation's virtual leader executed one instruction: [start, end) in show time."""
+    """When a formation's virtual leader executed one instruction: [start, end) in show time;
+    speed_fraction: the smallest factor by which the ``feasible`` timing scaled the leader's
+    speeds during it (1.0: never slowed)."""
 
     instruction: Move | Circle
     start: float
     end: float
+    speed_fraction: float = 1.0
 
     @property
     def span(self) -> Span:
@@ -517,11 +520,14 @@ def _run_leader(
     def now() -> float:
         return start + step_count * dt
 
+    speed_fraction = 1.0  # the smallest speed factor of the current instruction
+
     def advance(v: float, w: float) -> None:
-        nonlocal x, y, theta, step_count
+        nonlocal x, y, theta, step_count, speed_fraction
         if w != 0.0 and len(slots) and slot_limit < math.inf:
             scale = slot_speed_scale(v, w, slots, slot_limit)
             v, w = v * scale, w * scale
+            speed_fraction = min(speed_fraction, scale)
         times.append(now())
         rows.append((x, y, theta, v, w))
         half = 0.5 * w * dt
@@ -595,7 +601,8 @@ def _run_leader(
                     Pose(0.0, -instruction.radius, 0.0))
                 waypoints.append((arc_point.x, arc_point.y, arc_point.theta))
             ideal = end_arc
-        timings.append(InstructionTiming(instruction, begin, now()))
+        timings.append(InstructionTiming(instruction, begin, now(), speed_fraction))
+        speed_fraction = 1.0
     times.append(now())
     rows.append((x, y, theta, 0.0, 0.0))
     table = np.array(rows, dtype=float)
