@@ -182,8 +182,7 @@ def queue_placement(world: World, config: QueueConfig) -> tuple[Arena, Placement
         starts.insert(0, [float(points[0, 0]), float(points[0, 1]), heading])
         names.insert(0, LEADER_ROBOT)
         spectators = tuple(s for s in spectators if s.name != LEADER)
-    arena = Arena(world.room, world.wall_height, tuple(world.obstacles), world.path,
-                  spectators)
+    arena = Arena.of_world(world, spectators)
     return arena, Placement(tuple(names), (kind,) * len(names), np.array(starts),
                             Pose(0.0, 0.0, 0.0))
 

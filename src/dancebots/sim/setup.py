@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import Pose
 from dancebots.plan.placement import PlacedShow
-from dancebots.world import Obstacle, RobotType, Spectator
+from dancebots.world import Obstacle, RobotType, Spectator, World
 
 __all__ = ["Arena", "Placement", "SetupError", "prepare_show"]
 
@@ -52,6 +52,12 @@ class Arena:
     source: str | None
     spectators: tuple[Spectator, ...] = ()
 
+    @classmethod
+    def of_world(cls, world: World, spectators: Sequence[Spectator] | None = None) -> Arena:
+        """The world's room, walls, obstacles and (unless given) spectators."""
+        return cls(world.room, world.wall_height, tuple(world.obstacles), world.path,
+                   tuple(world.spectators if spectators is None else spectators))
+
 
 @dataclass(frozen=True, slots=True, eq=False)
 class Placement:
@@ -85,10 +91,5 @@ def prepare_show(show: PlacedShow) -> tuple[Arena, Placement]:
         raise SetupError.from_diagnostics(show.errors)
     assert show.transform is not None  # no errors: the show is placed
     assert show.starts is not None
-    world = show.world
-    if world is None:
-        arena = open_arena(show)
-    else:
-        arena = Arena(world.room, world.wall_height, world.obstacles, world.path,
-                      world.spectators)
+    arena = open_arena(show) if show.world is None else Arena.of_world(show.world)
     return arena, Placement(show.plan.robots, show.types, show.starts, show.transform)
