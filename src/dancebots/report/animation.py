@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.report.drawing import draw_arena
 from dancebots.report.frames import blit_frames, ffmpeg_available, frame_ticks, write_frames
 from dancebots.shows.formation import RunResult
 
@@ -42,7 +43,6 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
-    from matplotlib.patches import Polygon as PolygonPatch
 
     from dancebots.geometry import footprint_corners
     from dancebots.report.frames import Clock, RobotMarks
@@ -54,15 +54,10 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
     period = float(times[1] - times[0]) if len(times) > 1 else 0.1
     trail_ticks = max(1, int(trail / period))
     fig, ax = plt.subplots(figsize=(size, size), dpi=dpi, layout="constrained")
-    room = result.arena.room
-    ax.add_patch(PolygonPatch(room, closed=True, fill=False, edgecolor="black", linewidth=2))
-    for obstacle in result.arena.obstacles:
-        ax.add_patch(PolygonPatch(obstacle.polygon, closed=True, facecolor="0.35"))
+    draw_arena(ax, result.arena.room, result.arena.obstacles, margin=0.5)
     for i in range(len(result.robots)):
         leader = broken_at_changes(result.leader[i, :, :2], result.formation[i])
         ax.plot(leader[:, 0], leader[:, 1], color="0.75", linewidth=0.8, zorder=0)
-    ax.set_xlim(room[:, 0].min() - 0.5, room[:, 0].max() + 0.5)
-    ax.set_ylim(room[:, 1].min() - 0.5, room[:, 1].max() + 0.5)
     ax.set_aspect("equal")
     ax.grid(True, linewidth=0.3)
     ax.tick_params(labelsize="small")

@@ -8,6 +8,7 @@ import numpy as np
 
 from dancebots.geometry import Pose, footprint_corners, points_to_world
 from dancebots.plan.planner import Plan
+from dancebots.report.drawing import draw_arena
 from dancebots.world import DEFAULT_ROBOT_TYPE, World
 
 __all__ = ["plot_plan"]
@@ -34,11 +35,7 @@ def plot_plan(plan: Plan, world: World | None = None, transform: Pose | None = N
         return points[:, 0], points[:, 1]
 
     if world is not None:
-        ax.add_patch(PolygonPatch(world.room, closed=True, fill=False, edgecolor="black",
-                                  linewidth=2.0, label="room"))
-        for obstacle in world.obstacles:
-            ax.add_patch(PolygonPatch(obstacle.polygon, closed=True, facecolor="0.3",
-                                      edgecolor="black"))
+        draw_arena(ax, world.room, world.obstacles, label="room")
     times = np.arange(0.0, plan.duration + period, period)
     for k, formation in enumerate(plan.formations):
         if len(formation.waypoints) > 1:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from dancebots.report.drawing import draw_arena
 from dancebots.report.queue_metrics import surface_gaps
 from dancebots.shows.queue import LEADER, QueueResult
 
@@ -50,12 +51,4 @@ def plot_queue(result: QueueResult) -> Any:
 
 def draw_room(axes: Any, result: QueueResult) -> None:
     """Draw the room's walls and obstacles on ``axes`` and frame the room (0.2 m margin)."""
-    from matplotlib.patches import Polygon
-
-    room = result.arena.room
-    axes.add_patch(Polygon(room, closed=True, fill=False, color="k", lw=1.5))
-    for obstacle in result.arena.obstacles:
-        axes.add_patch(Polygon(obstacle.polygon, closed=True, color="0.6"))
-    low, high = room.min(axis=0), room.max(axis=0)
-    axes.set_xlim(low[0] - 0.2, high[0] + 0.2)
-    axes.set_ylim(low[1] - 0.2, high[1] + 0.2)
+    draw_arena(axes, result.arena.room, result.arena.obstacles, margin=0.2)

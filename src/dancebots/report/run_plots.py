@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.report.drawing import draw_arena
 from dancebots.shows.formation import RunResult
 
 __all__ = ["broken_at_changes", "plot_speeds_and_distances", "plot_trajectories",
@@ -89,11 +90,7 @@ def plot_trajectories(result: RunResult) -> Any:
 
     fig, ax = plt.subplots(figsize=(9, 9), layout="constrained")
     arena = result.arena
-    ax.add_patch(PolygonPatch(arena.room, closed=True, fill=False, edgecolor="black",
-                              linewidth=2.0))
-    for obstacle in arena.obstacles:
-        ax.add_patch(PolygonPatch(obstacle.polygon, closed=True, facecolor="0.35",
-                                  edgecolor="black"))
+    draw_arena(ax, arena.room, arena.obstacles)
     colours = robot_colours(len(result.robots))
     for i, robot in enumerate(result.robots):  # leader and desired paths break at newVL jumps
         leader = broken_at_changes(result.leader[i, :, :2], result.formation[i])
