@@ -201,7 +201,8 @@ def _summaries(plan: Plan, types: Sequence[RobotType],
                   f"desired speed above the robot's maximum: {', '.join(worst)}, "
                   f"around t = {when:.1f} s",
                   "the formation turns faster than its outer robots can drive: turn by a "
-                  "smaller angle or along a circle of larger radius, or lower --vmax",
+                  "smaller angle or along a circle of larger radius, or let the leader slow where "
+                  "it must (--timing feasible)",
                   diagnostics)
     return [RobotSummary(r, types[i], float(length[i]), float(peak[i]), float(peak_turn[i]))
             for i, r in enumerate(plan.robots)]

@@ -261,3 +261,20 @@ def test_notes_are_counted_apart_and_do_not_fail_strict(capsys: Capture, example
     assert "thesis_7_1.dance:4:1: note: the virtual leader slows to " in err
     assert err.rstrip().endswith("0 errors, 0 warnings, 2 notes")
     assert out.rstrip().endswith("thesis_7_1.dance: ok")
+
+
+def test_a_bug_is_an_internal_error_with_its_own_exit_status(
+        capsys: Capture, examples: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A crash inside dancebots exits 70 with the traceback and a line that says it is a
+    bug, so that scripts tell it from a show that ran but not clean (1)."""
+    import dancebots.report.findings
+
+    def broken(*args: object, **kwargs: object) -> list[object]:
+        raise ZeroDivisionError("boom")
+
+    monkeypatch.setattr(dancebots.report.findings, "simulated_findings", broken)
+    status, _, err = run(capsys, "check", str(examples / "thesis_7_3.dance"))
+    assert status == 70
+    assert "ZeroDivisionError: boom" in err
+    assert err.rstrip().endswith("dancebots: internal error: this is a bug in dancebots, not "
+                                 "in your input; please report it with the lines above")

@@ -29,7 +29,8 @@ def test_a_robot_turned_round_is_reported_at_the_corner(examples: Path) -> None:
     found = [f"{d.line}:{d.col}: {d.message}" for d in simulated_findings(result, "x")]
     assert ("4:1: simulated (x): R2 drives against its slot's direction from t = 8.4 s to "
             "23.3 s") in found
-    assert "5:1: simulated (x): R2 ends 0.10 m and 177 deg away from its final slot" in found
+    assert "5:1: simulated (x): R2 ends facing 177 deg away from its final heading" in found
+    assert not any("from its final slot" in f for f in found)  # it is on its slot (0.10 m)
 
 
 def test_crossing_paths_are_a_contact_at_the_instruction(examples: Path) -> None:
@@ -61,3 +62,6 @@ def test_the_final_finding_uses_the_verdicts_tolerances(examples: Path) -> None:
     result = simulated((examples / "thesis_7_1.dance").read_text())
     lenient = replace(FindingLimits(), final_heading=180.0)
     assert not any("ends" in d.message for d in simulated_findings(result, "x", lenient))
+    strict = replace(FindingLimits(), final_distance=0.05)
+    assert any("R2 ends 0.10 m from its final slot" in d.message
+               for d in simulated_findings(result, "x", strict))

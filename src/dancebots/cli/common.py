@@ -29,6 +29,7 @@ if TYPE_CHECKING:
     from dancebots.report.verdict import Verdict
 
 __all__ = [
+    "EXIT_BUG",
     "EXIT_FAILED",
     "EXIT_INTERRUPTED",
     "EXIT_INVALID",
@@ -68,6 +69,9 @@ EXIT_INVALID = 2
 """Invalid input or unusable arguments; nothing was simulated or written."""
 EXIT_INTERRUPTED = 130
 """Ctrl-C (128 + SIGINT), as shells report it."""
+EXIT_BUG = 70
+"""An internal error: a bug in dancebots, not in the input (EX_SOFTWARE of sysexits.h), so
+that a script can tell it from a show that ran but not clean (1)."""
 
 MANIFEST = "dancebots-manifest.json"
 """Written into every output directory: the files dancebots wrote there (name -> SHA-256).

@@ -16,6 +16,7 @@ import dancebots.cli.ros as ros_command
 import dancebots.cli.run as run_command
 from dancebots import __version__
 from dancebots.cli.common import (
+    EXIT_BUG,
     EXIT_INTERRUPTED,
     interrupted,
     on_interrupt,
@@ -94,3 +95,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except Exception:  # a bug: say so, keep the traceback for the report, exit apart
+        import traceback
+
+        traceback.print_exc()
+        print("dancebots: internal error: this is a bug in dancebots, not in your input; "
+              "please report it with the lines above", file=sys.stderr)
+        return EXIT_BUG

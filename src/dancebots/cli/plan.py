@@ -11,6 +11,7 @@ from dancebots.cli.common import (
     EXIT_OK,
     OutputError,
     add_show_arguments,
+    add_timing_argument,
     fail,
     print_diagnostics,
     write_file,
@@ -29,6 +30,7 @@ FORMATS = ("png", "svg", "pdf")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_show_arguments(parser)
+    add_timing_argument(parser)
     parser.add_argument("--out", "--png", dest="out", required=True, metavar="FILE",
                         help="image file to write (.png; .svg and .pdf by their extension); "
                         "an existing file is replaced only if dancebots plan wrote it")
@@ -39,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.diagnostics import Diagnostic, has_errors
     from dancebots.loading import load_show
 
-    show = load_show(args.scenario, args.world, args.vmax)
+    show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)
     print_diagnostics(show.diagnostics, show.sources)
     if show.plan is None or not show.valid:
         return EXIT_INVALID

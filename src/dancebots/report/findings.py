@@ -103,10 +103,14 @@ def simulated_findings(result: RunResult, what_ran: str,
         gap = float(np.hypot(*(result.poses[i, last, :2] - result.desired[i, last, :2])))
         turn = float(np.degrees(heading_errors(result.poses[i, last, 2],
                                                result.desired[i, last, 2])))
-        if gap > limits.final_distance or turn > limits.final_heading:
-            add(final, i, last, f"{name} ends {gap:.2f} m and {turn:.0f} deg away from its "
-                "final slot", "it did not reach its place in the last formation: see the "
-                "findings before this one for why")
+        if gap > limits.final_distance:
+            add(final, i, last, f"{name} ends {gap:.2f} m from its final slot",
+                "it did not reach its place in the last formation: see the findings before "
+                "this one for why")
+        if turn > limits.final_heading:
+            add(final, i, last, f"{name} ends facing {turn:.0f} deg away from its final "
+                "heading", "it reached its place but turned round on the way (see the "
+                "findings before this one): try --follower tracking")
     for kind in (contacts, reversing, off_slot, final):
         if len(kind) > limits.per_kind:
             more = len(kind) - limits.per_kind + 1
