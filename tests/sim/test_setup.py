@@ -113,7 +113,7 @@ def test_the_examples_set_up_as_they_check(examples: Path, world_name: str | Non
         refused = setup_error(plan, world)
         assert (refused.diagnostics if refused else ()) == errors, path
         # every example runs without a world; thesis 6.3 and the 2 x 3 block that splits
-        # and rejoins (28 m long) do not fit the thesis's room
+        # and rejoins do not fit the thesis's room (both leave it)
         too_big = path.name in ("thesis_6_3.dance", "block_split_rejoin.dance")
         assert bool(errors) == (world is not None and too_big), path
 
