@@ -145,8 +145,7 @@ class RobotBrain:
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
                  grid_period: float = 0.1, sensing: SensingConfig | None = None,
-                 follower: Follower = "thesis",
-                 tracking: TrackingParams | None = None) -> None:
+                 follower: Follower = "thesis") -> None:
         self.sensing = sensing or SensingConfig(lidar=False)
         if self.sensing.detector not in DETECTORS:
             raise ValueError(f"unknown detector {self.sensing.detector!r}; choose from "
@@ -158,8 +157,8 @@ class RobotBrain:
         self.robot = robot
         self.params = params
         self.follower = follower
-        self.tracking = tracking or TrackingParams(max_linear=params.max_linear,
-                                                   max_angular=params.max_angular)
+        self.tracking = TrackingParams(max_linear=params.max_linear,
+                                       max_angular=params.max_angular)
         slot = plan.desired_poses(robot, np.zeros(1))[0]
         self.slot0 = Pose(float(slot[0]), float(slot[1]), float(slot[2]))
         self._to_own = self.slot0.inverse()
@@ -167,8 +166,19 @@ class RobotBrain:
         count = math.ceil(plan.duration / grid_period) + 1
         grid = np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
         track = plan.track(robot, grid)
-        self._grid = self._samples(track)
+        # the cache of the follower in use only: (leader, path point, ...) or slot references
+        self._grid = self._samples(track) if follower == "thesis" else []
         self._slot_grid = self._slot_rows(track) if follower == "tracking" else None
+
+    def _grid_index(self, show_time: float, length: int) -> int | None:
+        """The index on the 10 Hz grid (of ``length`` entries) of ``show_time`` s: the last
+        entry after the plan's end, None off the grid."""
+        if length == 0:
+            return None
+        if show_time >= self.plan.duration:  # the plan stands still after its end
+            return length - 1
+        k = round(show_time / self.grid_period)
+        return k if 0 <= k < length and abs(k * self.grid_period - show_time) < 1e-9 else None
 
     def _samples(self, track: RobotTrack) -> list[_Sample]:
         own = self._to_own
@@ -189,27 +199,19 @@ class RobotBrain:
     def slot_at(self, show_time: float) -> SlotReference:
         """The slot's reference at ``show_time`` s in the robot's own frame (from the 10 Hz
         grid, or computed exactly off it), for the tracking follower."""
-        row = None
-        if show_time >= self.plan.duration and self._slot_grid is not None:
-            row = self._slot_grid[-1]
-        else:
-            k = round(show_time / self.grid_period)
-            if (self._slot_grid is not None and 0 <= k < len(self._slot_grid)
-                    and abs(k * self.grid_period - show_time) < 1e-9):
-                row = self._slot_grid[k]
-        if row is None:
-            row = self._slot_rows(self.plan.track(
-                self.robot, np.array([min(show_time, self.plan.duration)])))[0]
+        grid = self._slot_grid
+        k = self._grid_index(show_time, 0 if grid is None else len(grid))
+        row = grid[k] if grid is not None and k is not None else self._slot_rows(
+            self.plan.track(self.robot, np.array([min(show_time, self.plan.duration)])))[0]
         return SlotReference((float(row[0]), float(row[1]), float(row[2])), float(row[3]),
                              float(row[4]))
 
     def _sample(self, show_time: float) -> _Sample:
-        if show_time >= self.plan.duration:  # the plan stands still after its end
-            return self._grid[-1]
-        k = round(show_time / self.grid_period)
-        if 0 <= k < len(self._grid) and abs(k * self.grid_period - show_time) < 1e-9:
+        k = self._grid_index(show_time, len(self._grid))
+        if k is not None:
             return self._grid[k]
-        return self._samples(self.plan.track(self.robot, np.array([show_time])))[0]
+        return self._samples(self.plan.track(
+            self.robot, np.array([min(show_time, self.plan.duration)])))[0]
 
     def initial_state(self) -> BrainState:
         return BrainState()
@@ -237,12 +239,12 @@ class RobotBrain:
             seen = CLEAR
             if sensing.lidar and len(obstacles):
                 seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
-            sample = self._sample(show_time)
             if self.follower == "tracking":
                 follower = state.follower
                 linear, angular = tracking_step(self.tracking, pose, self.slot_at(show_time),
                                                 seen.force)
             else:
+                sample = self._sample(show_time)
                 follower, (linear, angular) = thesis_follower_step(
                     self.params, state.follower, show_time, pose, sample.leader,
                     sample.path_point, sample.desired, sample.required, sample.moving,

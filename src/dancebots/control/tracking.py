@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.control.follower import ARRIVAL_GAIN
 from dancebots.geometry import Pose, compose_poses, wrap_angle
 
 __all__ = ["SlotReference", "TrackingParams", "slot_reference", "slot_references",
@@ -57,7 +58,8 @@ class TrackingParams:
     max_linear, max_angular: the robot's limits, m/s and rad/s.
     arrival_distance: at rest (the slot stands still), a robot nearer than this to its slot
         only turns to the slot's heading, m; heading_tolerance: and then stops turning, rad.
-    arrival_gain: speed per metre of remaining distance when arriving at a standing slot, 1/s.
+    arrival_gain: speed per metre of remaining distance when arriving at a standing slot, 1/s
+        (the thesis follower's arrival, eq. 4.1a's form).
     turn_gain: angular speed per radian of heading error when turning on the spot at rest,
         1/s.
     reverse_distance: at rest, a slot behind the robot nearer than this is reached in
@@ -74,7 +76,7 @@ class TrackingParams:
     max_angular: float = math.pi
     arrival_distance: float = 0.03
     heading_tolerance: float = math.radians(2.0)
-    arrival_gain: float = 1.5
+    arrival_gain: float = ARRIVAL_GAIN
     turn_gain: float = 1.5
     reverse_distance: float = 1.0
     force_gain: float = 1.0

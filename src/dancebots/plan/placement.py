@@ -100,17 +100,21 @@ class ShowSamples:
     times (T,): show time in s, every ``period`` s and at every formation change;
     poses (R, T, 3): each robot's desired pose (x, y in m, yaw in rad) in the show frame, in
     the plan's robot order; formations (R, T): the index in ``plan.formations`` of the
-    formation each robot belongs to at each time; first_slots (R, 3): the desired poses at
-    t = 0 (the slots of the first formation); diagnostics: the warning when the show is so
-    large that the period had to be longer than asked.
+    formation each robot belongs to at each time; diagnostics: the warning when the show is
+    so large that the period had to be longer than asked.
     """
 
     period: float
     times: FloatArray
     poses: FloatArray
     formations: NDArray[np.int64]
-    first_slots: FloatArray
     diagnostics: tuple[Diagnostic, ...] = ()
+
+    @property
+    def first_slots(self) -> FloatArray:
+        """(R, 3): the desired poses at t = 0 (the first sample), the first formation's slots."""
+        slots: FloatArray = self.poses[:, 0]
+        return slots
 
 
 def sample_show(plan: Plan, period: float = 0.1) -> ShowSamples:
@@ -121,8 +125,7 @@ def sample_show(plan: Plan, period: float = 0.1) -> ShowSamples:
     times = _sample_times(plan, chosen)
     poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
     which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
-    first = np.stack([plan.desired_poses(r, np.zeros(1))[0] for r in plan.robots])
-    return ShowSamples(chosen, times, poses, which, first, tuple(diagnostics))
+    return ShowSamples(chosen, times, poses, which, tuple(diagnostics))
 
 
 def instruction_position(formation: PlannedFormation, time: float) -> tuple[int, int]:

@@ -91,6 +91,10 @@ class PlanParameters:
     timing: Timing = "thesis"
     slot_speed_fraction: float = 0.8
 
+    def __post_init__(self) -> None:
+        if self.timing not in TIMINGS:  # a node parameter or a caller's string
+            raise ValueError(f"unknown timing {self.timing!r}; use one of {', '.join(TIMINGS)}")
+
 
 Timing = Literal["feasible", "thesis"]
 """How fast the virtual leader moves (:class:`PlanParameters`)."""

@@ -15,11 +15,11 @@ import time
 import zlib
 from collections.abc import Callable
 from types import FrameType
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
-from dancebots.plan.planner import TIMINGS, Plan
+from dancebots.plan.planner import Plan, Timing
 from dancebots.sync import EchoMessage, StartProposal, SyncMessageError, parse_message
 from dancebots.world import World
 
@@ -42,10 +42,12 @@ def load_show(scenario: str, world: str | None = None, vmax: float | None = None
     from dancebots.diagnostics import format_diagnostics
     from dancebots.loading import load_show as load
 
-    if timing not in TIMINGS:
-        print(f"unknown timing {timing!r}; use one of {', '.join(TIMINGS)}", file=sys.stderr)
+    try:  # PlanParameters refuses an unknown timing
+        show = load(scenario, world or None, vmax or None,
+                    timing=cast(Timing, timing))
+    except ValueError as error:
+        print(error, file=sys.stderr)
         sys.exit(2)
-    show = load(scenario, world or None, vmax or None, timing=timing)
     if show.plan is None or not show.valid:
         print(format_diagnostics(show.diagnostics, dict(show.sources)), file=sys.stderr)
         sys.exit(2)

@@ -36,7 +36,7 @@ import math
 import socket
 import threading
 import time
-from typing import Any
+from typing import Any, cast
 
 import rospy
 import tf2_ros
@@ -46,7 +46,7 @@ from std_msgs.msg import Bool, String
 
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.robot import FOLLOWERS, BrainOptions, BrainState, RobotBrain, brain_for
+from dancebots.robot import BrainOptions, BrainState, Follower, RobotBrain, brain_for
 from dancebots.ros1.common import (
     NodeLife,
     QueuedLog,
@@ -98,11 +98,8 @@ def main() -> None:
         this_robot = RobotType(
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
-        follower = str(rospy.get_param("~follower", "thesis"))
-        if follower not in FOLLOWERS:
-            raise ValueError(f"unknown follower {follower!r}; use one of "
-                             f"{', '.join(FOLLOWERS)}")
-        brain = brain_for(plan, role, this_robot, BrainOptions(
+        follower = cast(Follower, str(rospy.get_param("~follower", "thesis")))
+        brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks follower
             follower=follower, lidar=use_lidar))
     except ValueError as exc:
         rospy.logfatal(str(exc))
