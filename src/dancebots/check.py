@@ -119,8 +119,9 @@ def check_plan(plan: Plan, world: World | None = None,
 
 
 def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckReport:
-    """Check a placed show: its summary, then warnings and errors in this order: sampling,
-    speeds, clearance, circles, placement. Only ``options.clearance`` and
+    """Check a placed show: its summary, then diagnostics in this order: sampling, speeds,
+    clearance, circles, slowdowns (notes), the ways at formation changes, placement. Only
+    ``options.clearance`` and
     ``options.detection`` matter here; the rest were the placement's."""
     options = options or CheckOptions()
     plan, samples, types = show.plan, show.samples, show.types

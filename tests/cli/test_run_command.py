@@ -134,7 +134,8 @@ def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) ->
     """scripts/dev.sh installs ffmpeg, so this runs in CI; without ffmpeg the run writes only
     the GIF, which test_run_writes_every_output covers."""
     from dancebots.plan.placement import place_show
-    from dancebots.report.animation import animate_run, ffmpeg_available
+    from dancebots.report.animation import animate_run
+    from dancebots.report.frames import ffmpeg_available
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim import prepare_show
     from tests_support import plan_of

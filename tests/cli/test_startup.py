@@ -80,9 +80,11 @@ def test_choices_match_the_core() -> None:
     from dancebots.cli import follow, ros, run
     from dancebots.cli.common import FOLLOWERS as CLI_FOLLOWERS
     from dancebots.cli.common import TIMINGS as CLI_TIMINGS
+    from dancebots.control.follower import FORCE_STEERINGS
     from dancebots.leader_follower.controllers import CONTROLLERS
     from dancebots.leader_follower.detectors import DETECTORS
     from dancebots.plan.planner import TIMINGS
+    from dancebots.robot import DETECTORS as BRAIN_DETECTORS
     from dancebots.robot import FOLLOWERS
     from dancebots.shows.queue import LEADERS
     from dancebots.sim.kinematics import PROFILES
@@ -94,4 +96,6 @@ def test_choices_match_the_core() -> None:
     assert follow.LEADERS == LEADERS
     assert set(ros.START_STRATEGIES) == set(START_STRATEGIES)
     assert set(CLI_FOLLOWERS) == set(FOLLOWERS)
+    assert set(run.DETECTORS) == set(BRAIN_DETECTORS)
+    assert set(run.FORCE_STEERINGS) == set(FORCE_STEERINGS)
     assert set(CLI_TIMINGS) == set(TIMINGS)

@@ -179,7 +179,8 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, dir
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from dancebots.report.animation import animate_run, ffmpeg_available
+    from dancebots.report.animation import animate_run
+    from dancebots.report.frames import ffmpeg_available
     from dancebots.report.run_plots import plot_speeds_and_distances, plot_trajectories
     from dancebots.report.runlog import write_log
 

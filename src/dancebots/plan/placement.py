@@ -223,9 +223,9 @@ class PlacedShow:
         """The diagnostics that keep the show from being simulated."""
         return tuple(d for d in self.diagnostics if d.is_error)
 
-    def footprint_extent(self, margin: float = 0.0) -> tuple[FloatArray, FloatArray]:
+    def footprint_extent(self) -> tuple[FloatArray, FloatArray]:
         """The lowest and highest corner, (2,) each in m in the show frame, of everything
-        the robots' desired footprints cover at the sample times, widened by ``margin`` m."""
+        the robots' desired footprints cover at the sample times."""
         low, high = np.full(2, np.inf), np.full(2, -np.inf)
         poses = self.samples.poses
         for i, kind in enumerate(self.types):  # one robot at a time: memory O(samples)
@@ -233,7 +233,7 @@ class PlacedShow:
                                         kind.length, kind.width).reshape(-1, 2)
             low = np.minimum(low, corners.min(axis=0))
             high = np.maximum(high, corners.max(axis=0))
-        return low - margin, high + margin
+        return low, high
 
 
 def place_show(plan: Plan, world: World | None = None,
@@ -288,7 +288,7 @@ def _slot_starts(samples: ShowSamples, transform: Pose) -> FloatArray:
 
 
 MAX_SIMULATED_ROBOT_SECONDS = 200_000
-"""Robots times show duration (s) that the simulator takes on (about 1.4 GB: 6.4 kB per
+"""Robots times show duration (s) that the simulator takes on (about 1.4 GB: 6.5 kB per
 robot-second above a 210 MB base, ``benchmarks/bench_memory.py``): 100 robots for
 33 minutes, 1,000 robots for 3 minutes. Larger shows are errors of ``check`` and refused by
 ``run`` before anything is simulated."""

@@ -17,11 +17,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.report.drawing import draw_arena
-from dancebots.report.frames import blit_frames, ffmpeg_available, frame_ticks, write_frames
+from dancebots.report.frames import blit_frames, frame_ticks, write_frames
 from dancebots.shows.formation import RunResult
 
-__all__ = ["animate_run", "ffmpeg_available", "render_frames"]
-# ffmpeg_available is the engine's, also importable here with animate_run (cli/run.py)
+__all__ = ["animate_run", "render_frames"]
 
 
 def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
