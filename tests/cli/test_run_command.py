@@ -203,16 +203,14 @@ def test_a_robot_that_reverses_makes_the_show_not_clean(capsys: Capture, tmp_pat
 
     from dancebots.geometry import wrap_angles
     from dancebots.report import metrics as metrics_module
-    from dancebots.report.metrics import along_path_speeds
     from dancebots.shows.formation import RunResult
 
     original = metrics_module.run_metrics
 
     def reversing(result: RunResult) -> metrics_module.RunMetrics:
-        track = result.plan.track("R2", result.times)
         poses, velocities = result.desired.copy(), result.velocities.copy()
         poses[1, :, 2] = wrap_angles(poses[1, :, 2] + np.pi)
-        velocities[1, :, 0] = -along_path_speeds(track.leader_commands, track.offsets)
+        velocities[1, :, 0] = -result.slot_speed[1]
         return original(RunResult(**{
             **{f: getattr(result, f) for f in result.__dataclass_fields__},
             "poses": poses, "velocities": velocities}))

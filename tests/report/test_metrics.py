@@ -11,9 +11,9 @@ import pytest
 from dancebots.geometry import wrap_angles
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
+from dancebots.plan.planner import slot_velocities
 from dancebots.report.metrics import (
     against_desired,
-    along_path_speeds,
     formation_error,
     heading_errors,
     run_metrics,
@@ -101,8 +101,7 @@ def replaced(result: RunResult, **fields: object) -> RunResult:
 
 def slot_speeds(result: RunResult) -> np.ndarray:
     """(R, T) every robot's slot speed along its desired heading, m/s."""
-    tracks = [result.plan.track(robot, result.times) for robot in result.robots]
-    return np.stack([along_path_speeds(t.leader_commands, t.offsets) for t in tracks])
+    return result.slot_speed
 
 
 def perfect_follower(result: RunResult) -> RunResult:
@@ -200,10 +199,11 @@ def test_the_formation_error_covers_every_pair_in_the_same_formation() -> None:
 
 
 def test_the_pure_helpers() -> None:
-    # a slot at (ox, oy) of a leader with (v, w) moves along the heading at v - w oy
-    speeds = along_path_speeds(np.array([[0.5, 0.0], [0.0, 1.0], [0.2, 0.5]]),
-                               np.array([[0.0, 0.6], [0.0, 0.6], [-0.5, -0.4]]))
-    assert speeds == pytest.approx([0.5, -0.6, 0.4])
+    # a slot at (ox, oy) of a leader with (v, w) moves with (v - w oy, w ox)
+    velocities = slot_velocities(np.array([[0.5, 0.0], [0.0, 1.0], [0.2, 0.5]]),
+                                 np.array([[0.0, 0.6], [0.0, 0.6], [-0.5, -0.4]]))
+    assert velocities[:, 0] == pytest.approx([0.5, -0.6, 0.4])
+    assert velocities[:, 1] == pytest.approx([0.0, 0.0, -0.25])
     # reversing while the slot moves forwards, forwards while it moves backwards; not: slow
     # motion either way (noise, a turn on the spot)
     against = against_desired(np.array([0.3, -0.3, -0.04, -0.3, 0.3, 0.0]),

@@ -40,6 +40,7 @@ from numpy.typing import NDArray
 
 from dancebots.control.follower import ARRIVAL_GAIN
 from dancebots.geometry import Pose, compose_poses, wrap_angle
+from dancebots.plan.planner import slot_velocities
 
 __all__ = ["SlotReference", "TrackingParams", "slot_reference", "slot_references",
            "tracking_step"]
@@ -104,9 +105,9 @@ def slot_references(leaders: FloatArray, offsets: FloatArray,
     leaders at poses ``leaders`` (T, 3) (x, y, theta) moving with ``leader_commands`` (T, 2)
     (v m/s, w rad/s). Returns (T, 5): the slot's pose x, y, theta, its signed speed and its
     angular speed (a compact :class:`SlotReference` per row)."""
-    v, w = leader_commands[:, 0], leader_commands[:, 1]
-    along = v - w * offsets[:, 1]  # the slot's velocity in the leader's frame
-    across = w * offsets[:, 0]
+    velocity = slot_velocities(leader_commands, offsets)  # in the leader's frame
+    along, across = velocity[:, 0], velocity[:, 1]
+    w = leader_commands[:, 1]
     forwards = along >= 0.0
     turn = np.where(forwards, np.arctan2(across, along), np.arctan2(-across, -along))
     speed = np.where(along != 0.0, np.copysign(np.hypot(along, across), along),

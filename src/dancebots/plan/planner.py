@@ -45,6 +45,7 @@ __all__ = [
     "desired_pose",
     "nominal_duration",
     "slot_speed_scale",
+    "slot_velocities",
     "step_budget",
     "virtual_leader_pose",
 ]
@@ -256,6 +257,12 @@ class RobotTrack:
     required_distance: FloatArray
     leader_commands: FloatArray
     formation: NDArray[np.int64]
+
+    @property
+    def slot_speed(self) -> FloatArray:
+        """(T,) the slot's speed along the leader's heading, m/s (:func:`slot_velocities`)."""
+        speed: FloatArray = slot_velocities(self.leader_commands, self.offsets)[:, 0]
+        return speed
 
 
 def virtual_leader_pose(plan: Plan, robot_or_group: str, show_time: float) -> Pose:
@@ -615,11 +622,22 @@ def _run_leader(
     return trajectory, tuple(timings), np.array(waypoints), final
 
 
+def slot_velocities(leader_commands: FloatArray, offsets: FloatArray) -> FloatArray:
+    """How slots move: a slot at offset (ox, oy) (m, in the leader's frame) of a leader moving
+    with (v m/s, w rad/s) moves with (v - w oy, w ox) in the leader's frame. Shapes (..., 2)
+    broadcast; returns (..., 2): along the leader's heading (negative: the slot moves
+    backwards, the inner slot of a turn tighter than its lateral offset) and across it."""
+    v, w = leader_commands[..., 0], leader_commands[..., 1]
+    result: FloatArray = np.stack([v - w * offsets[..., 1], w * offsets[..., 0]], axis=-1)
+    return result
+
+
 def slot_speed_scale(v: float, w: float, offsets: FloatArray, limit: float) -> float:
     """The factor (0, 1] by which a leader moving with (v m/s, w rad/s) slows so that no slot
-    at ``offsets`` (K, 2) (ox, oy in the leader's frame, m) moves faster than ``limit`` m/s:
-    a slot moves at |(v - w oy, w ox)|."""
-    fastest = float(np.max(np.hypot(v - w * offsets[:, 1], w * offsets[:, 0])))
+    at ``offsets`` (K, 2) (ox, oy in the leader's frame, m) moves faster than ``limit`` m/s
+    (:func:`slot_velocities`)."""
+    velocity = slot_velocities(np.array([v, w]), offsets)
+    fastest = float(np.max(np.hypot(velocity[:, 0], velocity[:, 1])))
     return 1.0 if fastest <= limit else limit / fastest
 
 

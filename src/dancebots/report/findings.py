@@ -15,7 +15,7 @@ import numpy as np
 
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.plan.placement import instruction_position, true_runs
-from dancebots.report.metrics import against_desired, along_path_speeds, heading_errors
+from dancebots.report.metrics import against_desired, heading_errors
 from dancebots.report.verdict import FINAL_HEADING_TOLERANCE, FINAL_SLOT_TOLERANCE
 from dancebots.shows.formation import RunResult
 
@@ -78,9 +78,7 @@ def simulated_findings(result: RunResult, what_ran: str,
     step = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     shortest = max(1, round(limits.min_duration / step)) if step > 0 else 1
     for i, name in enumerate(result.robots):
-        track = plan.track(name, result.times)
-        desired_speed = along_path_speeds(track.leader_commands, track.offsets)
-        against = during & against_desired(result.velocities[i, :, 0], desired_speed)
+        against = during & against_desired(result.velocities[i, :, 0], result.slot_speed[i])
         for a, b in true_runs(against):
             if b - a >= shortest:
                 add(reversing, i, a, f"{name} drives against its slot's direction from t = "

@@ -29,7 +29,7 @@ from dancebots.shows.formation import STATUS, RunResult
 
 __all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_SPEED_MIN",
            "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics", "against_desired",
-           "along_path_speeds", "formation_error", "heading_errors", "run_metrics",
+           "formation_error", "heading_errors", "run_metrics",
            "sign_flips", "spacing_change"]
 
 FloatArray = NDArray[np.float64]
@@ -61,7 +61,7 @@ class RobotMetrics:
     While the show runs: rms_heading_error, max_heading_error: |wrap(yaw - desired yaw)|, deg;
     facing_away_fraction: the fraction of the ticks with a heading error above
     :data:`FACING_AWAY_ANGLE`; reverse_fraction: of the ticks in which its slot moves along
-    the desired heading (:func:`along_path_speeds` at least :data:`DESIRED_SPEED_MIN`), the
+    the desired heading (``RunResult.slot_speed`` at least :data:`DESIRED_SPEED_MIN`), the
     fraction in which the robot drives the other way (:func:`against_desired`), 0 when its
     slot never moves; angular_sign_flips: sign changes of its commanded angular speed
     (:func:`sign_flips`); rms_formation_error, max_formation_error: the formation error
@@ -231,9 +231,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
     heading = np.degrees(heading_errors(result.poses[..., 2], result.desired[..., 2]))  # (R, T)
     moving = np.empty(result.status.shape, dtype=bool)  # (R, T) the slot moves along its heading
     against = np.empty(result.status.shape, dtype=bool)  # (R, T) ... and the robot the other way
-    for i, name in enumerate(result.robots):
-        track = plan.track(name, result.times)
-        desired_speed = along_path_speeds(track.leader_commands, track.offsets)
+    for i in range(len(result.robots)):
+        desired_speed = result.slot_speed[i]
         moving[i] = during & (np.abs(desired_speed) >= DESIRED_SPEED_MIN)
         against[i] = moving[i] & against_desired(result.velocities[i, :, 0], desired_speed)
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
@@ -283,27 +282,13 @@ def heading_errors(yaw: FloatArray, desired_yaw: FloatArray) -> FloatArray:
     return result
 
 
-def along_path_speeds(leader_commands: FloatArray, offsets: FloatArray) -> FloatArray:
-    """The speed of a slot along its desired heading, m/s, shape (T,).
-
-    leader_commands (T, 2): its virtual leader's (v m/s, w rad/s); offsets (T, 2): the slot's
-    (x, y) offset in m in the leader's frame (``Plan.track``: ``leader_commands``,
-    ``offsets``). A slot at (ox, oy) moves with (v - w oy, w ox) in the leader's frame, and its
-    desired heading is the leader's, so its along-heading speed is v - w oy: negative where the
-    slot moves backwards (the inner slot of a turn tighter than its lateral offset), and a
-    unicycle that tracks it drives backwards exactly there. Frame-independent.
-    """
-    result: FloatArray = leader_commands[:, 0] - leader_commands[:, 1] * offsets[:, 1]
-    return result
-
-
 def against_desired(speed: FloatArray, desired_speed: FloatArray,
                     desired_min: float = DESIRED_SPEED_MIN,
                     actual_min: float = REVERSE_SPEED_MIN) -> BoolArray:
     """Where a robot drives against the direction its slot moves, shape (T,).
 
     speed (T,): the robot's actual linear speed, m/s (``RunResult.velocities[r, :, 0]``);
-    desired_speed (T,): its slot's along-heading speed (:func:`along_path_speeds`), m/s. True
+    desired_speed (T,): its slot's along-heading speed (``RunResult.slot_speed``), m/s. True
     where the slot moves at least ``desired_min`` one way and the robot at least
     ``actual_min`` the other way: reversing while the plan drives forwards, or driving
     forwards while the plan reverses.

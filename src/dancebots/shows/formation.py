@@ -108,6 +108,8 @@ class RunResult:
     spectators (C, T, 2): the spectators' positions, spectator_radii (C,). lidar (with
     ``SimConfig.record_lidar``): every scan as (time it reached the robots, per robot the
     (M, 2) world positions of its hits as they were when scanned): what the robots "see".
+    slot_speed (R, T): each robot's slot's speed along its desired heading, m/s
+    (``RobotTrack.slot_speed``; negative where the slot moves backwards).
     """
 
     plan: Plan
@@ -128,6 +130,7 @@ class RunResult:
     events: tuple[RobotEvent, ...]
     spectators: FloatArray
     spectator_radii: FloatArray
+    slot_speed: FloatArray
     lidar: tuple[tuple[float, tuple[FloatArray, ...]], ...] = ()
 
     @property
@@ -240,17 +243,19 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
     status = recorder.series("status")
     spectators = recorder.series("spectators")
     slots = [brain.slot0 for brain in brains]
-    desired, leader, required, formation = [], [], [], []
+    desired, leader, required, formation, slot_speed = [], [], [], [], []
     for i, robot in enumerate(placement.robots):
         track = plan.track(robot, times)
         desired.append(_to_world(placement.starts, slots, track.desired, i))
         leader.append(_to_world(placement.starts, slots, track.leader, i))
         required.append(track.required_distance)
         formation.append(track.formation)
+        slot_speed.append(track.slot_speed)
     return RunResult(plan, arena, placement, config, times, poses, velocities, commands,
                      np.stack(desired), np.stack(leader), np.stack(required),
                      np.stack(formation), collisions,
                      smallest_gap(poses, np.array([t.length for t in placement.types]),
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
-                     np.array([p.radius for p in arena.spectators]), scans)
+                     np.array([p.radius for p in arena.spectators]), np.stack(slot_speed),
+                     scans)
