@@ -30,10 +30,11 @@ from dancebots.control.follower import (
 from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
+    fold_reference,
     slot_references,
     tracking_step,
 )
-from dancebots.geometry import Pose, compose_poses, points_to_world
+from dancebots.geometry import Pose, points_to_world, wrap_angle
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.fast import perceive_columns
 from dancebots.perception.obstacles import (
@@ -192,19 +193,30 @@ class RobotBrain:
 
     def _slot_rows(self, track: RobotTrack) -> np.ndarray:
         """The slot's references (T, 5) in the robot's own frame (``slot_references``)."""
+        rows = slot_references(track.times, track.leader, track.offsets, track.leader_commands)
         own = self._to_own
-        leaders = compose_poses(np.array([own.x, own.y, own.theta]), track.leader)
-        return slot_references(leaders, track.offsets, track.leader_commands)
+        rows[:, :2] = points_to_world(rows[:, :2], own)
+        rows[:, 2] += own.theta
+        return rows
 
     def slot_at(self, show_time: float) -> SlotReference:
-        """The slot's reference at ``show_time`` s in the robot's own frame (from the 10 Hz
-        grid, or computed exactly off it), for the tracking follower."""
+        """The slot's reference at ``show_time`` s in the robot's own frame, for the tracking
+        follower: from the 10 Hz grid; off it, its pose and speed computed exactly from the
+        plan, folded to continue the grid's heading and with the grid's angular speed over
+        that step (``fold_reference``)."""
         grid = self._slot_grid
-        k = self._grid_index(show_time, 0 if grid is None else len(grid))
-        row = grid[k] if grid is not None and k is not None else self._slot_rows(
-            self.plan.track(self.robot, np.array([min(show_time, self.plan.duration)])))[0]
-        return SlotReference((float(row[0]), float(row[1]), float(row[2])), float(row[3]),
-                             float(row[4]))
+        assert grid is not None, "slot_at serves the tracking follower"
+        k = self._grid_index(show_time, len(grid))
+        if k is not None:
+            row = grid[k]
+        else:
+            before = grid[min(max(int(show_time / self.grid_period), 0), len(grid) - 1)]
+            exact = self._slot_rows(self.plan.track(
+                self.robot, np.array([min(max(show_time, 0.0), self.plan.duration)])))[0]
+            row = fold_reference(exact, float(before[2]))
+            row[4] = before[4]
+        return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
+                             float(row[3]), float(row[4]))
 
     def _sample(self, show_time: float) -> _Sample:
         k = self._grid_index(show_time, len(self._grid))

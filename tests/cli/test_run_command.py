@@ -210,7 +210,7 @@ def test_a_robot_that_reverses_makes_the_show_not_clean(capsys: Capture, tmp_pat
     def reversing(result: RunResult) -> metrics_module.RunMetrics:
         poses, velocities = result.desired.copy(), result.velocities.copy()
         poses[1, :, 2] = wrap_angles(poses[1, :, 2] + np.pi)
-        velocities[1, :, 0] = -result.slot_speed[1]
+        velocities[1, :, 0] = -result.reference[1, :, 3]
         return original(RunResult(**{
             **{f: getattr(result, f) for f in result.__dataclass_fields__},
             "poses": poses, "velocities": velocities}))

@@ -11,7 +11,9 @@ import pytest
 from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
+    choose_folds,
     slot_reference,
+    slot_references,
     tracking_step,
 )
 from dancebots.geometry import integrate_unicycle, wrap_angle
@@ -106,3 +108,50 @@ def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:
     distance, heading = _track(lambda t: behind, (0.0, 0.0, 0.0), 10.0)
     assert distance[-1] <= PARAMS.arrival_distance
     assert heading.max() < math.radians(10)  # it never turned round
+
+
+def _references(text: str, robot: str) -> tuple[np.ndarray, np.ndarray]:
+    """(times (T,), the robot's references (T, 5)) of a show (feasible timing) on the
+    10 Hz grid."""
+    from dancebots.plan.compile import compile_scenario
+    from dancebots.plan.planner import PlanParameters
+
+    _, plan, diagnostics = compile_scenario(text, "t.dance", PlanParameters(timing="feasible"))
+    assert plan is not None, diagnostics
+    times = np.arange(0.0, plan.duration, 0.1)
+    track = plan.track(robot, times)
+    return times, slot_references(times, track.leader, track.offsets, track.leader_commands)
+
+
+THESIS_7_2_TURN = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\nmove 2 0\n"
+
+
+def test_the_inner_robot_reverses_through_a_tight_turn_and_then_faces_forwards() -> None:
+    """7.2's right turn: the inner slot (R2) moves backwards while the leader turns; its
+    reference drives that in reverse and turns to face forwards where the slot is slow, so it
+    drives the straight leg after the turn forwards (a fold kept for continuity alone drove it
+    backwards to the end)."""
+    times, reference = _references(THESIS_7_2_TURN, "R2")
+    turning = (times > 6.0) & (times < 8.0)
+    assert (reference[turning, 3] < -0.1).all()  # in reverse through the turn
+    straight = (times > 12.0) & (reference[:, 3] != 0.0)
+    assert straight.any() and (reference[straight, 3] > 0.1).all()  # forwards after it
+    assert (reference[times < 5.0, 3] > 0.0).all()
+
+
+def test_the_reference_heading_never_jumps() -> None:
+    """Its heading changes by at most the reference's turn rate or the slot's own turning
+    between two rows, and its angular speed is exactly that change over the step."""
+    for robot in ("R1", "R2"):
+        times, reference = _references(THESIS_7_2_TURN, robot)
+        change = np.diff(reference[:, 2])
+        assert np.abs(change).max() < 0.5  # rad per 0.1 s: no 180 deg flips
+        np.testing.assert_allclose(reference[:-1, 4], change / np.diff(times))
+
+
+def test_a_standing_slot_faces_its_leaders_heading_and_folds_towards_it() -> None:
+    """Rows where the slot stands have no fold; a slot whose leader stands faces the leader's
+    heading even when the slot moved in reverse before."""
+    folds = choose_folds(np.arange(4) * 0.1, np.array([0.0, np.pi, np.pi, 0.0]),
+                         np.zeros(4), np.array([0.3, 0.3, 0.3, 0.0]))
+    assert folds.tolist() == [False, True, True, False]

@@ -100,16 +100,18 @@ def replaced(result: RunResult, **fields: object) -> RunResult:
 
 
 def slot_speeds(result: RunResult) -> np.ndarray:
-    """(R, T) every robot's slot speed along its desired heading, m/s."""
-    return result.slot_speed
+    """(R, T) every robot's reference speed along its reference heading, m/s."""
+    return result.reference[..., 3]
 
 
 def perfect_follower(result: RunResult) -> RunResult:
-    """Every robot exactly on its desired pose, driving at its slot's speed."""
+    """Every robot exactly on its reference (its slot, facing the way it drives the slot's
+    path), driving at its reference's speed."""
     velocities = np.zeros_like(result.velocities)
     velocities[..., 0] = slot_speeds(result)
-    return replaced(result, poses=result.desired.copy(), velocities=velocities,
-                    commands=velocities.copy())
+    poses = result.reference[..., :3].copy()
+    poses[..., 2] = wrap_angles(poses[..., 2])
+    return replaced(result, poses=poses, velocities=velocities, commands=velocities.copy())
 
 
 def test_a_perfect_follower_shows_nothing_wrong() -> None:

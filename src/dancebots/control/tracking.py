@@ -18,10 +18,12 @@ than its lateral offset) is tracked backwards, facing the formation, instead of 
 turning round; and v0 keeps the heading corrected where the slot's speed passes zero.
 
 The reference: the slot of offset (ox, oy) of a leader moving with (v, w) moves, in the
-leader's frame, with velocity (v - w oy, w ox). Its heading is the leader's turned by the
-angle of that velocity folded to [-90, 90] deg (a slot moving backwards keeps facing
-forwards and drives in reverse), its speed that velocity's length signed by the direction,
-its angular speed the leader's.
+leader's frame, with velocity (v - w oy, w ox). Its heading is the direction of that velocity
+folded by 180 deg so that it stays continuous (a slot whose motion reverses, the inner slot
+of a turn tighter than its lateral offset, is driven in reverse instead of by turning round),
+its speed that velocity's length signed by the fold, its angular speed the heading's rate of
+change (``slot_references``: computed over the plan's time grid, since the fold depends on
+the reference's past).
 
 Saturation keeps the path: when |v| or |w| exceeds the robot's limits both are scaled by the
 same factor, so the robot slows along the curve it was steering instead of spinning.
@@ -39,11 +41,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.control.follower import ARRIVAL_GAIN
-from dancebots.geometry import Pose, compose_poses, wrap_angle
+from dancebots.geometry import Pose, compose_points, wrap_angle, wrap_angles
 from dancebots.plan.planner import slot_velocities
 
-__all__ = ["SlotReference", "TrackingParams", "slot_reference", "slot_references",
-           "tracking_step"]
+__all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
+           "choose_folds", "fold_reference", "slot_reference",
+           "slot_references", "tracking_step"]
 
 FloatArray = NDArray[np.float64]
 
@@ -99,30 +102,135 @@ class SlotReference:
         return abs(self.speed) > 1e-9 or abs(self.angular_speed) > 1e-9
 
 
-def slot_references(leaders: FloatArray, offsets: FloatArray,
-                    leader_commands: FloatArray) -> FloatArray:
-    """The references of slots at ``offsets`` (T, 2) (ox, oy, m, in the leader's frame) of
-    leaders at poses ``leaders`` (T, 3) (x, y, theta) moving with ``leader_commands`` (T, 2)
-    (v m/s, w rad/s). Returns (T, 5): the slot's pose x, y, theta, its signed speed and its
-    angular speed (a compact :class:`SlotReference` per row)."""
+FACING_AWAY_COST = 1.0
+"""Cost of one second in which a robot would face more than 90 deg away from its leader's
+heading (the formation's), in the reference's fold choice (``choose_folds``)."""
+TURN_COST = 1.0
+"""Cost of one metre that the slot moves while its robot turns round at ``REFERENCE_TURN``,
+in the fold choice: a fold change at 0.3 m/s (about 0.6 m) is worth it only if it saves the
+robot over 0.6 s of facing away."""
+REFERENCE_TURN = 1.5
+"""rad/s: the rate at which the reference heading turns round at a fold change, and the rate
+counted for the turn's cost (below the robots' pi rad/s, so that they can follow it)."""
+
+
+def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArray,
+                 speed: FloatArray) -> NDArray[np.bool_]:
+    """Which way a robot faces along its slot's motion: (T,) True where it drives the slot's
+    path in reverse (faces ``motion`` + pi), chosen by dynamic programming (Viterbi over the
+    two folds of every row) to minimise the time it faces more than 90 deg away from its
+    leader's heading (``FACING_AWAY_COST``) plus the metres its slot moves while it turns at
+    every change of heading (``TURN_COST``: turning round where the slot is slow, at a cusp,
+    costs little). times (T,) s ascending; motion (T,) the direction the slot moves, rad;
+    leader_heading (T,) rad; speed (T,) the slot's speed, m/s (0: standing, where both folds
+    are the leader's heading and cost nothing).
+    """
+    count = len(times)
+    folds = np.zeros(count, dtype=bool)
+    if count == 0:
+        return folds
+    last = times[-1] - times[-2] if count > 1 else 1.0  # the last row weighs one step too
+    step = np.diff(times, append=times[-1] + last)
+    moving = speed > 1e-9
+    heading = np.stack([np.where(moving, motion, leader_heading),
+                        np.where(moving, motion + np.pi, leader_heading)])  # (2, T)
+    away = (np.cos(heading - leader_heading) < 0.0) & moving
+    row_cost = (FACING_AWAY_COST * away * step).tolist()
+    turn = np.abs(wrap_angles(heading[:, None, 1:] - heading[None, :, :-1]))  # (to, from, T-1)
+    pace = np.maximum(speed[1:], speed[:-1]) * (TURN_COST / REFERENCE_TURN)
+    turn_cost = (turn * pace).tolist()
+    total = [row_cost[0][0], row_cost[1][0]]
+    back = np.zeros((count, 2), dtype=np.int8)
+    for k in range(1, count):
+        t00, t01 = turn_cost[0][0][k - 1], turn_cost[0][1][k - 1]
+        t10, t11 = turn_cost[1][0][k - 1], turn_cost[1][1][k - 1]
+        a0, a1 = total[0] + t00, total[1] + t01
+        b0, b1 = total[0] + t10, total[1] + t11
+        back[k, 0] = 0 if a0 <= a1 else 1
+        back[k, 1] = 0 if b0 <= b1 else 1
+        total = [min(a0, a1) + row_cost[0][k], min(b0, b1) + row_cost[1][k]]
+    state = 0 if total[0] <= total[1] else 1
+    for k in range(count - 1, -1, -1):
+        folds[k] = bool(state)
+        state = int(back[k, state])
+    return folds
+
+
+def slot_references(times: FloatArray, leaders: FloatArray, offsets: FloatArray,
+                    leader_commands: FloatArray, turn_rate: float = REFERENCE_TURN,
+                    ) -> FloatArray:
+    """The reference of a slot over consecutive show times ``times`` (T,) s, ascending: the
+    slot at ``offsets`` (T, 2) (ox, oy, m, in the leader's frame) of leaders at poses
+    ``leaders`` (T, 3) (x, y, theta) moving with ``leader_commands`` (T, 2) (v m/s, w rad/s).
+
+    Returns (T, 5): the slot's pose x, y, theta (theta continuous, not wrapped), its signed
+    speed along theta and its angular speed (a compact :class:`SlotReference` per row).
+
+    Heading: where the slot moves, the direction of its motion or that plus 180 deg (driven
+    in reverse), the fold chosen over the whole sequence by :func:`choose_folds`; where it
+    stands, the leader's heading (the robot turns to it). Where the chosen heading jumps (a
+    fold change, a stand) it turns at most ``turn_rate`` rad/s, and the speed is the slot's
+    velocity along the heading (the robot slows while it turns). Angular speed: the heading's
+    change to the next row over the time step (exact for commands held over the step, as a
+    robot's are).
+    """
+    times = np.asarray(times, dtype=float)
     velocity = slot_velocities(leader_commands, offsets)  # in the leader's frame
     along, across = velocity[:, 0], velocity[:, 1]
-    w = leader_commands[:, 1]
-    forwards = along >= 0.0
-    turn = np.where(forwards, np.arctan2(across, along), np.arctan2(-across, -along))
-    speed = np.where(along != 0.0, np.copysign(np.hypot(along, across), along),
-                     np.abs(across))
-    slots = compose_poses(leaders, np.column_stack([offsets, turn]))
-    return np.column_stack([slots, speed, w])
+    leader_heading = np.unwrap(leaders[:, 2])
+    speed = np.hypot(along, across)
+    moving = speed > 1e-9
+    motion = leader_heading + np.arctan2(across, along)  # the direction the slot moves
+    folds = choose_folds(times, motion, leader_heading, speed)
+    target = np.where(moving, motion + np.pi * folds, leader_heading)
+    heading = _rate_limited(times, target, turn_rate)
+    signed = speed * np.cos(heading - motion)
+    angular = leader_commands[:, 1].astype(float, copy=True)
+    step = np.diff(times)
+    ahead = step > 0.0
+    angular[:-1][ahead] = np.diff(heading)[ahead] / step[ahead]
+    slots = compose_points(leaders, offsets)
+    return np.column_stack([slots, heading, signed, angular])
+
+
+def _rate_limited(times: FloatArray, target: FloatArray, rate: float) -> FloatArray:
+    """Headings (T,) that follow ``target`` (T,) rad, unwrapped, turning at most ``rate``
+    rad/s between consecutive ``times`` (T,) s (the shorter way round)."""
+    result = np.empty(len(target))
+    if len(target) == 0:
+        return result
+    steps = (np.diff(times) * rate).tolist()
+    targets = target.tolist()
+    current = targets[0]
+    result[0] = current
+    for k in range(1, len(targets)):
+        error = math.remainder(targets[k] - current, 2.0 * math.pi)
+        limit = steps[k - 1]
+        current += error if abs(error) <= limit else math.copysign(limit, error)
+        result[k] = current
+    return result
+
+
+def fold_reference(row: FloatArray, heading: float) -> FloatArray:
+    """A reference row (5,) of :func:`slot_references` computed alone, folded by 180 deg
+    (heading turned, speed negated) when that brings its heading nearer ``heading`` rad (the
+    heading of the reference sequence at the row before), so that it continues it."""
+    folded = row.copy()
+    if folded[3] != 0.0 and abs(wrap_angle(float(folded[2]) - heading)) > 0.5 * math.pi:
+        folded[2] += math.pi
+        folded[3] = -folded[3]
+    return folded
 
 
 def slot_reference(leader: tuple[float, float, float], offset: tuple[float, float],
                    leader_command: tuple[float, float]) -> SlotReference:
-    """One slot's reference (:func:`slot_references` for a single leader pose)."""
-    row = slot_references(np.array([leader], dtype=float), np.array([offset], dtype=float),
+    """One slot's reference at one instant (:func:`slot_references` for a single leader
+    pose: its heading folded towards the leader's, its angular speed the leader's)."""
+    row = slot_references(np.zeros(1), np.array([leader], dtype=float),
+                          np.array([offset], dtype=float),
                           np.array([leader_command], dtype=float))[0]
-    return SlotReference((float(row[0]), float(row[1]), float(row[2])), float(row[3]),
-                         float(row[4]))
+    return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
+                         float(row[3]), float(row[4]))
 
 
 def _saturate(linear: float, angular: float, params: TrackingParams) -> tuple[float, float]:

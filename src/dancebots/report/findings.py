@@ -78,7 +78,8 @@ def simulated_findings(result: RunResult, what_ran: str,
     step = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     shortest = max(1, round(limits.min_duration / step)) if step > 0 else 1
     for i, name in enumerate(result.robots):
-        against = during & against_desired(result.velocities[i, :, 0], result.slot_speed[i])
+        against = during & against_desired(result.velocities[i, :, 0],
+                                           result.reference[i, :, 3])
         for a, b in true_runs(against):
             if b - a >= shortest:
                 add(reversing, i, a, f"{name} drives against its slot's direction from t = "

@@ -6,10 +6,12 @@ d_req, eq. 4.4a, thesis fig. 7.5). Per row of each formation: the largest change
 distance between neighbours from their desired spacing (thesis ch. 7.2.1: "the maximal change
 in the distance between the robots ... around 16 cm for 2D and 18 cm for 3D").
 
-What a spectator sees (issue 12): per robot its heading error to its desired pose, how much of
-the time it faces away from it, how much of the time it drives against the direction its slot
-moves (a robot that turned round and reverses), how often its commanded angular speed changes
-sign (chatter), its heading error at the end; over every pair of robots in the same formation,
+What a spectator sees (issue 12): per robot its heading error to its slot's heading (the
+direction the slot moves, folded so that it does not jump, or the leader's heading where the
+slot stands: ``RunResult.reference``), how much of the time it faces away from it, how much
+of the time it drives against the direction its reference drives (a robot that turned round
+and reverses), how often its commanded angular speed changes sign (chatter), its heading error
+at the end; over every pair of robots in the same formation,
 the change of their distance from the distance between their desired poses (the formation
 error, not only row neighbours). All poses compared are in the world frame: ``RunResult.poses``
 and ``RunResult.desired`` (the desired poses as each robot computes them from its start pose).
@@ -36,8 +38,8 @@ FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
 
 DESIRED_SPEED_MIN = 0.05
-"""m/s: the direction of a robot's desired motion counts only while its slot moves along the
-desired heading at least this fast (below it the slot is turning on the spot or standing)."""
+"""m/s: the direction of a robot's desired motion counts only while its slot moves at least
+this fast (below it the slot is turning on the spot or standing)."""
 REVERSE_SPEED_MIN = 0.05
 """m/s: a robot drives against its desired direction only when it drives at least this fast the
 other way (above the realistic profile's velocity noise, 0.01 m/s per step, about 0.014 m/s
@@ -58,15 +60,17 @@ class RobotMetrics:
     went into the error state, if it did; final_error: distance from its final slot (its
     desired pose at the end of the run) at the end of the run, m.
 
-    While the show runs: rms_heading_error, max_heading_error: |wrap(yaw - desired yaw)|, deg;
+    While the show runs: rms_heading_error, max_heading_error: |wrap(yaw - slot heading)|,
+    deg (the slot's heading: ``RunResult.reference``);
     facing_away_fraction: the fraction of the ticks with a heading error above
-    :data:`FACING_AWAY_ANGLE`; reverse_fraction: of the ticks in which its slot moves along
-    the desired heading (``RunResult.slot_speed`` at least :data:`DESIRED_SPEED_MIN`), the
+    :data:`FACING_AWAY_ANGLE`; reverse_fraction: of the ticks in which its slot moves (at
+    least :data:`DESIRED_SPEED_MIN`), the
     fraction in which the robot drives the other way (:func:`against_desired`), 0 when its
     slot never moves; angular_sign_flips: sign changes of its commanded angular speed
     (:func:`sign_flips`); rms_formation_error, max_formation_error: the formation error
     (:func:`formation_error`) over every pair it belongs to, m (None when it never shares a
-    formation). final_heading_error: |wrap(yaw - desired yaw)| at the end of the run, deg.
+    formation). final_heading_error: |wrap(yaw - slot heading)| at the end of the run, deg
+    (the slot stands then: its heading is the leader's).
     """
 
     robot: str
@@ -228,13 +232,13 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      result.poses[:, -1, 1] - result.desired[:, -1, 1])  # (R,)
     period = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     stopped = result.status == STATUS.index("stopped")
-    heading = np.degrees(heading_errors(result.poses[..., 2], result.desired[..., 2]))  # (R, T)
+    heading = np.degrees(heading_errors(result.poses[..., 2], result.reference[..., 2]))  # (R, T)
     moving = np.empty(result.status.shape, dtype=bool)  # (R, T) the slot moves along its heading
     against = np.empty(result.status.shape, dtype=bool)  # (R, T) ... and the robot the other way
     for i in range(len(result.robots)):
-        desired_speed = result.slot_speed[i]
-        moving[i] = during & (np.abs(desired_speed) >= DESIRED_SPEED_MIN)
-        against[i] = moving[i] & against_desired(result.velocities[i, :, 0], desired_speed)
+        moving[i] = during & (np.abs(result.reference[i, :, 3]) >= DESIRED_SPEED_MIN)
+        against[i] = moving[i] & against_desired(result.velocities[i, :, 0],
+                                                 result.reference[i, :, 3])
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
     flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
@@ -285,13 +289,14 @@ def heading_errors(yaw: FloatArray, desired_yaw: FloatArray) -> FloatArray:
 def against_desired(speed: FloatArray, desired_speed: FloatArray,
                     desired_min: float = DESIRED_SPEED_MIN,
                     actual_min: float = REVERSE_SPEED_MIN) -> BoolArray:
-    """Where a robot drives against the direction its slot moves, shape (T,).
+    """Where a robot drives against its desired direction, shape (T,).
 
     speed (T,): the robot's actual linear speed, m/s (``RunResult.velocities[r, :, 0]``);
-    desired_speed (T,): its slot's along-heading speed (``RunResult.slot_speed``), m/s. True
-    where the slot moves at least ``desired_min`` one way and the robot at least
-    ``actual_min`` the other way: reversing while the plan drives forwards, or driving
-    forwards while the plan reverses.
+    desired_speed (T,): its reference's signed speed, m/s (``RunResult.reference[r, :, 3]``:
+    negative where the reference drives its slot's path in reverse). True where the reference
+    drives at least ``desired_min`` one way and the robot at least ``actual_min`` the other
+    way: a robot that turned round and reverses while its reference drives forwards, or
+    drives forwards while its reference reverses.
     """
     result: BoolArray = (np.abs(desired_speed) >= desired_min) & (
         speed * np.sign(desired_speed) <= -actual_min)

@@ -19,7 +19,8 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from dancebots.geometry import Pose, compose_poses, footprint_corners
+from dancebots.control.tracking import slot_references
+from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.safety.monitor import EventKind
@@ -108,8 +109,11 @@ class RunResult:
     spectators (C, T, 2): the spectators' positions, spectator_radii (C,). lidar (with
     ``SimConfig.record_lidar``): every scan as (time it reached the robots, per robot the
     (M, 2) world positions of its hits as they were when scanned): what the robots "see".
-    slot_speed (R, T): each robot's slot's speed along its desired heading, m/s
-    (``RobotTrack.slot_speed``; negative where the slot moves backwards).
+    reference (R, T, 5): each robot's slot's motion, as the tracking follower tracks it
+    (``control.tracking.slot_references``) in the world frame: x, y (m), heading (rad,
+    continuous: the direction the slot moves, folded so that it does not jump), signed speed
+    along that heading (m/s, negative where the slot moves backwards) and angular speed
+    (rad/s).
     """
 
     plan: Plan
@@ -130,7 +134,7 @@ class RunResult:
     events: tuple[RobotEvent, ...]
     spectators: FloatArray
     spectator_radii: FloatArray
-    slot_speed: FloatArray
+    reference: FloatArray
     lidar: tuple[tuple[float, tuple[FloatArray, ...]], ...] = ()
 
     @property
@@ -243,19 +247,23 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
     status = recorder.series("status")
     spectators = recorder.series("spectators")
     slots = [brain.slot0 for brain in brains]
-    desired, leader, required, formation, slot_speed = [], [], [], [], []
+    desired, leader, required, formation, reference = [], [], [], [], []
     for i, robot in enumerate(placement.robots):
         track = plan.track(robot, times)
         desired.append(_to_world(placement.starts, slots, track.desired, i))
         leader.append(_to_world(placement.starts, slots, track.leader, i))
         required.append(track.required_distance)
         formation.append(track.formation)
-        slot_speed.append(track.slot_speed)
+        rows = slot_references(times, track.leader, track.offsets, track.leader_commands)
+        frame = _to_world(placement.starts, slots, np.zeros((1, 3)), i)[0]
+        rows[:, :2] = compose_points(frame, rows[:, :2])
+        rows[:, 2] += frame[2]
+        reference.append(rows)
     return RunResult(plan, arena, placement, config, times, poses, velocities, commands,
                      np.stack(desired), np.stack(leader), np.stack(required),
                      np.stack(formation), collisions,
                      smallest_gap(poses, np.array([t.length for t in placement.types]),
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
-                     np.array([p.radius for p in arena.spectators]), np.stack(slot_speed),
+                     np.array([p.radius for p in arena.spectators]), np.stack(reference),
                      scans)
