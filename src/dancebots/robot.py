@@ -31,7 +31,7 @@ from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
     fold_reference,
-    slot_references,
+    follower_references,
     tracking_step,
 )
 from dancebots.geometry import Pose, points_to_world, wrap_angle
@@ -53,11 +53,12 @@ from dancebots.world import RobotType
 __all__ = ["DETECTORS", "FOLLOWERS", "BrainOptions", "BrainState", "Command", "Detector",
            "Follower", "RobotBrain", "SensingConfig", "brain_for"]
 
-Follower = Literal["tracking", "thesis"]
+Follower = Literal["tracking", "path", "thesis"]
 FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
 """Followers: ``thesis`` (default): eq. 4.4 as written (``control/follower.py``);
-``tracking`` (an addition: feedforward of the slot's motion from the plan plus Kanayama's
-tracking law, ``control/tracking.py``)."""
+``tracking`` (an addition: feedforward of the rigid slot's motion from the plan plus
+Kanayama's tracking law, ``control/tracking.py``); ``path`` (an addition: the same law on
+the robot's place on its leader's path, ``control.tracking.path_references``)."""
 
 Detector = Literal["thesis", "compensated"]
 DETECTORS: tuple[Detector, ...] = get_args(Detector)
@@ -169,7 +170,7 @@ class RobotBrain:
         track = plan.track(robot, grid)
         # the cache of the follower in use only: (leader, path point, ...) or slot references
         self._grid = self._samples(track) if follower == "thesis" else []
-        self._slot_grid = self._slot_rows(track) if follower == "tracking" else None
+        self._slot_grid = self._slot_rows(grid) if follower != "thesis" else None
 
     def _grid_index(self, show_time: float, length: int) -> int | None:
         """The index on the 10 Hz grid (of ``length`` entries) of ``show_time`` s: the last
@@ -191,9 +192,10 @@ class RobotBrain:
             leader, lateral, desired, track.required_distance.tolist(), moving.tolist(),
             strict=True)]
 
-    def _slot_rows(self, track: RobotTrack) -> np.ndarray:
-        """The slot's references (T, 5) in the robot's own frame (``slot_references``)."""
-        rows = slot_references(track.times, track.leader, track.offsets, track.leader_commands)
+    def _slot_rows(self, times: np.ndarray) -> np.ndarray:
+        """The references (T, 5) at show times (T,) in the robot's own frame
+        (``follower_references``)."""
+        rows = follower_references(self.plan, self.robot, times, self.follower)
         own = self._to_own
         rows[:, :2] = points_to_world(rows[:, :2], own)
         rows[:, 2] += own.theta
@@ -211,8 +213,7 @@ class RobotBrain:
             row = grid[k]
         else:
             before = grid[min(max(int(show_time / self.grid_period), 0), len(grid) - 1)]
-            exact = self._slot_rows(self.plan.track(
-                self.robot, np.array([min(max(show_time, 0.0), self.plan.duration)])))[0]
+            exact = self._slot_rows(np.array([min(max(show_time, 0.0), self.plan.duration)]))[0]
             row = fold_reference(exact, float(before[2]))
             row[4] = before[4]
         return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
@@ -251,7 +252,7 @@ class RobotBrain:
             seen = CLEAR
             if sensing.lidar and len(obstacles):
                 seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
-            if self.follower == "tracking":
+            if self.follower != "thesis":
                 follower = state.follower
                 linear, angular = tracking_step(self.tracking, pose, self.slot_at(show_time),
                                                 seen.force)

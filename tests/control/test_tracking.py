@@ -12,6 +12,7 @@ from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
     choose_folds,
+    path_references,
     slot_reference,
     slot_references,
     tracking_step,
@@ -135,7 +136,8 @@ def test_the_inner_robot_reverses_through_a_tight_turn_and_then_faces_forwards()
     turning = (times > 6.0) & (times < 8.0)
     assert (reference[turning, 3] < -0.1).all()  # in reverse through the turn
     straight = (times > 12.0) & (reference[:, 3] != 0.0)
-    assert straight.any() and (reference[straight, 3] > 0.1).all()  # forwards after it
+    assert straight.any()
+    assert (reference[straight, 3] > 0.1).all()  # forwards after it
     assert (reference[times < 5.0, 3] > 0.0).all()
 
 
@@ -155,3 +157,30 @@ def test_a_standing_slot_faces_its_leaders_heading_and_folds_towards_it() -> Non
     folds = choose_folds(np.arange(4) * 0.1, np.array([0.0, np.pi, np.pi, 0.0]),
                          np.zeros(4), np.array([0.3, 0.3, 0.3, 0.0]))
     assert folds.tolist() == [False, True, True, False]
+
+
+def test_a_column_follows_its_leaders_path_round_a_corner() -> None:
+    """path_references: the rear of a column (1.5 m behind) stays on the path its leader
+    drove, where its rigid slot swings off it by up to |ox| sin(turn)."""
+    from dancebots.plan.compile import compile_scenario
+    from dancebots.plan.planner import PlanParameters
+
+    text = "robots A B\ncolumn A;B 1.5 0\nmove 2 0\nmove 3 90\n"
+    _, plan, diagnostics = compile_scenario(text, "t.dance", PlanParameters(timing="feasible"))
+    assert plan is not None, diagnostics
+    leader = plan.formations[0].leader
+    times = np.arange(0.0, leader.times[-1] - 0.05, 0.1)
+    dense = leader.poses_at(np.arange(0.0, leader.times[-1], 0.01))[:, :2]
+    behind = np.column_stack([np.linspace(-2.0, 0.0, 201), np.zeros(201)])  # before the start
+    path = np.concatenate([behind, dense])
+
+    def off_path(points: np.ndarray) -> float:
+        return float(np.min(np.hypot(*(points[:, None, :] - path[None]).transpose(2, 0, 1)),
+                            axis=1).max())
+
+    assert off_path(path_references(plan, "B", times)[:, :2]) < 0.02
+    rigid = slot_references(times, *(lambda t: (t.leader, t.offsets, t.leader_commands))(
+        plan.track("B", times)))
+    assert off_path(rigid[:, :2]) > 0.5
+    end = path_references(plan, "B", np.array([plan.duration + 1.0]))[0]
+    np.testing.assert_allclose(end[:2], plan.desired_poses("B", np.array([plan.duration]))[0, :2])

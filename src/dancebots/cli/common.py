@@ -525,7 +525,7 @@ def _umask() -> int:
     return umask
 
 
-FOLLOWERS = ("thesis", "tracking")
+FOLLOWERS = ("thesis", "tracking", "path")
 """``robot.FOLLOWERS`` (the CLI imports only the standard library at start-up)."""
 TIMINGS = ("thesis", "feasible")
 """``plan.planner.TIMINGS`` (the CLI imports only the standard library at start-up)."""
@@ -543,8 +543,9 @@ def add_follower_argument(parser: argparse.ArgumentParser) -> None:
     """--follower: how each robot follows its slot (``BrainOptions.follower``)."""
     parser.add_argument("--follower", choices=FOLLOWERS, default="thesis",
                         help="thesis (default): eq. 4.4 as written; tracking: each robot "
-                        "tracks its slot's motion from the plan (Kanayama's law, "
-                        "docs/control.md)")
+                        "tracks its rigid slot's motion from the plan (Kanayama's law, "
+                        "docs/control.md); path: the same law on its place on the leader's "
+                        "path (columns follow the path round corners)")
 
 
 def add_show_arguments(parser: argparse.ArgumentParser, scenario_help: str | None = None,

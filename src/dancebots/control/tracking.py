@@ -34,6 +34,7 @@ Frames: everything in the robot's own ``map`` frame; commands (linear m/s, angul
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -41,11 +42,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.control.follower import ARRIVAL_GAIN
-from dancebots.geometry import Pose, compose_points, wrap_angle, wrap_angles
-from dancebots.plan.planner import slot_velocities
+from dancebots.geometry import Pose, compose_points, compose_poses, wrap_angle, wrap_angles
+from dancebots.plan.planner import Plan, slot_velocities
 
 __all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
-           "choose_folds", "fold_reference", "slot_reference",
+           "choose_folds", "fold_reference", "follower_references", "path_references",
+           "references_from_motion", "slot_reference",
            "slot_references", "tracking_step"]
 
 FloatArray = NDArray[np.float64]
@@ -159,38 +161,121 @@ def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArr
 def slot_references(times: FloatArray, leaders: FloatArray, offsets: FloatArray,
                     leader_commands: FloatArray, turn_rate: float = REFERENCE_TURN,
                     ) -> FloatArray:
-    """The reference of a slot over consecutive show times ``times`` (T,) s, ascending: the
-    slot at ``offsets`` (T, 2) (ox, oy, m, in the leader's frame) of leaders at poses
+    """The reference of a rigid slot over consecutive show times ``times`` (T,) s, ascending:
+    the slot at ``offsets`` (T, 2) (ox, oy, m, in the leader's frame) of leaders at poses
     ``leaders`` (T, 3) (x, y, theta) moving with ``leader_commands`` (T, 2) (v m/s, w rad/s).
-
-    Returns (T, 5): the slot's pose x, y, theta (theta continuous, not wrapped), its signed
-    speed along theta and its angular speed (a compact :class:`SlotReference` per row).
-
-    Heading: where the slot moves, the direction of its motion or that plus 180 deg (driven
-    in reverse), the fold chosen over the whole sequence by :func:`choose_folds`; where it
-    stands, the leader's heading (the robot turns to it). Where the chosen heading jumps (a
-    fold change, a stand) it turns at most ``turn_rate`` rad/s, and the speed is the slot's
-    velocity along the heading (the robot slows while it turns). Angular speed: the heading's
-    change to the next row over the time step (exact for commands held over the step, as a
-    robot's are).
-    """
+    Its velocity in the leader's frame is (v - w oy, w ox). Returns (T, 5) as
+    :func:`references_from_motion`."""
     times = np.asarray(times, dtype=float)
     velocity = slot_velocities(leader_commands, offsets)  # in the leader's frame
     along, across = velocity[:, 0], velocity[:, 1]
     leader_heading = np.unwrap(leaders[:, 2])
-    speed = np.hypot(along, across)
-    moving = speed > 1e-9
     motion = leader_heading + np.arctan2(across, along)  # the direction the slot moves
+    rows = references_from_motion(times, compose_points(leaders, offsets), motion,
+                                  np.hypot(along, across), leader_heading, turn_rate)
+    if len(rows):
+        rows[-1, 4] = leader_commands[-1, 1]  # held: the slot turns with its leader
+    return rows
+
+
+def path_references(plan: Plan, robot: str, times: FloatArray,
+                    turn_rate: float = REFERENCE_TURN) -> FloatArray:
+    """The reference of ``robot`` at show times ``times`` (T,) s, ascending, show frame: its
+    place on its leader's path (thesis ch. 4.1: a robot drives the leader's path shifted
+    sideways by its lateral offset oy, its along offset ox behind): the leader's pose where
+    the leader was ``-ox`` m of path earlier, shifted by (0, oy). So a column follows its
+    leader's path round a corner instead of swinging sideways as a rigid body would
+    (``ox sin(turn)``: 1.5 m for the rear of a 2.1 m column at 45 deg), and the robots of a
+    row stay parallel. Before the leader has driven ``-ox`` m the place is on the straight
+    line behind the leader's first pose; after its last instruction (the leader stands) the
+    robot's rigid slot (the leader's final pose composed with (ox, oy)), which it then drives
+    to. Speed: the leader's v times (1 - kappa oy), kappa the path's curvature there.
+    Returns (T, 5) as :func:`references_from_motion`."""
+    times = np.asarray(times, dtype=float)
+    count = len(times)
+    points = np.empty((count, 2))
+    heading = np.empty(count)
+    speed = np.zeros(count)
+    which = plan.formation_indices(robot, times)
+    bounds = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1, [count]]).tolist()
+    for a, b in itertools.pairwise(bounds):
+        if a == b:
+            continue
+        formation = plan.formations[int(which[a])]
+        leader = formation.leader
+        ox, oy = formation.offsets[robot]
+        now = times[a:b]
+        step_length = leader.commands[:-1, 0] * np.diff(leader.times)
+        driven = np.concatenate([[0.0], np.cumsum(step_length)])  # (N,) path length, m
+        k = np.clip(np.searchsorted(leader.times, now, side="right") - 1, 0,
+                    len(leader.times) - 1)
+        v_now = leader.commands[k, 0]
+        target = driven[k] + v_now * np.maximum(now - leader.times[k], 0.0) + ox
+        j = np.clip(np.searchsorted(driven, target, side="right") - 1, 0,
+                    max(len(driven) - 2, 0))
+        v_then = leader.commands[j, 0]
+        moved = v_then > 0.0
+        back = np.where(moved, (target - driven[j]) / np.where(moved, v_then, 1.0), 0.0)
+        then = leader.poses_at(leader.times[j] + np.maximum(back, 0.0))
+        behind = target < 0.0  # before the leader has driven -ox: behind its first pose
+        first = np.broadcast_to(leader.poses[0], (b - a, 3))
+        then[behind] = compose_poses(first[behind], np.column_stack(
+            [target[behind], np.zeros(int(behind.sum())), np.zeros(int(behind.sum()))]))
+        curvature = np.where(moved & ~behind, leader.commands[j, 1] / np.where(
+            moved, v_then, 1.0), 0.0)
+        place = compose_points(then, np.column_stack([np.zeros(b - a), np.full(b - a, oy)]))
+        done = now >= leader.times[-1]  # the leader stands at its end: the rigid slot
+        place[done] = compose_points(leader.poses[-1], np.array([ox, oy]))
+        then[done] = leader.poses[-1]
+        points[a:b] = place
+        heading[a:b] = then[:, 2]
+        speed[a:b] = np.where(done, 0.0, v_now * (1.0 - curvature * oy))
+    heading = np.unwrap(heading)
+    motion = heading + np.where(speed < 0.0, np.pi, 0.0)
+    return references_from_motion(times, points, motion, np.abs(speed), heading, turn_rate)
+
+
+def follower_references(plan: Plan, robot: str, times: FloatArray,
+                        follower: str = "tracking") -> FloatArray:
+    """The reference (T, 5) that ``follower`` tracks (and that the metrics judge its heading
+    and direction against) at show times (T,), show frame: the rigid slot's
+    (:func:`slot_references`) for ``tracking``, the place on the leader's path
+    (:func:`path_references`) for ``path`` and ``thesis`` (eq. 4.4 drives the lateral path,
+    thesis ch. 4.1)."""
+    if follower == "tracking":
+        track = plan.track(robot, times)
+        return slot_references(times, track.leader, track.offsets, track.leader_commands)
+    return path_references(plan, robot, times)
+
+
+def references_from_motion(times: FloatArray, points: FloatArray, motion: FloatArray,
+                           speed: FloatArray, leader_heading: FloatArray,
+                           turn_rate: float = REFERENCE_TURN) -> FloatArray:
+    """A reference over consecutive show times ``times`` (T,) s, ascending, for a place at
+    ``points`` (T, 2) that moves in the direction ``motion`` (T,) rad at ``speed`` (T,) m/s
+    (0: it stands), its formation heading ``leader_heading`` (T,) rad.
+
+    Returns (T, 5): x, y, theta (continuous, not wrapped), the signed speed along theta and
+    the angular speed (a compact :class:`SlotReference` per row).
+
+    Heading: where the place moves, the direction of its motion or that plus 180 deg (driven
+    in reverse), the fold chosen over the whole sequence by :func:`choose_folds`; where it
+    stands, the formation's heading (the robot turns to it). Where the chosen heading jumps
+    (a fold change, a stand) it turns at most ``turn_rate`` rad/s, and the speed is the
+    place's velocity along the heading (the robot slows while it turns). Angular speed: the
+    heading's change to the next row over the time step (exact for commands held over the
+    step, as a robot's are).
+    """
+    moving = speed > 1e-9
     folds = choose_folds(times, motion, leader_heading, speed)
     target = np.where(moving, motion + np.pi * folds, leader_heading)
     heading = _rate_limited(times, target, turn_rate)
     signed = speed * np.cos(heading - motion)
-    angular = leader_commands[:, 1].astype(float, copy=True)
+    angular = np.zeros(len(times))
     step = np.diff(times)
     ahead = step > 0.0
     angular[:-1][ahead] = np.diff(heading)[ahead] / step[ahead]
-    slots = compose_points(leaders, offsets)
-    return np.column_stack([slots, heading, signed, angular])
+    return np.column_stack([points, heading, signed, angular])
 
 
 def _rate_limited(times: FloatArray, target: FloatArray, rate: float) -> FloatArray:

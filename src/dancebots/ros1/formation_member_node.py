@@ -5,8 +5,8 @@ messages in; Twist, /sync proposals and speech out.
 Parameters: ``~scenario``, ``~role`` (required); ``~world`` and ``~vmax`` (optional, the same
 on every robot: they set the plan's vmax); ``~robot_name`` (optional prefix of topics and
 frames); ``~start_strategy`` ("agreed", or "thesis" as written); ``~follower`` ("thesis",
-or "tracking"; docs/control.md) and ``~timing`` ("thesis", or "feasible"; the same on every
-robot: it sets the plan's timing); ``~lidar`` (default true:
+"tracking" or "path"; docs/control.md) and ``~timing`` ("thesis", or "feasible"; the same
+on every robot: it sets the plan's timing); ``~lidar`` (default true:
 read ``obstacles`` and stop for them); ``~max_speed`` and ``~max_angular_speed`` (default:
 the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
 ``obstacle_detection`` node through the roslaunch API, as the thesis does);

@@ -19,7 +19,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from dancebots.control.tracking import slot_references
+from dancebots.control.tracking import follower_references
 from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
@@ -109,11 +109,11 @@ class RunResult:
     spectators (C, T, 2): the spectators' positions, spectator_radii (C,). lidar (with
     ``SimConfig.record_lidar``): every scan as (time it reached the robots, per robot the
     (M, 2) world positions of its hits as they were when scanned): what the robots "see".
-    reference (R, T, 5): each robot's slot's motion, as the tracking follower tracks it
-    (``control.tracking.slot_references``) in the world frame: x, y (m), heading (rad,
-    continuous: the direction the slot moves, folded so that it does not jump), signed speed
-    along that heading (m/s, negative where the slot moves backwards) and angular speed
-    (rad/s).
+    reference (R, T, 5): what each robot's follower tracks
+    (``control.tracking.follower_references``: its rigid slot's motion for ``tracking``, its
+    place on the leader's path otherwise) in the world frame: x, y (m), heading (rad,
+    continuous: the direction the place moves, or that + pi where it is driven in reverse),
+    signed speed along that heading (m/s) and angular speed (rad/s).
     """
 
     plan: Plan
@@ -254,7 +254,7 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
         leader.append(_to_world(placement.starts, slots, track.leader, i))
         required.append(track.required_distance)
         formation.append(track.formation)
-        rows = slot_references(times, track.leader, track.offsets, track.leader_commands)
+        rows = follower_references(plan, robot, times, config.brain.follower)
         frame = _to_world(placement.starts, slots, np.zeros((1, 3)), i)[0]
         rows[:, :2] = compose_points(frame, rows[:, :2])
         rows[:, 2] += frame[2]
