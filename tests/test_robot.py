@@ -86,3 +86,30 @@ def test_brain_for_builds_the_same_brain_for_the_simulator_and_ros() -> None:
     assert (brain.sensing.length, brain.sensing.width, brain.sensing.lidar,
             brain.sensing.detector, brain.sensing.force_radius) == (
         husky.length, husky.width, False, "thesis", 0.5)
+
+
+@pytest.mark.parametrize("follower", ["path", "tracking"])
+def test_a_mate_on_its_place_does_not_push_the_robot_but_a_stranger_does(follower: str,
+                                                                           ) -> None:
+    """The tracking and path followers leave the points where a formation mate should be out
+    of the force field (R2 stands 1.2 m to R1's right: its place), while a stranger at the
+    same distance on the other side pushes R1 away; the thesis follower keeps the thesis's
+    force field, which R2 pushes too."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import SensingConfig
+
+    plan = plan_of(PLAN_TEXT)
+
+    def force_on_r1(brain_follower: str, y: float) -> tuple[float, float]:
+        brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(),
+                           follower=brain_follower)  # type: ignore[arg-type]
+        cloud = PointCloud(0.0, np.array([[0.0, y, 0.0, 1.0]]))
+        seen = brain._perceive(cloud.columns, 0.1, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        if brain_follower == "thesis":
+            return seen.force
+        return brain._force_without_mates(cloud.columns, 0.1, (0.0, 0.0, 0.0),
+                                          (0.0, 0.0, 0.0), 0.0, seen.force)
+
+    assert force_on_r1(follower, -0.9) == (0.0, 0.0)  # R2's side, where R2 stands
+    assert force_on_r1(follower, 0.9)[1] < 0.0  # a stranger on the left pushes it right
+    assert force_on_r1("thesis", -0.9)[1] > 0.0

@@ -15,8 +15,9 @@ P is ``slot0^-1 ⊕ P`` in the robot's map frame.
 from __future__ import annotations
 
 import bisect
+import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal, get_args
 
 import numpy as np
@@ -31,10 +32,11 @@ from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
     fold_reference,
+    follower_places,
     follower_references,
     tracking_step,
 )
-from dancebots.geometry import Pose, points_to_world, wrap_angle
+from dancebots.geometry import Pose, points_to_local, points_to_world, wrap_angle
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.fast import perceive_columns
 from dancebots.perception.obstacles import (
@@ -66,6 +68,9 @@ DETECTORS: tuple[Detector, ...] = get_args(Detector)
 ``compensated`` moves its points by the robot's own motion since the cloud's stamp."""
 FORCE_GAIN = 0.02
 """Gain of each obstacle point's push (see ``control.force_field.repulsive_force``)."""
+MATE_MARGIN = 0.3
+"""m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
+should be are left out of the tracking and path followers' force field."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -171,6 +176,13 @@ class RobotBrain:
         # the cache of the follower in use only: (leader, path point, ...) or slot references
         self._grid = self._samples(track) if follower == "thesis" else []
         self._slot_grid = self._slot_rows(grid) if follower != "thesis" else None
+        # the other robots' places on the same grid (show frame), for the tracking and path
+        # followers' force field, which ignores what a formation mate on its place explains
+        self._mates: np.ndarray | None = None
+        if follower != "thesis" and len(plan.robots) > 1:
+            places = _places(plan, grid_period, follower)
+            self._mates = np.delete(places, plan.robots.index(robot), axis=0)
+        self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
 
     def _grid_index(self, show_time: float, length: int) -> int | None:
         """The index on the 10 Hz grid (of ``length`` entries) of ``show_time`` s: the last
@@ -252,6 +264,9 @@ class RobotBrain:
             seen = CLEAR
             if sensing.lidar and len(obstacles):
                 seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
+                if self._mates is not None:
+                    seen = replace(seen, force=self._force_without_mates(
+                        obstacles, height_step, seen_from or pose, pose, show_time, seen.force))
             if self.follower != "thesis":
                 follower = state.follower
                 linear, angular = tracking_step(self.tracking, pose, self.slot_at(show_time),
@@ -285,6 +300,29 @@ class RobotBrain:
                                height_step=height_step, seen_from=seen_from, history=history,
                                held=held)
         return new_state, command, events
+
+    def mates_at(self, show_time: float) -> np.ndarray:
+        """(M, 2) where the other robots should be at ``show_time`` s (their followers'
+        places, from the 10 Hz grid, nearest row), in this robot's own frame."""
+        assert self._mates is not None
+        k = min(max(round(show_time / self.grid_period), 0), self._mates.shape[1] - 1)
+        return points_to_world(self._mates[:, k], self._to_own)
+
+    def _force_without_mates(self, columns: np.ndarray, height_step: float,
+                             seen_from: tuple[float, float, float],
+                             pose: tuple[float, float, float], show_time: float,
+                             force: tuple[float, float]) -> tuple[float, float]:
+        """The virtual force of the cloud's columns (K, 4) (``base_link`` at ``seen_from``)
+        without the points within ``mate_radius`` of where a formation mate should be (an
+        addition of the tracking and path followers: a mate on its place is part of the
+        plan, not an obstacle to steer around; the stop flags still see it)."""
+        mates = points_to_local(self.mates_at(show_time), seen_from)  # (M, 2) base_link
+        gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
+                        columns[:, None, 1] - mates[None, :, 1])  # (K, M)
+        keep = gaps.min(axis=1) > self.mate_radius
+        if keep.all():
+            return force
+        return self._perceive(columns[keep], height_step, seen_from, pose).force
 
     def _perceive(self, columns: np.ndarray, height_step: float,
                   seen_from: tuple[float, float, float],
@@ -325,6 +363,15 @@ class RobotBrain:
         """The virtual leader's position (x, y in m) in this robot's map frame at
         ``show_time`` s, as the brain sees it (from its 10 Hz cache on the grid)."""
         return self._sample(show_time).leader
+
+
+@functools.lru_cache(maxsize=4)
+def _places(plan: Plan, grid_period: float, follower: Follower) -> np.ndarray:
+    """Every robot's follower place (R, T, 2), show frame, on the brains' grid (shared by
+    the brains of one plan in the simulator)."""
+    count = math.ceil(plan.duration / grid_period) + 1
+    grid = np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
+    return follower_places(plan, grid, follower)
 
 
 def _record_time(record: tuple[float, float, float, float]) -> float:

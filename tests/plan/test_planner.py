@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from dancebots.diagnostics import Diagnostic
 from dancebots.plan import Plan, PlanParameters, build_plan, desired_pose, virtual_leader_pose
-from dancebots.plan.planner import slot_speed_scale, step_budget
+from dancebots.plan.planner import path_speed_scale, slot_speed_scale, step_budget
 from dancebots.scenario import parse_scenario
 from tests_support import plan_of
 
@@ -288,3 +288,29 @@ def test_feasible_timing_keeps_every_slot_within_its_speed_and_the_path() -> Non
                                thesis.formations[0].waypoints)
     ends = feasible.formations[0].leader.poses[-1], thesis.formations[0].leader.poses[-1]
     assert math.hypot(*(ends[0][:2] - ends[1][:2])) < 0.1  # within the waypoint tolerance
+
+
+def test_path_speed_scale_looks_at_each_place_on_the_path_behind() -> None:
+    """A place -ox m of path behind the leader moves at v |1 - kappa oy|, kappa the curvature
+    the leader drove there: here the leader drove straight for 1 m, then a right turn of
+    curvature -2 /m, and is now straight again."""
+    arcs = [0.0, 0.5, 1.0, 1.2, 1.4]
+    curvatures = [0.0, 0.0, -2.0, -2.0, 0.0]
+    inner_right = np.array([[-0.3, -0.6]])  # 0.3 m behind: on the turn, inner side
+    outer_left = np.array([[-0.3, 0.6]])  # on the turn, outer side: 0.35 * 2.2 = 0.77 m/s
+    assert path_speed_scale(0.35, inner_right, arcs, curvatures, 0.4) == 1.0  # 0.35 * 0.2
+    assert path_speed_scale(0.35, outer_left, arcs, curvatures, 0.4) == pytest.approx(
+        0.4 / (0.35 * 2.2))
+    assert path_speed_scale(0.35, np.array([[-2.0, 0.6]]), arcs, curvatures, 0.4) == 1.0
+
+
+def test_feasible_timing_keeps_every_place_on_the_path_within_its_speed() -> None:
+    """With the feasible timing no robot's place on its leader's path (the path follower's
+    reference) moves faster than 0.8 vmax, not only its rigid slot."""
+    from dancebots.control.tracking import path_places
+
+    text = "robots R1 R2 R3\ncolumn R1;R2;R3 1.5 0\nmove 2 0\nmove 3 -90\nmove 2 90\n"
+    plan = plan_of(text, PlanParameters(timing="feasible"))
+    times = np.arange(0.0, plan.duration, 0.05)
+    for robot in plan.robots:
+        assert np.abs(path_places(plan, robot, times)[2]).max() <= 0.8 * 0.5 + 1e-9

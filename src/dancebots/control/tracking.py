@@ -46,7 +46,8 @@ from dancebots.geometry import Pose, compose_points, compose_poses, wrap_angle, 
 from dancebots.plan.planner import Plan, slot_velocities
 
 __all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
-           "choose_folds", "fold_reference", "follower_references", "path_references",
+           "choose_folds", "fold_reference", "follower_places", "follower_references",
+           "path_places", "path_references",
            "references_from_motion", "slot_reference",
            "slot_references", "tracking_step"]
 
@@ -178,19 +179,11 @@ def slot_references(times: FloatArray, leaders: FloatArray, offsets: FloatArray,
     return rows
 
 
-def path_references(plan: Plan, robot: str, times: FloatArray,
-                    turn_rate: float = REFERENCE_TURN) -> FloatArray:
-    """The reference of ``robot`` at show times ``times`` (T,) s, ascending, show frame: its
-    place on its leader's path (thesis ch. 4.1: a robot drives the leader's path shifted
-    sideways by its lateral offset oy, its along offset ox behind): the leader's pose where
-    the leader was ``-ox`` m of path earlier, shifted by (0, oy). So a column follows its
-    leader's path round a corner instead of swinging sideways as a rigid body would
-    (``ox sin(turn)``: 1.5 m for the rear of a 2.1 m column at 45 deg), and the robots of a
-    row stay parallel. Before the leader has driven ``-ox`` m the place is on the straight
-    line behind the leader's first pose; after its last instruction (the leader stands) the
-    robot's rigid slot (the leader's final pose composed with (ox, oy)), which it then drives
-    to. Speed: the leader's v times (1 - kappa oy), kappa the path's curvature there.
-    Returns (T, 5) as :func:`references_from_motion`."""
+def path_places(plan: Plan, robot: str, times: FloatArray,
+                ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Where ``robot``'s place on its leader's path is at show times ``times`` (T,) s,
+    ascending, show frame (see :func:`path_references`): positions (T, 2) m, the path's
+    heading there (T,) rad (unwrapped) and the place's signed speed along it (T,) m/s."""
     times = np.asarray(times, dtype=float)
     count = len(times)
     points = np.empty((count, 2))
@@ -210,7 +203,7 @@ def path_references(plan: Plan, robot: str, times: FloatArray,
         k = np.clip(np.searchsorted(leader.times, now, side="right") - 1, 0,
                     len(leader.times) - 1)
         v_now = leader.commands[k, 0]
-        target = driven[k] + v_now * np.maximum(now - leader.times[k], 0.0) + ox
+        target = driven[k] + v_now * np.maximum(now - leader.times[k], 0.0) + min(ox, 0.0)
         j = np.clip(np.searchsorted(driven, target, side="right") - 1, 0,
                     max(len(driven) - 2, 0))
         v_then = leader.commands[j, 0]
@@ -230,9 +223,36 @@ def path_references(plan: Plan, robot: str, times: FloatArray,
         points[a:b] = place
         heading[a:b] = then[:, 2]
         speed[a:b] = np.where(done, 0.0, v_now * (1.0 - curvature * oy))
-    heading = np.unwrap(heading)
+    return points, np.unwrap(heading), speed
+
+
+def path_references(plan: Plan, robot: str, times: FloatArray,
+                    turn_rate: float = REFERENCE_TURN) -> FloatArray:
+    """The reference of ``robot`` at show times ``times`` (T,) s, ascending, show frame: its
+    place on its leader's path (thesis ch. 4.1: a robot drives the leader's path shifted
+    sideways by its lateral offset oy, its along offset ox behind): the leader's pose where
+    the leader was ``-ox`` m of path earlier, shifted by (0, oy) (:func:`path_places`). So a
+    column follows its leader's path round a corner instead of swinging sideways as a rigid
+    body would (``ox sin(turn)``: 1.5 m for the rear of a 2.1 m column at 45 deg), and the
+    robots of a row stay parallel. Before the leader has driven ``-ox`` m the place is on the
+    straight line behind the leader's first pose; after its last instruction (the leader
+    stands) the robot's rigid slot (the leader's final pose composed with (ox, oy)), which it
+    then drives to. Speed: the leader's v times (1 - kappa oy), kappa the path's curvature
+    there (the feasible timing bounds it: ``plan.planner.path_speed_scale``).
+    Returns (T, 5) as :func:`references_from_motion`."""
+    points, heading, speed = path_places(plan, robot, times)
     motion = heading + np.where(speed < 0.0, np.pi, 0.0)
-    return references_from_motion(times, points, motion, np.abs(speed), heading, turn_rate)
+    return references_from_motion(np.asarray(times, dtype=float), points, motion,
+                                  np.abs(speed), heading, turn_rate)
+
+
+def follower_places(plan: Plan, times: FloatArray, follower: str = "tracking") -> FloatArray:
+    """Where every robot of the plan should be by ``follower`` at show times (T,): (R, T, 2)
+    show frame, robots in the scenario's order (the rigid slots for ``tracking``, the places
+    on the leaders' paths otherwise; :func:`follower_references` without the headings)."""
+    if follower == "tracking":
+        return np.stack([plan.track(robot, times).desired[:, :2] for robot in plan.robots])
+    return np.stack([path_places(plan, robot, times)[0] for robot in plan.robots])
 
 
 def follower_references(plan: Plan, robot: str, times: FloatArray,

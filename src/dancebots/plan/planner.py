@@ -44,6 +44,7 @@ __all__ = [
     "build_plan",
     "desired_pose",
     "nominal_duration",
+    "path_speed_scale",
     "slot_speed_scale",
     "slot_velocities",
     "step_budget",
@@ -533,12 +534,20 @@ def _run_leader(
 
     speed_fraction = 1.0  # the smallest speed factor of the current instruction
 
+    arcs: list[float] = []  # the path length (m) the leader had driven at each step's start
+    curvatures: list[float] = []  # and the curvature (1/m) it drove that step with
+    driven = 0.0
+
     def advance(v: float, w: float) -> None:
-        nonlocal x, y, theta, step_count, speed_fraction
-        if w != 0.0 and len(slots) and slot_limit < math.inf:
-            scale = slot_speed_scale(v, w, slots, slot_limit)
+        nonlocal x, y, theta, step_count, speed_fraction, driven
+        arcs.append(driven)
+        curvatures.append(w / v if v > 0.0 else 0.0)
+        if v != 0.0 and len(slots) and slot_limit < math.inf:
+            scale = min(slot_speed_scale(v, w, slots, slot_limit),
+                        path_speed_scale(v, slots, arcs, curvatures, slot_limit))
             v, w = v * scale, w * scale
             speed_fraction = min(speed_fraction, scale)
+        driven += v * dt
         times.append(now())
         rows.append((x, y, theta, v, w))
         half = 0.5 * w * dt
@@ -638,6 +647,24 @@ def slot_speed_scale(v: float, w: float, offsets: FloatArray, limit: float) -> f
     (:func:`slot_velocities`)."""
     velocity = slot_velocities(np.array([v, w]), offsets)
     fastest = float(np.max(np.hypot(velocity[:, 0], velocity[:, 1])))
+    return 1.0 if fastest <= limit else limit / fastest
+
+
+def path_speed_scale(v: float, offsets: FloatArray, arcs: Sequence[float],
+                     curvatures: Sequence[float], limit: float) -> float:
+    """The factor (0, 1] by which a leader moving at v m/s slows so that no robot's place on
+    its path (``control.tracking.path_references``: -ox m of path behind the leader, shifted
+    by oy) moves faster than ``limit`` m/s. offsets (K, 2) (ox, oy), m; arcs (N,) the path
+    length the leader had driven at the start of each step so far, ascending, m, the last
+    one the current step's; curvatures (N,) the curvature of each of those steps, 1/m. A
+    place at curvature kappa moves at v |1 - kappa oy|; one behind the leader's first pose
+    (less than -ox driven) at v."""
+    fastest = 0.0
+    here = arcs[-1]
+    for ox, oy in offsets.tolist():
+        target = here + min(ox, 0.0)
+        kappa = curvatures[bisect.bisect_right(arcs, target) - 1] if target >= 0.0 else 0.0
+        fastest = max(fastest, abs(v * (1.0 - kappa * oy)))
     return 1.0 if fastest <= limit else limit / fastest
 
 
