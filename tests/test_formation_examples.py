@@ -47,3 +47,29 @@ def test_the_thesis_follower_does_not(name: str) -> None:
     metrics, clean = judged(name, "thesis", "thesis")
     assert not clean
     assert metrics.max_final_error > 0.3 or metrics.max_final_heading_error > 30.0
+
+
+@pytest.mark.parametrize("follower", ["thesis", "path"])
+def test_ordered_departures_let_crossing_robots_pass_one_after_the_other(
+        follower: Follower) -> None:
+    """crossing_groups: A and B cross diagonally. The thesis's timing sends both at once and
+    they touch; the feasible timing makes B wait (8 s, as check's note says) and the show
+    runs clean with either follower (without LIDAR: the plan alone keeps them apart)."""
+    def contacts(timing: Timing) -> int:
+        show = load_show(str(EXAMPLES / "crossing_groups.dance"), check=CheckOptions(),
+                         timing=timing)
+        assert show.report is not None
+        assert show.report.placement is not None
+        assert show.plan is not None
+        if timing == "feasible":
+            waiting = [f for f in show.plan.formations if f.departure_delay > 0.0]
+            assert [(f.robots, f.departure_delay, f.waits_for) for f in waiting] == [
+                (("B",), 8.0, ("A",))]
+            assert any(d.line == 12 and d.message.startswith("B waits 8 s here")
+                       for d in show.diagnostics)
+        result = simulate(show.plan, *prepare_show(show.report.placement),
+                          SimConfig(lidar=None, brain=BrainOptions(follower=follower)))
+        return run_metrics(result).collisions
+
+    assert contacts("thesis") > 0
+    assert contacts("feasible") == 0

@@ -132,6 +132,7 @@ def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckRe
                                options, diagnostics)
     _check_circles(plan, diagnostics)
     _note_slowdowns(plan, diagnostics)
+    _note_departures(plan, diagnostics)
     _check_transitions(plan, types, samples, diagnostics)
     diagnostics.extend(show.diagnostics)
     transform = show.transform if show.world is not None else None
@@ -468,6 +469,22 @@ def _note_slowdowns(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                     f"the virtual leader slows to {100 * timing.speed_fraction:.0f} % of its "
                     f"speed here, so that no robot's slot moves faster than {limit:.2f} m/s "
                     "(--timing feasible)", None, timing.span.end_col))
+
+
+def _note_departures(plan: Plan, diagnostics: list[Diagnostic]) -> None:
+    """Notes at the formations whose departure the ``feasible`` timing delayed so that their
+    robots do not meet others on the way (``PlannedFormation.departure_delay``)."""
+    for formation in plan.formations:
+        if formation.departure_delay > 0.0:
+            diagnostics.append(Diagnostic(
+                plan.scenario.path, formation.span.line, formation.span.col, Severity.NOTE,
+                f"{' '.join(formation.robots)} "
+                f"{'waits' if len(formation.robots) == 1 else 'wait'} "
+                f"{formation.departure_delay:g} s here before "
+                f"{'it leaves' if len(formation.robots) == 1 else 'they leave'}, so that "
+                f"{'it does' if len(formation.robots) == 1 else 'they do'} not meet "
+                f"{' '.join(formation.waits_for)} on the way (--timing feasible)", None,
+                formation.span.end_col))
 
 
 # --- transitions -----------------------------------------------------------------------------

@@ -77,8 +77,10 @@ def load_show(scenario_path: str, world_path: str | None = None, vmax: float | N
         return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)
     sources[scenario_path] = source_lines(text)
     speed = vmax or (world.slowest_speed() if world is not None else None) or DEFAULT_VMAX
-    _, plan, problems = compile_scenario(text, scenario_path,
-                                         PlanParameters(vmax=speed, timing=timing))
+    footprint = (world.largest_footprint() if world is not None else None) or (
+        PlanParameters().footprint)
+    _, plan, problems = compile_scenario(text, scenario_path, PlanParameters(
+        vmax=speed, timing=timing, footprint=footprint))
     diagnostics.extend(problems)
     if plan is None or has_errors(diagnostics):
         return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)

@@ -307,7 +307,7 @@ def test_path_speed_scale_looks_at_each_place_on_the_path_behind() -> None:
 def test_feasible_timing_keeps_every_place_on_the_path_within_its_speed() -> None:
     """With the feasible timing no robot's place on its leader's path (the path follower's
     reference) moves faster than 0.8 vmax, not only its rigid slot."""
-    from dancebots.control.tracking import path_places
+    from dancebots.plan.places import path_places
 
     text = "robots R1 R2 R3\ncolumn R1;R2;R3 1.5 0\nmove 2 0\nmove 3 -90\nmove 2 90\n"
     plan = plan_of(text, PlanParameters(timing="feasible"))

@@ -34,7 +34,6 @@ Frames: everything in the robot's own ``map`` frame; commands (linear m/s, angul
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 
@@ -42,7 +41,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.control.follower import ARRIVAL_GAIN
-from dancebots.geometry import Pose, compose_points, compose_poses, wrap_angle, wrap_angles
+from dancebots.geometry import Pose, compose_points, wrap_angle, wrap_angles
+from dancebots.plan.places import path_places
 from dancebots.plan.planner import Plan, slot_velocities
 
 __all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
@@ -177,53 +177,6 @@ def slot_references(times: FloatArray, leaders: FloatArray, offsets: FloatArray,
     if len(rows):
         rows[-1, 4] = leader_commands[-1, 1]  # held: the slot turns with its leader
     return rows
-
-
-def path_places(plan: Plan, robot: str, times: FloatArray,
-                ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Where ``robot``'s place on its leader's path is at show times ``times`` (T,) s,
-    ascending, show frame (see :func:`path_references`): positions (T, 2) m, the path's
-    heading there (T,) rad (unwrapped) and the place's signed speed along it (T,) m/s."""
-    times = np.asarray(times, dtype=float)
-    count = len(times)
-    points = np.empty((count, 2))
-    heading = np.empty(count)
-    speed = np.zeros(count)
-    which = plan.formation_indices(robot, times)
-    bounds = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1, [count]]).tolist()
-    for a, b in itertools.pairwise(bounds):
-        if a == b:
-            continue
-        formation = plan.formations[int(which[a])]
-        leader = formation.leader
-        ox, oy = formation.offsets[robot]
-        now = times[a:b]
-        step_length = leader.commands[:-1, 0] * np.diff(leader.times)
-        driven = np.concatenate([[0.0], np.cumsum(step_length)])  # (N,) path length, m
-        k = np.clip(np.searchsorted(leader.times, now, side="right") - 1, 0,
-                    len(leader.times) - 1)
-        v_now = leader.commands[k, 0]
-        target = driven[k] + v_now * np.maximum(now - leader.times[k], 0.0) + min(ox, 0.0)
-        j = np.clip(np.searchsorted(driven, target, side="right") - 1, 0,
-                    max(len(driven) - 2, 0))
-        v_then = leader.commands[j, 0]
-        moved = v_then > 0.0
-        back = np.where(moved, (target - driven[j]) / np.where(moved, v_then, 1.0), 0.0)
-        then = leader.poses_at(leader.times[j] + np.maximum(back, 0.0))
-        behind = target < 0.0  # before the leader has driven -ox: behind its first pose
-        first = np.broadcast_to(leader.poses[0], (b - a, 3))
-        then[behind] = compose_poses(first[behind], np.column_stack(
-            [target[behind], np.zeros(int(behind.sum())), np.zeros(int(behind.sum()))]))
-        curvature = np.where(moved & ~behind, leader.commands[j, 1] / np.where(
-            moved, v_then, 1.0), 0.0)
-        place = compose_points(then, np.column_stack([np.zeros(b - a), np.full(b - a, oy)]))
-        done = now >= leader.times[-1]  # the leader stands at its end: the rigid slot
-        place[done] = compose_points(leader.poses[-1], np.array([ox, oy]))
-        then[done] = leader.poses[-1]
-        points[a:b] = place
-        heading[a:b] = then[:, 2]
-        speed[a:b] = np.where(done, 0.0, v_now * (1.0 - curvature * oy))
-    return points, np.unwrap(heading), speed
 
 
 def path_references(plan: Plan, robot: str, times: FloatArray,

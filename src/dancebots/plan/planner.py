@@ -12,16 +12,25 @@ frame of the first virtual leader at t = 0 (x forward, y left).
 from __future__ import annotations
 
 import bisect
+import itertools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal, get_args
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
-from dancebots.geometry import Pose, compose_points, integrate_unicycle, wrap_angle, wrap_angles
+from dancebots.geometry import (
+    Pose,
+    compose_points,
+    footprint_corners,
+    integrate_unicycle,
+    wrap_angle,
+    wrap_angles,
+)
 from dancebots.plan.formation import DEFAULT_LEAD, formation_offsets
 from dancebots.plan.leader import (
     MIN_LINEAR,
@@ -36,6 +45,7 @@ __all__ = [
     "TIMINGS",
     "InstructionTiming",
     "LeaderTrajectory",
+    "Meeting",
     "Plan",
     "PlanParameters",
     "PlannedFormation",
@@ -43,6 +53,7 @@ __all__ = [
     "Timing",
     "build_plan",
     "desired_pose",
+    "meetings",
     "nominal_duration",
     "path_speed_scale",
     "slot_speed_scale",
@@ -81,6 +92,9 @@ class PlanParameters:
         the leader's speeds of eq. 4.1-4.3 and 6.1 as written.
     slot_speed_fraction: the fastest a slot may move under ``feasible`` timing, as a fraction
         of vmax (the rest is left to the robots to close gaps, as the thesis leaves 30 %).
+    footprint: the largest robot's length and width, m (the world's; default the SIM type's),
+        with which the ``feasible`` timing's ordered departures (:func:`first_meeting`) judge
+        whether two robots of different formations would meet.
     """
 
     vmax: float = 0.5
@@ -92,6 +106,7 @@ class PlanParameters:
     arc_recovery_distance: float = 0.3
     timing: Timing = "thesis"
     slot_speed_fraction: float = 0.8
+    footprint: tuple[float, float] = (1.2, 0.6)
 
     def __post_init__(self) -> None:
         if self.timing not in TIMINGS:  # a node parameter or a caller's string
@@ -160,6 +175,9 @@ class PlannedFormation:
     Robots follow it from ``start``; its leader runs its instructions until ``end`` and then
     stands still. ``offsets`` are (x, y) in m in the leader's frame. ``waypoints`` (M, 3) are
     the ideal poses of the scenario path (thesis fig. 6.1 left), for drawing.
+    departure_delay: how long (s) the ``feasible`` timing's ordered departures hold its
+    leader at its start, after any newVL hold, so that its robots' places on the path keep
+    apart from those of ``waits_for`` (robots of other formations).
     """
 
     index: int
@@ -173,6 +191,8 @@ class PlannedFormation:
     timings: tuple[InstructionTiming, ...]
     span: Span
     new_vl: bool
+    departure_delay: float = 0.0
+    waits_for: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -321,9 +341,119 @@ def build_plan(
     params = parameters or PlanParameters()
     records, assignment_order = _records(scenario, params)
     try:
-        return _simulate(scenario, params, records, assignment_order)
+        plan, diagnostics = _simulate(scenario, params, records, assignment_order)
+        if params.timing != "feasible":
+            return plan, diagnostics
+        delays: dict[int, tuple[float, tuple[str, ...]]] = {}
+        given_up: set[tuple[str, str]] = set()
+        rounds = 0
+        while rounds < DEPARTURE_ROUNDS:  # ordered departures (an addition, see meetings())
+            found = [m for m in meetings(plan) if m.robots not in given_up]
+            if not found:
+                break
+            meeting = found[0]
+            solved = None
+            for index in meeting.formations:  # the later formation first, then the other
+                before = delays.get(index, (0.0, ()))
+                others = tuple(r for r in meeting.robots
+                               if r not in plan.formations[index].robots)
+                for wait in DEPARTURE_DELAYS:
+                    rounds += 1
+                    trial = {**delays, index: (before[0] + wait,
+                                               tuple(dict.fromkeys(before[1] + others)))}
+                    attempt = _simulate(scenario, params, records, assignment_order, trial)
+                    after = [m for m in meetings(attempt[0]) if m.robots not in given_up]
+                    if len(after) < len(found) and all(
+                            m.robots != meeting.robots for m in after):
+                        solved = trial, attempt
+                        break
+                    if rounds >= DEPARTURE_ROUNDS:
+                        break
+                if solved is not None or rounds >= DEPARTURE_ROUNDS:
+                    break
+            if solved is None:
+                given_up.add(meeting.robots)  # check's simulation reports it
+            else:
+                delays, (plan, diagnostics) = solved
+        return plan, diagnostics
     except _PlanError as exc:
         return None, [exc.diagnostic]
+
+
+DEPARTURE_DELAYS = (1.0, 2.0, 3.0, 5.0, 8.0, 12.0)
+"""s: the delays the ``feasible`` timing tries for a formation's departure, in this order; a
+meeting that none removes is left to ``check``'s simulation pass to report."""
+DEPARTURE_ROUNDS = 12
+"""At most this many delays are tried for one show (each plans the show again, a few ms)."""
+CLEARANCE = 0.3
+"""m: two robots of different formations meet when the gap between their footprints on
+their places falls below this and :data:`MEETING_MARGIN` below the gap they had when they
+parted."""
+MEETING_MARGIN = 0.05
+"""m: see :data:`CLEARANCE`."""
+MEETING_STEP = 0.2
+"""s: the time step at which ordered departures compare the robots' places."""
+
+
+@dataclass(frozen=True, slots=True)
+class Meeting:
+    """Two robots of different formations that would meet on their leaders' paths: at
+    ``tick`` (of :data:`MEETING_STEP`), ``robots`` (in the scenario's order), and the indices
+    of their two formations, the one that should wait first (that started later, or is later
+    in the file) first."""
+
+    tick: int
+    robots: tuple[str, str]
+    formations: tuple[int, int]
+
+
+def meetings(plan: Plan) -> list[Meeting]:
+    """Every pair of robots of different formations that would meet on their leaders' paths
+    (``places.path_places``, footprints of ``PlanParameters.footprint`` along the path's
+    heading, sampled every :data:`MEETING_STEP` s), at its first meeting, in time order: the
+    gap between the footprints falls below :data:`CLEARANCE` and :data:`MEETING_MARGIN` below
+    the gap they had when they started to follow different formations.
+
+    The ``feasible`` timing's ordered departures (``build_plan``) follow the prioritized
+    planning of Erdmann and Lozano-Perez ("On multiple moving objects", Algorithmica 1987):
+    the formations keep their paths, and one of two that would meet gets a time offset (its
+    leader waits at its start) when that removes the meeting without adding another."""
+    from dancebots.plan.places import path_places  # places uses this module's Plan
+
+    robots = plan.robots
+    if len(robots) < 2:
+        return []
+    times = np.arange(0.0, plan.duration + MEETING_STEP, MEETING_STEP)
+    length, width = plan.parameters.footprint
+    reach = math.hypot(length, width) + CLEARANCE
+    placed = [path_places(plan, robot, times) for robot in robots]
+    poses = np.stack([np.column_stack([p[0], p[1]]) for p in placed])  # (R, T, 3)
+    which = np.stack([plan.formation_indices(robot, times) for robot in robots])  # (R, T)
+    found: list[Meeting] = []
+    for i, j in itertools.combinations(range(len(robots)), 2):
+        apart = which[i] != which[j]
+        centre = np.hypot(*(poses[i, :, :2] - poses[j, :, :2]).T)
+        near = np.flatnonzero(apart & (centre < reach))
+        if not len(near):
+            continue
+        parted = apart & ~np.concatenate([[False], apart[:-1]])
+        run = np.maximum(np.cumsum(parted) - 1, 0)  # which run of ``apart`` each tick is in
+        firsts = np.flatnonzero(parted)
+        check = np.unique(np.concatenate([near, firsts]))
+        ends = [footprint_corners(poses[k, check, 0], poses[k, check, 1], poses[k, check, 2],
+                                  length, width) for k in (i, j)]
+        gaps = np.full(len(times), np.inf)
+        gaps[check] = shapely.distance(shapely.polygons(ends[0]), shapely.polygons(ends[1]))
+        limit = np.minimum(CLEARANCE, gaps[firsts][run]) - MEETING_MARGIN
+        meets = near[gaps[near] < limit[near]]
+        if len(meets):
+            tick = int(meets[0])
+            pair = sorted((plan.formations[int(which[i, tick])],
+                           plan.formations[int(which[j, tick])]),
+                          key=lambda f: (f.start, f.index), reverse=True)
+            found.append(Meeting(tick, (robots[i], robots[j]),
+                                 (pair[0].index, pair[1].index)))
+    return sorted(found, key=lambda m: m.tick)
 
 
 def _records(scenario: Scenario, params: PlanParameters) -> tuple[list[_Record], list[list[int]]]:
@@ -358,7 +488,10 @@ def _records(scenario: Scenario, params: PlanParameters) -> tuple[list[_Record],
 
 
 def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record],
-              joined: list[list[int]]) -> tuple[Plan, list[Diagnostic]]:
+              joined: list[list[int]],
+              delays: Mapping[int, tuple[float, tuple[str, ...]]] | None = None,
+              ) -> tuple[Plan, list[Diagnostic]]:
+    delays = delays or {}
     diagnostics: list[Diagnostic] = []
     finals: list[_LeaderState] = []
     ends: list[float] = []
@@ -377,6 +510,9 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
                 diagnostics.extend(_join_warnings(scenario, record, records, finals))
         else:
             state = _LeaderState(Pose(0.0, 0.0, 0.0), Pose(0.0, 0.0, 0.0))
+        new_vl = hold > 0.0
+        delay, waits_for = delays.get(index, (0.0, ()))
+        hold += delay
         _check_nominal_duration(scenario.path, state.ideal, record.program, start + hold,
                                 params)
         trajectory, timings, waypoints, final = _run_leader(
@@ -389,7 +525,8 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
         formations.append(PlannedFormation(
             index=index, robots=ordered, group=group_of.get(record.robots),
             offsets=dict(record.offsets), start=start, end=end, leader=trajectory,
-            waypoints=waypoints, timings=timings, span=record.span, new_vl=hold > 0.0))
+            waypoints=waypoints, timings=timings, span=record.span, new_vl=new_vl,
+            departure_delay=delay, waits_for=waits_for))
     assignments = {
         robot: tuple((formations[i].start, i) for i in joined[k])
         for k, robot in enumerate(scenario.robots)

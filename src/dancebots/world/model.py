@@ -114,6 +114,13 @@ class World:
     def robot(self, name: str) -> WorldRobot | None:
         return next((r for r in self.robots if r.name == name), None)
 
+    def largest_footprint(self) -> tuple[float, float] | None:
+        """The largest length and the largest width (m) of the world's robots (not
+        necessarily of one robot); None without robots."""
+        if not self.robots:
+            return None
+        return (max(r.type.length for r in self.robots), max(r.type.width for r in self.robots))
+
     def slowest_speed(self) -> float | None:
         """The smallest max speed of the world's robots, m/s: the default vmax (thesis 4.1:
         the user gives the speed of the slowest robot); None without robots."""
