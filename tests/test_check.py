@@ -433,6 +433,7 @@ def test_feasible_timing_notes_where_the_leader_slows() -> None:
     notes = [d for d in check_plan(plan).diagnostics if d.severity is Severity.NOTE]
     assert [(d.line, d.col) for d in notes] == [(4, 1)]
     assert notes[0].message.startswith("the virtual leader slows to ")
-    assert notes[0].message.endswith(" % of its speed here, so that no robot's slot moves "
-                                     "faster than 0.40 m/s (--timing feasible)")
+    assert notes[0].message.endswith(" % of its speed here, so that no robot's slot or place "
+                                     "on the path moves faster than 0.40 m/s "
+                                     "(--timing feasible)")
     assert not any(d.severity is Severity.NOTE for d in check(text).diagnostics)

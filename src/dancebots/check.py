@@ -467,7 +467,8 @@ def _note_slowdowns(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                 diagnostics.append(Diagnostic(
                     plan.scenario.path, timing.span.line, timing.span.col, Severity.NOTE,
                     f"the virtual leader slows to {100 * timing.speed_fraction:.0f} % of its "
-                    f"speed here, so that no robot's slot moves faster than {limit:.2f} m/s "
+                    f"speed here, so that no robot's slot or place on the path moves faster "
+                    f"than {limit:.2f} m/s "
                     "(--timing feasible)", None, timing.span.end_col))
 
 

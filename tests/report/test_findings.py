@@ -50,7 +50,7 @@ def test_many_findings_of_a_kind_end_in_a_count(examples: Path) -> None:
                                                                  min_duration=0.1))
     capped = simulated_findings(result, "x", FindingLimits(slot_distance=0.05,
                                                             min_duration=0.1, per_kind=2))
-    off = [d.message for d in everything if "from its slot" in d.message]
+    off = [d.message for d in everything if "from its place" in d.message]
     messages = [d.message for d in capped]
     assert len(off) > 3
     assert off[0] in messages

@@ -26,9 +26,9 @@ __all__ = ["FindingLimits", "simulated_findings"]
 class FindingLimits:
     """What counts as a finding.
 
-    slot_distance: a robot further than this from its slot, m, ... for at least
-    min_duration s (also the shortest run of driving against the slot's direction that is
-    reported); final_distance (m) and final_heading (deg): at the end of the run (the
+    slot_distance: a robot further than this from its place (``RunResult.reference``), m,
+    ... for at least min_duration s (also the shortest run of driving against the slot's
+    direction that is reported); final_distance (m) and final_heading (deg): at the end of the run (the
     verdict's tolerances); per_kind: at most this many findings of one kind (the rest are
     counted in the last one).
     """
@@ -87,12 +87,14 @@ def simulated_findings(result: RunResult, what_ran: str,
                     "it drives backwards where its slot moves forwards (or the other way): "
                     "the thesis follower turns round after sharp corners and stops; try "
                     "--follower tracking, wider corners, or a slower --vmax")
-        distance = np.hypot(result.poses[i, :, 0] - result.desired[i, :, 0],
-                            result.poses[i, :, 1] - result.desired[i, :, 1])
+        # from where its follower should be (``RunResult.reference``): its rigid slot for
+        # tracking, its place on the leader's path for thesis and path
+        distance = np.hypot(result.poses[i, :, 0] - result.reference[i, :, 0],
+                            result.poses[i, :, 1] - result.reference[i, :, 1])
         for a, b in true_runs(during & (distance > limits.slot_distance)):
             if b - a >= shortest:
                 add(off_slot, i, a, f"{name} is more than {limits.slot_distance:g} m from its "
-                    f"slot from t = {result.times[a]:.1f} s to {result.times[b - 1]:.1f} s "
+                    f"place from t = {result.times[a]:.1f} s to {result.times[b - 1]:.1f} s "
                     f"(up to {distance[a:b].max():.2f} m)",
                     "it cannot keep up or was held: slow the show (--vmax, --timing "
                     "feasible) or give the formation more room")
