@@ -383,7 +383,7 @@ def build_plan(
 DEPARTURE_DELAYS = (1.0, 2.0, 3.0, 5.0, 8.0, 12.0)
 """s: the delays the ``feasible`` timing tries for a formation's departure, in this order; a
 meeting that none removes is left to ``check``'s simulation pass to report."""
-DEPARTURE_ROUNDS = 12
+DEPARTURE_ROUNDS = 6
 """At most this many delays are tried for one show (each plans the show again, a few ms)."""
 CLEARANCE = 0.3
 """m: two robots of different formations meet when the gap between their footprints on
@@ -656,6 +656,7 @@ def _run_leader(
     """
     dt = params.step
     slots = np.array(offsets, dtype=float).reshape(-1, 2)
+    slot_rows = slots.tolist()  # Python floats: the per-step speed scales loop over them
     slot_limit = params.slot_speed_fraction * params.vmax if params.timing == "feasible" \
         else math.inf
     times: list[float] = []
@@ -680,8 +681,8 @@ def _run_leader(
         arcs.append(driven)
         curvatures.append(w / v if v > 0.0 else 0.0)
         if v != 0.0 and len(slots) and slot_limit < math.inf:
-            scale = min(slot_speed_scale(v, w, slots, slot_limit),
-                        path_speed_scale(v, slots, arcs, curvatures, slot_limit))
+            scale = min(slot_speed_scale(v, w, slot_rows, slot_limit),
+                        path_speed_scale(v, slot_rows, arcs, curvatures, slot_limit))
             v, w = v * scale, w * scale
             speed_fraction = min(speed_fraction, scale)
         driven += v * dt
@@ -778,16 +779,18 @@ def slot_velocities(leader_commands: FloatArray, offsets: FloatArray) -> FloatAr
     return result
 
 
-def slot_speed_scale(v: float, w: float, offsets: FloatArray, limit: float) -> float:
+def slot_speed_scale(v: float, w: float, offsets: FloatArray | Sequence[Sequence[float]],
+                     limit: float) -> float:
     """The factor (0, 1] by which a leader moving with (v m/s, w rad/s) slows so that no slot
     at ``offsets`` (K, 2) (ox, oy in the leader's frame, m) moves faster than ``limit`` m/s
-    (:func:`slot_velocities`)."""
-    velocity = slot_velocities(np.array([v, w]), offsets)
-    fastest = float(np.max(np.hypot(velocity[:, 0], velocity[:, 1])))
+    (:func:`slot_velocities`; in Python floats: the planner calls it every step)."""
+    rows = offsets.tolist() if isinstance(offsets, np.ndarray) else offsets
+    fastest = max((math.hypot(v - w * oy, w * ox) for ox, oy in rows), default=0.0)
     return 1.0 if fastest <= limit else limit / fastest
 
 
-def path_speed_scale(v: float, offsets: FloatArray, arcs: Sequence[float],
+def path_speed_scale(v: float, offsets: FloatArray | Sequence[Sequence[float]],
+                     arcs: Sequence[float],
                      curvatures: Sequence[float], limit: float) -> float:
     """The factor (0, 1] by which a leader moving at v m/s slows so that no robot's place on
     its path (``control.tracking.path_references``: -ox m of path behind the leader, shifted
@@ -798,7 +801,7 @@ def path_speed_scale(v: float, offsets: FloatArray, arcs: Sequence[float],
     (less than -ox driven) at v."""
     fastest = 0.0
     here = arcs[-1]
-    for ox, oy in offsets.tolist():
+    for ox, oy in offsets.tolist() if isinstance(offsets, np.ndarray) else offsets:
         target = here + min(ox, 0.0)
         kappa = curvatures[bisect.bisect_right(arcs, target) - 1] if target >= 0.0 else 0.0
         fastest = max(fastest, abs(v * (1.0 - kappa * oy)))

@@ -26,11 +26,11 @@ __all__ = ["FindingLimits", "simulated_findings"]
 class FindingLimits:
     """What counts as a finding.
 
-    slot_distance: a robot further than this from its place (``RunResult.reference``), m,
-    ... for at least min_duration s (also the shortest run of driving against the slot's
-    direction that is reported); final_distance (m) and final_heading (deg): at the end of the run (the
-    verdict's tolerances); per_kind: at most this many findings of one kind (the rest are
-    counted in the last one).
+    slot_distance: a robot further than this from its place (``RunResult.reference``),
+    m, ... for at least min_duration s (also the shortest run of driving against the
+    slot's direction that is reported); final_distance (m) and final_heading (deg): at
+    the end of the run (the verdict's tolerances); per_kind: at most this many findings of
+    one kind (the rest are counted in the last one).
     """
 
     slot_distance: float = 0.5
