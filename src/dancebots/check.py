@@ -501,8 +501,12 @@ Hungarian method takes cubic time)."""
 def _meeting_ways(starts: FloatArray, ends: FloatArray,
                   reach: FloatArray) -> list[tuple[int, int]]:
     """Pairs (i < j) of robots whose straight ways starts[i] -> ends[i] (points (M, 2), m)
-    come nearer than reach[i] + reach[j] (m): crossing, or running through each other (at
-    most :data:`_MAX_WAY_PAIRS` candidate pairs are examined)."""
+    bring them nearer than reach[i] + reach[j] (m) when both cover the same fraction of
+    their ways at the same time (at a standing slot the robots approach it at a speed
+    proportional to the distance left, ``TrackingParams.arrival_gain``, so they do):
+    crossing, or running through each other; robots that slide along side by side do not
+    meet. Candidates are the pairs whose ways as fixed segments come that near (a shapely
+    STRtree; at most :data:`_MAX_WAY_PAIRS` of them are examined)."""
     moving = np.hypot(*(ends - starts).T) > 1e-9
     ways = np.where(moving, shapely.linestrings(np.stack([starts, ends], axis=1)),
                     shapely.points(starts))
@@ -510,7 +514,14 @@ def _meeting_ways(starts: FloatArray, ends: FloatArray,
     first, second = tree.query(ways, predicate="dwithin", distance=2.0 * float(reach.max()))
     keep = first < second
     first, second = first[keep][:_MAX_WAY_PAIRS], second[keep][:_MAX_WAY_PAIRS]
-    near = shapely.distance(ways[first], ways[second]) < reach[first] + reach[second]
+    # the second robot seen from the first: from starts[j] - starts[i] to ends[j] - ends[i]
+    begin = starts[second] - starts[first]
+    change = (ends[second] - ends[first]) - begin
+    length = (change ** 2).sum(axis=1)
+    fraction = np.clip(-(begin * change).sum(axis=1) / np.where(length > 0.0, length, 1.0),
+                       0.0, 1.0)
+    nearest = np.hypot(*(begin + fraction[:, None] * change).T)
+    near = nearest < reach[first] + reach[second]
     return sorted(zip(first[near].tolist(), second[near].tolist(), strict=True))
 
 
@@ -521,9 +532,9 @@ def _check_transitions(plan: Plan, types: Sequence[RobotType], samples: ShowSamp
 
     A robot's way is taken as the straight line from its slot at the sample before the change
     to its slot in the new formation at the change (the samples include every formation's
-    start); two ways meet when they come nearer than the
-    robots' half widths together (the robots would touch if they passed there at the same
-    time). The assignment that minimises the sum of the squared lengths of the ways (SciPy's
+    start); two ways meet when the robots, each at the same fraction of its way, come nearer
+    than their half widths together (:func:`_meeting_ways`). The assignment that minimises
+    the sum of the squared lengths of the ways (SciPy's
     ``linear_sum_assignment``, the Hungarian method) has no crossing ways (exchanging the ends
     of two crossing segments shortens that sum); it is suggested when fewer ways meet in it.
     """
