@@ -170,8 +170,7 @@ class RobotBrain:
         self.slot0 = Pose(float(slot[0]), float(slot[1]), float(slot[2]))
         self._to_own = self.slot0.inverse()
         self.grid_period = grid_period
-        count = math.ceil(plan.duration / grid_period) + 1
-        grid = np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
+        grid = _grid_times(plan, grid_period)
         track = plan.track(robot, grid)
         # the cache of the follower in use only: (leader, path point, ...) or slot references
         self._grid = self._samples(track) if follower == "thesis" else []
@@ -369,9 +368,14 @@ class RobotBrain:
 def _places(plan: Plan, grid_period: float, follower: Follower) -> np.ndarray:
     """Every robot's follower place (R, T, 2), show frame, on the brains' grid (shared by
     the brains of one plan in the simulator)."""
+    return follower_places(plan, _grid_times(plan, grid_period), follower)
+
+
+def _grid_times(plan: Plan, grid_period: float) -> np.ndarray:
+    """The brains' control grid (T,): every ``grid_period`` s from 0 to the plan's end, the
+    last entries the end itself."""
     count = math.ceil(plan.duration / grid_period) + 1
-    grid = np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
-    return follower_places(plan, grid, follower)
+    return np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
 
 
 def _record_time(record: tuple[float, float, float, float]) -> float:

@@ -346,43 +346,36 @@ def build_plan(
             return plan, diagnostics
         delays: dict[int, tuple[float, tuple[str, ...]]] = {}
         given_up: set[tuple[str, str]] = set()
-        rounds = 0
-        while rounds < DEPARTURE_ROUNDS:  # ordered departures (an addition, see meetings())
-            found = [m for m in meetings(plan) if m.robots not in given_up]
-            if not found:
-                break
+        trials = 0
+        found = meetings(plan)
+        while found and trials < DEPARTURE_ROUNDS:  # ordered departures (see meetings())
             meeting = found[0]
-            solved = None
-            for index in meeting.formations:  # the later formation first, then the other
-                before = delays.get(index, (0.0, ()))
-                others = tuple(r for r in meeting.robots
-                               if r not in plan.formations[index].robots)
-                for wait in DEPARTURE_DELAYS:
-                    rounds += 1
-                    trial = {**delays, index: (before[0] + wait,
-                                               tuple(dict.fromkeys(before[1] + others)))}
-                    attempt = _simulate(scenario, params, records, assignment_order, trial)
-                    after = [m for m in meetings(attempt[0]) if m.robots not in given_up]
-                    if len(after) < len(found) and all(
-                            m.robots != meeting.robots for m in after):
-                        solved = trial, attempt
-                        break
-                    if rounds >= DEPARTURE_ROUNDS:
-                        break
-                if solved is not None or rounds >= DEPARTURE_ROUNDS:
+            # the later formation first, then the other, each with the delays in turn
+            for index, wait in itertools.product(meeting.formations, DEPARTURE_DELAYS):
+                if trials >= DEPARTURE_ROUNDS:
                     break
-            if solved is None:
-                given_up.add(meeting.robots)  # check's simulation reports it
+                trials += 1
+                before, others = delays.get(index, (0.0, ()))
+                others += tuple(r for r in meeting.robots
+                                if r not in plan.formations[index].robots)
+                trial = {**delays, index: (before + wait, tuple(dict.fromkeys(others)))}
+                attempt = _simulate(scenario, params, records, assignment_order, trial)
+                after = [m for m in meetings(attempt[0]) if m.robots not in given_up]
+                if len(after) < len(found) and all(m.robots != meeting.robots for m in after):
+                    delays, (plan, diagnostics), found = trial, attempt, after
+                    break
             else:
-                delays, (plan, diagnostics) = solved
+                given_up.add(meeting.robots)  # no wait removes it: check's simulation reports
+                found = found[1:]
         return plan, diagnostics
     except _PlanError as exc:
         return None, [exc.diagnostic]
 
 
-DEPARTURE_DELAYS = (1.0, 2.0, 3.0, 5.0, 8.0, 12.0)
-"""s: the delays the ``feasible`` timing tries for a formation's departure, in this order; a
-meeting that none removes is left to ``check``'s simulation pass to report."""
+DEPARTURE_DELAYS = (1.0, 3.0, 8.0)
+"""s: the delays the ``feasible`` timing tries for a formation's departure, in this order
+(for the formation that started later, then for the other); a meeting that none removes is
+left to ``check``'s simulation pass to report."""
 DEPARTURE_ROUNDS = 6
 """At most this many delays are tried for one show (each plans the show again, a few ms)."""
 CLEARANCE = 0.3
