@@ -50,6 +50,11 @@ def test_check_imports_only_what_checking_needs() -> None:
 DANCEBOTS = Path(sys.executable).parent / "dancebots"
 
 
+def _default_sigint() -> None:
+    """In the child before it runs dancebots: SIGINT's default disposition."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("delay", [0.3, 0.8, 1.2, 1.6])
 def test_ctrl_c_while_starting_or_running_exits_130_and_leaves_nothing(
         tmp_path: Path, delay: float) -> None:
@@ -59,9 +64,12 @@ def test_ctrl_c_while_starting_or_running_exits_130_and_leaves_nothing(
     runs, is Python's own: it prints KeyboardInterrupt.)"""
     command = [str(DANCEBOTS)] if DANCEBOTS.exists() else [sys.executable, "-m",
                                                            "dancebots.cli"]
+    # a Ctrl-C as a terminal delivers it: a test run in a background job without job
+    # control inherits SIGINT ignored, and Python then keeps ignoring it
     process = subprocess.Popen([*command, "run", "examples/thesis_6_3.dance", "--out",
                                 str(tmp_path / "run")], cwd=ROOT, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.PIPE, text=True)
+                               stderr=subprocess.PIPE, text=True,
+                               preexec_fn=_default_sigint)
     try:
         time.sleep(delay)
         process.send_signal(signal.SIGINT)
