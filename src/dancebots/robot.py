@@ -48,6 +48,7 @@ from dancebots.perception.obstacles import (
     obstacle_points_from_columns,
     perceive,
 )
+from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.world import RobotType
@@ -171,6 +172,7 @@ class RobotBrain:
         self._to_own = self.slot0.inverse()
         self.grid_period = grid_period
         grid = _grid_times(plan, grid_period)
+        self.grid_end = float(grid[-1])
         track = plan.track(robot, grid)
         # the cache of the follower in use only: (leader, path point, ...) or slot references
         self._grid = self._samples(track) if follower == "thesis" else []
@@ -188,7 +190,7 @@ class RobotBrain:
         entry after the plan's end, None off the grid."""
         if length == 0:
             return None
-        if show_time >= self.plan.duration:  # the plan stands still after its end
+        if show_time >= self.grid_end:  # the references stand still after their end
             return length - 1
         k = round(show_time / self.grid_period)
         return k if 0 <= k < length and abs(k * self.grid_period - show_time) < 1e-9 else None
@@ -224,7 +226,7 @@ class RobotBrain:
             row = grid[k]
         else:
             before = grid[min(max(int(show_time / self.grid_period), 0), len(grid) - 1)]
-            exact = self._slot_rows(np.array([min(max(show_time, 0.0), self.plan.duration)]))[0]
+            exact = self._slot_rows(np.array([min(max(show_time, 0.0), self.grid_end)]))[0]
             row = fold_reference(exact, float(before[2]))
             row[4] = before[4]
         return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
@@ -372,10 +374,12 @@ def _places(plan: Plan, grid_period: float, follower: Follower) -> np.ndarray:
 
 
 def _grid_times(plan: Plan, grid_period: float) -> np.ndarray:
-    """The brains' control grid (T,): every ``grid_period`` s from 0 to the plan's end, the
-    last entries the end itself."""
-    count = math.ceil(plan.duration / grid_period) + 1
-    return np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, plan.duration)
+    """The brains' control grid (T,): every ``grid_period`` s from 0 to the end of the
+    references (the plan's end, or later while places on the path go to their slots:
+    ``places_end``), the last entries the end itself."""
+    end = places_end(plan)
+    count = math.ceil(end / grid_period) + 1
+    return np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, end)
 
 
 def _record_time(record: tuple[float, float, float, float]) -> float:

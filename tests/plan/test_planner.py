@@ -313,4 +313,4 @@ def test_feasible_timing_keeps_every_place_on_the_path_within_its_speed() -> Non
     plan = plan_of(text, PlanParameters(timing="feasible"))
     times = np.arange(0.0, plan.duration, 0.05)
     for robot in plan.robots:
-        assert np.abs(path_places(plan, robot, times)[2]).max() <= 0.8 * 0.5 + 1e-9
+        assert path_places(plan, robot, times)[3].max() <= 0.8 * 0.5 + 1e-9

@@ -187,16 +187,15 @@ def path_references(plan: Plan, robot: str, times: FloatArray,
     the leader was ``-ox`` m of path earlier, shifted by (0, oy) (:func:`path_places`). So a
     column follows its leader's path round a corner instead of swinging sideways as a rigid
     body would (``ox sin(turn)``: 1.5 m for the rear of a 2.1 m column at 45 deg), and the
-    robots of a row stay parallel. Before the leader has driven ``-ox`` m the place is on the
-    straight line behind the leader's first pose; after its last instruction (the leader
-    stands) the robot's rigid slot (the leader's final pose composed with (ox, oy)), which it
-    then drives to. Speed: the leader's v times (1 - kappa oy), kappa the path's curvature
-    there (the feasible timing bounds it: ``plan.planner.path_speed_scale``).
+    robots of a row stay parallel. Loops on the inner side of tight turns are cut, a robot
+    keeps its distance behind the one in front in its file, and after the leader's last
+    instruction the place goes straight to the rigid slot (``plan.places``). Speed: the
+    leader's v times (1 - kappa oy), kappa the path's curvature there (the feasible timing
+    bounds it: ``plan.planner.path_speed_scale``), less where the place is held back.
     Returns (T, 5) as :func:`references_from_motion`."""
-    points, heading, speed = path_places(plan, robot, times)
-    motion = heading + np.where(speed < 0.0, np.pi, 0.0)
-    return references_from_motion(np.asarray(times, dtype=float), points, motion,
-                                  np.abs(speed), heading, turn_rate)
+    points, heading, motion, speed = path_places(plan, robot, times)
+    return references_from_motion(np.asarray(times, dtype=float), points, motion, speed,
+                                  heading, turn_rate)
 
 
 def follower_places(plan: Plan, times: FloatArray, follower: str = "tracking") -> FloatArray:

@@ -4,74 +4,274 @@ leader's path shifted sideways by its lateral offset oy, its along offset ox beh
 ``path_places`` is the path follower's reference (``control.tracking.path_references``) and
 what the ``feasible`` timing's ordered departures check (``planner.build_plan``). Show frame,
 times in s of show time.
+
+Two additions make the places drivable where the leader turns more tightly than the
+formation is wide:
+
+* **Distance kept in a file** (:func:`path_places`). On the inner side of a turn the shifted
+  path is shorter than the leader's (it loops back where the turn is tighter than |oy|), so a
+  place ``L`` m of the leader's path behind another one comes nearer than ``L`` to it
+  (2 |oy| tan(turn / 2) nearer at a sharp corner: 1 m at the open-day square's 90 deg
+  corner, which put the rear robot on the front one). A robot behind another one of its
+  formation (ox smaller, lateral offsets closer than a robot's width plus
+  :data:`FILE_MARGIN`) keeps at least ``min(L, diagonal + FILE_MARGIN)`` straight distance
+  from that one's place (``diagonal`` the world's largest robot's): its place waits, then
+  catches up at no more than :func:`catch_up_speed`. Robots side by side (a row) keep the
+  leader's timing, so the row stays abeam (the inner robot backs up round the loop).
+* **A smooth way to the rigid slot at the end.** Where the path behind the leader is curved
+  when it stops (a show that ends on an arc), a place ``-ox`` m behind on the path is not
+  the rigid slot; the place goes there on a cubic Hermite curve.
 """
 
 from __future__ import annotations
 
+import functools
 import itertools
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.geometry import compose_points, compose_poses
+from dancebots.geometry import compose_points
 
 if TYPE_CHECKING:
-    from dancebots.plan.planner import Plan
+    from dancebots.plan.planner import LeaderTrajectory, Plan, PlannedFormation
 
-__all__ = ["path_places"]
+__all__ = ["FILE_MARGIN", "OffsetPath", "catch_up_speed", "offset_path", "path_places",
+           "places_end"]
 
 FloatArray = NDArray[np.float64]
 
+FILE_MARGIN = 0.3
+"""Least gap (m) kept between a robot and the one in front of it in its file, along its path
+(the planner's CLEARANCE)."""
+FILE_ITERATIONS = 40
+"""Steps back along the path that bring a robot the straight distance behind the one in
+front of it in its file (each step the distance missing; the straight distance grows by at
+most that)."""
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class OffsetPath:
+    """A leader's path shifted sideways by oy (m, left positive).
+
+    Per leader sample (N,): driven, the leader's path length, m (non-decreasing); points
+    (N, 2), the shifted path's point, show frame, m; heading (N,), the leader's heading, rad,
+    unwrapped; stretch (N,), how fast the shifted point moves per metre the leader drives
+    over the step from the sample (1 - kappa oy, kappa the leader's curvature; negative
+    where it loops back).
+    """
+
+    driven: FloatArray
+    points: FloatArray
+    heading: FloatArray
+    stretch: FloatArray
+
+    def at(self, driven: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Where the shifted path is when the leader has driven ``driven`` (T,) m: points
+        (T, 2), heading (T,) rad and stretch (T,). Before the leader's first pose (driven <
+        0) on the straight line behind it; after its last, at the end."""
+        count = len(driven)
+        if len(self.driven) < 2:
+            return (np.broadcast_to(self.points[0], (count, 2)).copy(),
+                    np.full(count, self.heading[0]), np.ones(count))
+        j = np.clip(np.searchsorted(self.driven, driven, side="right") - 1, 0,
+                    len(self.driven) - 2)
+        step = self.driven[j + 1] - self.driven[j]
+        fraction = np.clip(np.where(step > 0.0, (driven - self.driven[j])
+                                    / np.where(step > 0.0, step, 1.0), 0.0), 0.0, 1.0)
+        points = self.points[j] + fraction[:, None] * (self.points[j + 1] - self.points[j])
+        heading = self.heading[j] + fraction * (self.heading[j + 1] - self.heading[j])
+        stretch = self.stretch[j].copy()
+        behind = driven < 0.0
+        if behind.any():
+            back = driven[behind]
+            first = self.heading[0]
+            points[behind] = self.points[0] + back[:, None] * np.array(
+                [np.cos(first), np.sin(first)])
+            heading[behind] = first
+            stretch[behind] = 1.0
+        return points, heading, stretch
+
+
+def catch_up_speed(plan: Plan) -> float:
+    """How fast (m/s) a place held back catches up, and goes to its slot after the leader's
+    end: the fastest a slot moves under the ``feasible`` timing
+    (``PlanParameters.slot_speed_fraction`` vmax)."""
+    return plan.parameters.slot_speed_fraction * plan.parameters.vmax
+
+
+def offset_path(leader: LeaderTrajectory, oy: float) -> OffsetPath:
+    """The leader's path shifted by ``oy`` m to its left (thesis ch. 4.1)."""
+    speed, turn = leader.commands[:, 0], leader.commands[:, 1]
+    heading = np.unwrap(leader.poses[:, 2])
+    points = leader.poses[:, :2] + oy * np.column_stack([-np.sin(heading), np.cos(heading)])
+    driven = np.concatenate([[0.0], np.cumsum(speed[:-1] * np.diff(leader.times))])
+    moving = speed > 0.0
+    stretch = np.where(moving, 1.0 - oy * turn / np.where(moving, speed, 1.0), 1.0)
+    return OffsetPath(driven, points, heading, stretch)
+
+
+@functools.lru_cache(maxsize=512)
+def _offset_path(formation: PlannedFormation, oy: float) -> OffsetPath:
+    return offset_path(formation.leader, oy)
+
+
+def _leader_driven(formation: PlannedFormation, times: FloatArray) -> FloatArray:
+    """How far (m) the formation's leader has driven at show times (T,)."""
+    leader = formation.leader
+    path = _offset_path(formation, 0.0)
+    k = np.clip(np.searchsorted(leader.times, times, side="right") - 1, 0,
+                len(leader.times) - 1)
+    driven: FloatArray = path.driven[k] + leader.commands[k, 0] * np.maximum(
+        times - leader.times[k], 0.0)
+    return driven
+
+
+@functools.lru_cache(maxsize=256)
+def _file_table(plan: Plan, index: int) -> dict[str, FloatArray]:
+    """Per robot of formation ``index``, at its leader's sample times (N,): the leader path
+    length (N,) m abeam which the robot's place is (module docstring: a robot keeps its
+    distance behind the robot in front of it in its file, and catches up no faster than
+    :func:`catch_up_speed`)."""
+    formation = plan.formations[index]
+    times = formation.leader.times
+    length, width = plan.parameters.footprint
+    reach = float(np.hypot(length, width)) + FILE_MARGIN
+    fastest = catch_up_speed(plan) * np.diff(times)  # (N - 1,) m per step
+    driven = _leader_driven(formation, times)
+    offsets = formation.offsets
+    placed: dict[str, tuple[FloatArray, FloatArray]] = {}
+    for robot in sorted(formation.robots, key=lambda name: -offsets[name][0]):
+        ox, oy = offsets[robot]
+        path = _offset_path(formation, oy)
+        abeam = driven + min(ox, 0.0)
+        fronts = [(min(float(np.hypot(offsets[front][0] - ox, offsets[front][1] - oy)), reach),
+                   front_place) for front, (_, front_place) in placed.items()
+                  if offsets[front][0] > ox]
+        if fronts:
+            for _ in range(FILE_ITERATIONS):  # back along the path until far enough
+                point = path.at(abeam)[0]
+                short = np.zeros(len(times))
+                for gap, front_place in fronts:
+                    short = np.maximum(short, gap - np.hypot(*(point - front_place).T))
+                if not (short > 1e-6).any():
+                    break
+                abeam = abeam - short
+            for k in range(1, len(abeam)):  # held back: catch up at a drivable speed
+                abeam[k] = min(abeam[k], abeam[k - 1] + fastest[k - 1])
+        placed[robot] = (abeam, path.at(abeam)[0])
+    return {robot: abeam for robot, (abeam, _) in placed.items()}
+
 
 def path_places(plan: Plan, robot: str, times: FloatArray,
-                ) -> tuple[FloatArray, FloatArray, FloatArray]:
+                ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Where ``robot``'s place on its leader's path is at show times ``times`` (T,) s,
-    ascending, show frame: positions (T, 2) m, the path's heading there (T,) rad (unwrapped)
-    and the place's signed speed along it (T,) m/s. The leader's pose where the leader was
-    ``-ox`` m of path earlier, shifted by (0, oy); before the leader has driven that far, on
-    the straight line behind its first pose; once it stands after its last instruction, the
-    rigid slot (its final pose composed with (ox, oy)). Speed: the leader's v times
-    (1 - kappa oy), kappa the path's curvature at the place."""
+    ascending, show frame: positions (T, 2) m; the heading the robot should have there (T,)
+    rad, unwrapped (the path's, at the end the leader's final heading); the direction the
+    place moves (T,) rad and its speed (T,) m/s (>= 0: it never moves backwards).
+
+    The leader's pose where the leader was ``-ox`` m of path earlier, shifted by (0, oy),
+    with loops cut and distance kept in a file (module docstring); before the leader has
+    driven that far, on the straight line behind its first pose. Computed at the leader's
+    samples and interpolated between them. Once the leader stands after its last
+    instruction, the place goes on a straight line at :func:`catch_up_speed` to the robot's
+    rigid slot (the leader's final pose composed with (ox, oy)): where the path behind the
+    leader is curved (a show that ends on an arc) the two differ."""
     times = np.asarray(times, dtype=float)
     count = len(times)
     points = np.empty((count, 2))
     heading = np.empty(count)
+    motion = np.empty(count)
     speed = np.zeros(count)
     which = plan.formation_indices(robot, times)
     bounds = np.concatenate([[0], np.flatnonzero(np.diff(which)) + 1, [count]]).tolist()
+    settle = catch_up_speed(plan)
     for a, b in itertools.pairwise(bounds):
         if a == b:
             continue
-        formation = plan.formations[int(which[a])]
-        leader = formation.leader
+        index = int(which[a])
+        formation = plan.formations[index]
         ox, oy = formation.offsets[robot]
+        leader = formation.leader
         now = times[a:b]
-        step_length = leader.commands[:-1, 0] * np.diff(leader.times)
-        driven = np.concatenate([[0.0], np.cumsum(step_length)])  # (N,) path length, m
-        k = np.clip(np.searchsorted(leader.times, now, side="right") - 1, 0,
-                    len(leader.times) - 1)
-        v_now = leader.commands[k, 0]
-        target = driven[k] + v_now * np.maximum(now - leader.times[k], 0.0) + min(ox, 0.0)
-        j = np.clip(np.searchsorted(driven, target, side="right") - 1, 0,
-                    max(len(driven) - 2, 0))
-        v_then = leader.commands[j, 0]
-        moved = v_then > 0.0
-        back = np.where(moved, (target - driven[j]) / np.where(moved, v_then, 1.0), 0.0)
-        then = leader.poses_at(leader.times[j] + np.maximum(back, 0.0))
-        behind = target < 0.0  # before the leader has driven -ox: behind its first pose
-        first = np.broadcast_to(leader.poses[0], (b - a, 3))
-        then[behind] = compose_poses(first[behind], np.column_stack(
-            [target[behind], np.zeros(int(behind.sum())), np.zeros(int(behind.sum()))]))
-        curvature = np.where(moved & ~behind, leader.commands[j, 1] / np.where(
-            moved, v_then, 1.0), 0.0)
-        place = compose_points(then, np.column_stack([np.zeros(b - a), np.full(b - a, oy)]))
-        done = now >= leader.times[-1]  # the leader stands at its end: the rigid slot
-        place[done] = compose_points(leader.poses[-1], np.array([ox, oy]))
-        then[done] = leader.poses[-1]
+        abeam = _file_table(plan, index)[robot]
+        path = _offset_path(formation, oy)
+        place, place_heading, stretch = path.at(np.interp(now, leader.times, abeam))
+        if len(leader.times) >= 2:
+            k = np.clip(np.searchsorted(leader.times, now, side="right") - 1, 0,
+                        len(leader.times) - 2)
+            rate = np.diff(abeam) / np.diff(leader.times)  # m of the leader's path per s
+            speed[a:b] = np.where((now >= leader.times[0]) & (now < leader.times[-1]),
+                                  rate[k] * stretch, 0.0)  # signed, m/s
+        place_motion = place_heading + np.where(speed[a:b] < 0.0, np.pi, 0.0)
+        speed[a:b] = np.abs(speed[a:b])
+        done = now >= leader.times[-1]  # the leader stands at its end
+        if done.any():
+            settling = _settle(path.at(abeam[-1:]), leader.poses[-1], (ox, oy), settle,
+                               now[done] - leader.times[-1])
+            place[done], place_heading[done], place_motion[done], speed[a:b][done] = settling
         points[a:b] = place
-        heading[a:b] = then[:, 2]
-        speed[a:b] = np.where(done, 0.0, v_now * (1.0 - curvature * oy))
-    return points, np.unwrap(heading), speed
+        heading[a:b] = place_heading
+        motion[a:b] = place_motion
+    return points, np.unwrap(heading), motion, speed
 
 
+SETTLE_SAMPLES = 64
+"""Points of the curve by which a place goes to its rigid slot after the leader's end."""
+
+
+def _settle(end: tuple[FloatArray, FloatArray, FloatArray], leader_end: FloatArray,
+            offset: tuple[float, float], speed: float, after: FloatArray,
+            ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """How a place goes from where its path left it at the leader's end (``end``: points
+    (1, 2), heading (1,), stretch of ``OffsetPath.at``) to its rigid slot (``leader_end``
+    (3,) composed with ``offset``), ``after`` (T,) s after the end: points (T, 2), heading
+    (T,), direction of motion (T,), speed (T,). A cubic Hermite curve from the path's heading
+    to the leader's final heading, both tangents as long as the way (forwards, or backwards
+    where the slot is behind), driven at ``speed`` m/s; then it stands on the slot."""
+    start, facing = end[0][0], float(end[1][0])
+    slot = compose_points(leader_end, np.array(offset))
+    final = float(leader_end[2])
+    way = slot - start
+    distance = float(np.hypot(*way))
+    count = len(after)
+    if distance < 1e-6:
+        return (np.broadcast_to(slot, (count, 2)).copy(), np.full(count, final),
+                np.full(count, final), np.zeros(count))
+    sign = 1.0 if way @ np.array([np.cos(facing), np.sin(facing)]) >= 0.0 else -1.0
+    tangent0 = sign * distance * np.array([np.cos(facing), np.sin(facing)])
+    tangent1 = sign * distance * np.array([np.cos(final), np.sin(final)])
+    tau = np.linspace(0.0, 1.0, SETTLE_SAMPLES)[:, None]
+    curve = ((2 * tau**3 - 3 * tau**2 + 1) * start + (tau**3 - 2 * tau**2 + tau) * tangent0
+             + (-2 * tau**3 + 3 * tau**2) * slot + (tau**3 - tau**2) * tangent1)
+    lengths = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(curve, axis=0).T))])
+    gone = np.minimum(after * speed, lengths[-1])
+    points = np.column_stack([np.interp(gone, lengths, curve[:, 0]),
+                              np.interp(gone, lengths, curve[:, 1])])
+    slope = np.gradient(curve, axis=0)
+    direction = np.unwrap(np.arctan2(slope[:, 1], slope[:, 0]))
+    motion = np.interp(gone, lengths, direction)
+    heading = motion + (np.pi if sign < 0.0 else 0.0)
+    arrived = gone >= lengths[-1]
+    heading[arrived] = final + 2.0 * np.pi * np.round((heading[arrived] - final) / (2 * np.pi))
+    return points, heading, motion, np.where(arrived, 0.0, speed)
+
+
+def places_end(plan: Plan) -> float:
+    """The show time (s) by which every place has reached its rigid slot after its leader's
+    last instruction (:func:`path_places`): the plan's duration plus the longest such way
+    at :func:`catch_up_speed` (the straight distance times pi / 2 bounds the curve's)."""
+    longest = 0.0
+    for formation in plan.formations:
+        leader = formation.leader
+        table = _file_table(plan, formation.index)
+        for robot, abeam in table.items():
+            ox, oy = formation.offsets[robot]
+            end = _offset_path(formation, oy).at(abeam[-1:])[0][0]
+            slot = compose_points(leader.poses[-1], np.array([ox, oy]))
+            ready = leader.times[-1] + 0.5 * np.pi * float(np.hypot(*(slot - end))) / (
+                catch_up_speed(plan))
+            longest = max(longest, ready - plan.duration)
+    return plan.duration + longest

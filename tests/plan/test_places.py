@@ -1,0 +1,70 @@
+"""Places on the leader's path (plan/places.py): distance kept in a file, rows abeam, and a
+smooth way to the rigid slot after the leader's end."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dancebots.plan import PlanParameters
+from dancebots.plan.places import FILE_MARGIN, catch_up_speed, path_places, places_end
+from tests_support import plan_of
+
+HUSKY = (0.99, 0.67)
+SQUARE_CORNER = ("robots R1 R2 R3 R4\nsquare R1,R2;R3,R4 1.6 1;1\nmove 2 0\nmove 4 -90\n"
+                 "move 2 0\n")
+
+
+def _places(text: str, params: PlanParameters, step: float = 0.05,
+            ) -> tuple[np.ndarray, dict[str, tuple[np.ndarray, ...]]]:
+    plan = plan_of(text, params)
+    times = np.arange(0.0, places_end(plan) + 1.0, step)
+    return times, {robot: path_places(plan, robot, times) for robot in plan.robots}
+
+
+def test_the_rear_robot_of_the_inner_file_keeps_its_distance_round_a_sharp_corner() -> None:
+    """The open-day square's 90 deg corner: on the leader's timing the rear robot of the
+    inner file came 1 m nearer to the front one (2 |oy| tan 45 deg); now every place keeps at
+    least min(1.6 m, the diagonal + margin) from the place of the robot ahead of it."""
+    for timing in ("thesis", "feasible"):
+        _, places = _places(SQUARE_CORNER, PlanParameters(timing=timing, footprint=HUSKY))
+        keep = min(1.6, math.hypot(*HUSKY) + FILE_MARGIN)
+        for front, rear in (("R1", "R3"), ("R2", "R4")):
+            gap = np.hypot(*(places[front][0] - places[rear][0]).T)
+            assert gap.min() >= keep - 0.002, (timing, front, rear, gap.min())  # interpolated
+        inner = np.hypot(*(places["R2"][0] - places["R4"][0]).T)
+        assert inner.min() < 1.6 - 0.05  # the corner did bring them nearer than the rows
+
+
+def test_robots_side_by_side_keep_the_leaders_timing() -> None:
+    """A row is not a file: thesis 7.1's two robots are placed abeam the same point of the
+    leader's path at every instant, so their distance is 1.2 m wherever the path is straight
+    and both robots' places come back to it after the corner."""
+    text = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\nmove 4 90\n"
+    _, places = _places(text, PlanParameters(timing="feasible"))
+    distance = np.hypot(*(places["R1"][0] - places["R2"][0]).T)
+    assert abs(distance[0] - 1.2) < 1e-9
+    assert abs(distance[-1] - 1.2) < 1e-6
+
+
+def test_places_go_smoothly_to_the_rigid_slots_after_a_show_that_ends_on_an_arc() -> None:
+    """After a circle the places behind the leader are on the arc, not on the rigid slots;
+    they drive there at ``catch_up_speed`` at most (no jump), and stand on the slots by
+    ``places_end``."""
+    text = "robots R1 R2 R3 R4\nsquare R1,R2;R3,R4 1.6 1.4;1.4\ncircle -3 120 0.1\n"
+    params = PlanParameters(timing="feasible", footprint=HUSKY)
+    plan = plan_of(text, params)
+    step = 0.05
+    times = np.arange(0.0, places_end(plan) + 1.0, step)
+    for robot in plan.robots:
+        points, heading, _, speed = path_places(plan, robot, times)
+        moves = np.hypot(*np.diff(points, axis=0).T)
+        assert moves.max() <= catch_up_speed(plan) * step * 1.05 + 1e-9, robot
+        slot = plan.desired_poses(robot, times[-1:])[0]
+        assert np.hypot(*(points[-1] - slot[:2])) < 1e-6, robot
+        assert speed[-1] == 0.0
+        assert abs(math.remainder(heading[-1] - slot[2], 2 * math.pi)) < 1e-9
+    rear = path_places(plan, "R4", np.array([plan.duration]))[0][0]
+    slot = plan.desired_poses("R4", np.array([plan.duration]))[0]
+    assert np.hypot(*(rear - slot[:2])) > 0.2  # the arc did leave it off its rigid slot
