@@ -218,6 +218,8 @@ def path_places(plan: Plan, robot: str, times: FloatArray,
     return points, np.unwrap(heading), motion, speed
 
 
+SETTLE_TANGENT = 1.0
+"""The settle curve's tangents, as a multiple of the straight distance to the slot."""
 SETTLE_SAMPLES = 64
 """Points of the curve by which a place goes to its rigid slot after the leader's end."""
 
@@ -241,8 +243,8 @@ def _settle(end: tuple[FloatArray, FloatArray, FloatArray], leader_end: FloatArr
         return (np.broadcast_to(slot, (count, 2)).copy(), np.full(count, final),
                 np.full(count, final), np.zeros(count))
     sign = 1.0 if way @ np.array([np.cos(facing), np.sin(facing)]) >= 0.0 else -1.0
-    tangent0 = sign * distance * np.array([np.cos(facing), np.sin(facing)])
-    tangent1 = sign * distance * np.array([np.cos(final), np.sin(final)])
+    tangent0 = sign * SETTLE_TANGENT * distance * np.array([np.cos(facing), np.sin(facing)])
+    tangent1 = sign * SETTLE_TANGENT * distance * np.array([np.cos(final), np.sin(final)])
     tau = np.linspace(0.0, 1.0, SETTLE_SAMPLES)[:, None]
     curve = ((2 * tau**3 - 3 * tau**2 + 1) * start + (tau**3 - 2 * tau**2 + tau) * tangent0
              + (-2 * tau**3 + 3 * tau**2) * slot + (tau**3 - tau**2) * tangent1)
