@@ -529,23 +529,30 @@ FOLLOWERS = ("thesis", "tracking", "path")
 """``robot.FOLLOWERS`` (the CLI imports only the standard library at start-up)."""
 TIMINGS = ("thesis", "feasible")
 """``plan.planner.TIMINGS`` (the CLI imports only the standard library at start-up)."""
+DEFAULT_TIMING = "feasible"
+"""The timing of ``run``, ``check``, ``plan`` and ``ros`` unless ``--timing`` says otherwise
+(the thesis's is ``--timing thesis``)."""
+DEFAULT_FOLLOWER = "path"
+"""The follower of ``run``, ``check`` and ``ros`` unless ``--follower`` says otherwise (the
+thesis's eq. 4.4 is ``--follower thesis``)."""
 
 
 def add_timing_argument(parser: argparse.ArgumentParser) -> None:
     """--timing: how fast the virtual leader moves (``PlanParameters.timing``)."""
-    parser.add_argument("--timing", choices=TIMINGS, default="thesis",
-                        help="thesis (default): the leader's speeds as the thesis gives them; "
-                        "feasible: the leader slows wherever a robot's slot would move faster "
-                        "than 0.8 V (the outer robots of a turn), keeping its path")
+    parser.add_argument("--timing", choices=TIMINGS, default=DEFAULT_TIMING,
+                        help="feasible (default): the leader slows wherever a robot's slot or "
+                        "place on the path would move faster than 0.8 V (the outer robots of "
+                        "a turn), keeping its path, and formations that would meet leave in "
+                        "turn; thesis: the leader's speeds as the thesis gives them")
 
 
 def add_follower_argument(parser: argparse.ArgumentParser) -> None:
     """--follower: how each robot follows its slot (``BrainOptions.follower``)."""
-    parser.add_argument("--follower", choices=FOLLOWERS, default="thesis",
-                        help="thesis (default): eq. 4.4 as written; tracking: each robot "
-                        "tracks its rigid slot's motion from the plan (Kanayama's law, "
-                        "docs/control.md); path: the same law on its place on the leader's "
-                        "path (columns follow the path round corners)")
+    parser.add_argument("--follower", choices=FOLLOWERS, default=DEFAULT_FOLLOWER,
+                        help="path (default): each robot tracks its place on the leader's path "
+                        "(Kanayama's law, docs/control.md; columns follow the path round "
+                        "corners); tracking: the same law on its rigid slot's motion; thesis: "
+                        "eq. 4.4 as written")
 
 
 def add_show_arguments(parser: argparse.ArgumentParser, scenario_help: str | None = None,

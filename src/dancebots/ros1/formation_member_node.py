@@ -4,9 +4,9 @@ messages in; Twist, /sync proposals and speech out.
 
 Parameters: ``~scenario``, ``~role`` (required); ``~world`` and ``~vmax`` (optional, the same
 on every robot: they set the plan's vmax); ``~robot_name`` (optional prefix of topics and
-frames); ``~start_strategy`` ("agreed", or "thesis" as written); ``~follower`` ("thesis",
-"tracking" or "path"; docs/control.md) and ``~timing`` ("thesis", or "feasible"; the same
-on every robot: it sets the plan's timing); ``~lidar`` (default true:
+frames); ``~start_strategy`` ("agreed", or "thesis" as written); ``~follower`` ("path", the
+default, "tracking" or "thesis"; docs/control.md) and ``~timing`` ("feasible", the default,
+or "thesis"; the same on every robot: it sets the plan's timing); ``~lidar`` (default true:
 read ``obstacles`` and stop for them); ``~max_speed`` and ``~max_angular_speed`` (default:
 the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
 ``obstacle_detection`` node through the roslaunch API, as the thesis does);
@@ -86,7 +86,7 @@ def main() -> None:
     role = str(required_param("~role"))
     world_file = str(rospy.get_param("~world", "")) or None
     plan, _ = load_show(scenario, world_file, float(rospy.get_param("~vmax", 0.0)) or None,
-                        str(rospy.get_param("~timing", "thesis")))
+                        str(rospy.get_param("~timing", "feasible")))
     names = RobotNames(str(rospy.get_param("~robot_name", "")))
     kind = robot_type_for_host(socket.gethostname())
     length = float(rospy.get_param(names.param("length"), kind.length))
@@ -98,7 +98,7 @@ def main() -> None:
         this_robot = RobotType(
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
-        follower = cast(Follower, str(rospy.get_param("~follower", "thesis")))
+        follower = cast(Follower, str(rospy.get_param("~follower", "path")))
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks follower
             follower=follower, lidar=use_lidar))
     except ValueError as exc:

@@ -49,7 +49,7 @@ def main() -> None:
     world_file = str(rospy.get_param("~world", "")) or None
     plan, world = load_show(str(required_param("~scenario")), world_file,
                             float(rospy.get_param("~vmax", 0.0)) or None,
-                            str(rospy.get_param("~timing", "thesis")))
+                            str(rospy.get_param("~timing", "feasible")))
     profile = str(rospy.get_param("~profile", "ideal"))
     if profile not in PROFILES:
         rospy.logfatal(f"unknown profile {profile!r}; use one of {', '.join(PROFILES)}")
