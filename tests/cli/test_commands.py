@@ -45,23 +45,31 @@ def test_check_valid_prints_summary(capsys: Capture, tmp_path: Path) -> None:
     assert err == ""
 
 
+THESIS = ("--follower", "thesis", "--timing", "thesis")
+"""The thesis's follower (eq. 4.4) and timing, which the defaults (path, feasible) replace."""
+
+
 def test_warnings_and_strict(capsys: Capture, examples: Path) -> None:
     path = str(examples / "thesis_7_1.dance")
-    status, out, err = run(capsys, "check", "--rigid-only", path)
+    status, out, err = run(capsys, "check", *THESIS, "--rigid-only", path)
     assert status == 0
     assert "thesis_7_1.dance:4:1: warning: desired speed above the robot's maximum" in err
     assert "simulated" not in err
     assert out.rstrip().endswith("ok (2 warnings)")
-    assert run(capsys, "check", "--strict", "--rigid-only", path)[0] == 1
+    assert run(capsys, "check", *THESIS, "--strict", "--rigid-only", path)[0] == 1
+    # the default feasible timing slows the leader instead: notes, no warning
+    status, out, err = run(capsys, "check", "--strict", "--rigid-only", path)
+    assert status == 0
+    assert err.rstrip().endswith("0 errors, 0 warnings, 2 notes")
 
 
 def test_check_runs_the_show_and_reports_at_the_instruction(capsys: Capture,
                                                              examples: Path) -> None:
     """The simulation pass: 7.1's thesis follower turns R2 round in the corner of line 4;
-    --follower tracking --timing feasible leaves nothing to report; the findings are
-    warnings (exit 1 only with --strict)."""
+    --follower tracking --timing feasible and the defaults (path, feasible) leave nothing to
+    report; the findings are warnings (exit 1 only with --strict)."""
     path = str(examples / "thesis_7_1.dance")
-    status, out, err = run(capsys, "check", path)
+    status, out, err = run(capsys, "check", *THESIS, path)
     assert status == 0
     assert ("thesis_7_1.dance:4:1: warning: simulated (ideal profile, thesis follower): R2 "
             "drives against its slot's direction from t = 8.4 s to 23.3 s") in err
@@ -73,13 +81,17 @@ def test_check_runs_the_show_and_reports_at_the_instruction(capsys: Capture,
     assert status == 0
     assert err.rstrip().endswith("0 errors, 0 warnings, 2 notes")  # where the leader slows
     assert out.rstrip().endswith("thesis_7_1.dance: ok")
-    report = json.loads(run(capsys, "check", "--json", path)[1])
+    status, out, err = run(capsys, "check", path)
+    assert status == 0
+    assert err.rstrip().endswith("0 errors, 0 warnings, 2 notes")
+    report = json.loads(run(capsys, "check", *THESIS, "--json", path)[1])
     assert any(d["message"].startswith("simulated (ideal profile, thesis follower): R2 drives")
                for d in report["diagnostics"])
 
 
 def test_json_report(capsys: Capture, examples: Path) -> None:
-    status, out, _ = run(capsys, "check", "--json", str(examples / "thesis_6_3.dance"))
+    status, out, _ = run(capsys, "check", *THESIS, "--json",
+                         str(examples / "thesis_6_3.dance"))
     assert status == 0
     report = json.loads(out)
     assert report["valid"] is True
@@ -112,12 +124,21 @@ def test_demo_passes_strict_check(capsys: Capture, tmp_path: Path) -> None:
     demo.write_text(out)
     # its plan is clean; simulated, the thesis follower turns robots round (issue 12) but the
     # tracking follower on the feasible timing performs it without a finding
-    status, _, err = run(capsys, "check", "--strict", "--rigid-only", str(demo))
+    status, _, err = run(capsys, "check", *THESIS, "--strict", "--rigid-only", str(demo))
     assert (status, err) == (0, "")
-    status, _, err = run(capsys, "check", "--strict", "--follower", "tracking", "--timing",
-                         "feasible", str(demo))
+    status, _, err = run(capsys, "check", "--strict", "--follower", "tracking", str(demo))
     assert status == 0
     assert ": warning: " not in err  # only notes of where the leader slows
+    # the default path follower: R4, 0.8 m behind R2 in its file, is slowed by the LIDAR's
+    # approach limit on the circle and lags its place by just over 0.5 m, then R3 and R4
+    # drive to their places in the columns after the split (docs/control.md)
+    status, _, err = run(capsys, "check", str(demo))
+    assert status == 0
+    warnings = [line for line in err.splitlines() if ": warning: " in line]
+    assert [line.split(": warning: ")[0][-7:] for line in warnings] == [
+        "ce:40:1", "ce:40:1", "ce:46:1"]
+    assert all("simulated (ideal profile, path follower): R" in line
+               and "is more than 0.5 m from its place" in line for line in warnings)
 
 
 def test_plan_png(capsys: Capture, examples: Path, tmp_path: Path) -> None:
@@ -246,7 +267,7 @@ def test_check_does_not_simulate_a_show_too_large_for_it(
     import dancebots.cli.check
 
     monkeypatch.setattr(dancebots.cli.check, "SIMULATION_LIMIT", 40)
-    status, _, err = run(capsys, "check", str(examples / "thesis_7_1.dance"))
+    status, _, err = run(capsys, "check", *THESIS, str(examples / "thesis_7_1.dance"))
     assert status == 0
     assert ("thesis_7_1.dance:1:1: warning: not simulated: 2 robots for 23 s is 47 "
             "robot-seconds, more than check simulates (40)") in err

@@ -151,31 +151,40 @@ def test_mp4_animation_when_ffmpeg_is_present(examples: Path, tmp_path: Path) ->
 
 
 def test_the_bundled_open_day_show(capsys: Capture, tmp_path: Path) -> None:
-    """The main job: the open-day show with visitors runs without collision, and the robots
-    stop and speak for the visitors (issue 4's open-day example). Its verdict is honest: R1,
-    held for a visitor while the others drive on, ends far from its final slot (issue 13
-    makes the formation wait together), so the run exits 1 and says why."""
+    """The main job: the open-day show with visitors, with the defaults (the path follower
+    on the feasible timing), runs clean: no contact, every robot on its final slot, exit 0.
+    With the thesis's follower and timing the verdict is honest: robots drive against their
+    slots' direction and end far from their slots, so the run exits 1 and says why; the
+    robots stop and speak for the visitors (issue 4's open-day example)."""
     out = tmp_path / "open_day"
-    assert main(["run", "--no-animation", "--out", str(out)]) == 1
+    assert main(["run", "--no-animation", "--out", str(out)]) == 0
     metrics = json.loads((out / "metrics.json").read_text())
+    assert (metrics["follower"], metrics["timing"]) == ("path", "feasible")
     assert metrics["collisions"] == 0
+    assert metrics["verdict"] == {"clean": True, "failures": []}
+    assert all(robot["final_error_m"] < 0.05 for robot in metrics["per_robot"].values())
+    assert metrics["scenario"].endswith("open_day.dance")
+    thesis = tmp_path / "open_day_thesis"
+    assert main(["run", "--no-animation", "--follower", "thesis", "--timing", "thesis",
+                 "--out", str(thesis)]) == 1
+    metrics = json.loads((thesis / "metrics.json").read_text())
     assert metrics["verdict"]["clean"] is False
-    assert metrics["verdict"]["failures"][0].startswith(
-        "a robot ends away from the final slot (more than 0.5 m): R1 ")
-    assert metrics["per_robot"]["R1"]["final_error_m"] > 0.5
+    assert any(failure.startswith("a robot ends away from the final slot (more than 0.5 m)")
+               for failure in metrics["verdict"]["failures"])
     assert metrics["stops"] >= 5
     speech = [e for e in metrics["events"] if e["kind"] == "speech"]
     assert {e["text"] for e in speech} == {"Obstacle is too close, I have to stop"}
-    assert metrics["scenario"].endswith("open_day.dance")
     capsys.readouterr()
 
 
 def test_no_lidar_among_people_is_loud_and_the_verdict_says_what_went_wrong(
         capsys: Capture, tmp_path: Path) -> None:
-    """The open-day hall with its three visitors, robots without LIDAR: a warning before
-    simulating, and a verdict (JSON on stdout, and in metrics.json) that fails the show."""
+    """The open-day hall with its three visitors, robots without LIDAR (and the thesis's
+    follower, which swings them into the visitors' way): a warning before simulating, and a
+    verdict (JSON on stdout, and in metrics.json) that fails the show."""
     out = tmp_path / "blind"
-    assert main(["run", "--no-lidar", "--no-animation", "--json", "--out", str(out)]) == 1
+    assert main(["run", "--no-lidar", "--no-animation", "--json", "--follower", "thesis",
+                 "--timing", "thesis", "--out", str(out)]) == 1
     captured = capsys.readouterr()
     assert ("WARNING: --no-lidar with 3 spectators in the world: the robots cannot see people "
             "and will drive into them") in captured.err
@@ -189,8 +198,8 @@ def test_no_lidar_among_people_is_loud_and_the_verdict_says_what_went_wrong(
 
 def test_check_warnings_are_repeated_before_simulating(capsys: Capture, examples: Path,
                                                        tmp_path: Path) -> None:
-    main(["run", str(examples / "thesis_7_1.dance"), "--no-lidar", "--no-animation", "--out",
-          str(tmp_path / "run")])
+    main(["run", str(examples / "thesis_7_1.dance"), "--no-lidar", "--no-animation",
+          "--timing", "thesis", "--out", str(tmp_path / "run")])
     err = capsys.readouterr().err
     assert "thesis_7_1.dance:4:1: warning: desired speed above the robot's maximum" in err
 
