@@ -50,12 +50,12 @@ def main() -> int:
                                              "examples/thesis_6_3.dance"],
         "dancebots check thesis_7_1": [*dancebots, "check", "examples/thesis_7_1.dance"],
         "dancebots check thesis_6_3": [*dancebots, "check", "examples/thesis_6_3.dance"],
-        "dancebots check thesis_7_1 path": [*dancebots, "check", "--follower", "path",
-                                            "--timing", "feasible",
-                                            "examples/thesis_7_1.dance"],
-        "dancebots check thesis_6_3 path": [*dancebots, "check", "--follower", "path",
-                                            "--timing", "feasible",
-                                            "examples/thesis_6_3.dance"],
+        "dancebots check thesis_7_1 eq4.4": [*dancebots, "check", "--follower", "thesis",
+                                             "--timing", "thesis",
+                                             "examples/thesis_7_1.dance"],
+        "dancebots check thesis_6_3 eq4.4": [*dancebots, "check", "--follower", "thesis",
+                                             "--timing", "thesis",
+                                             "examples/thesis_6_3.dance"],
         "dancebots demo": [*dancebots, "demo"],
     }
     baseline = None
