@@ -47,9 +47,10 @@ FILE_MARGIN = 0.3
 """Least gap (m) kept between a robot and the one in front of it in its file, along its path
 (the planner's CLEARANCE)."""
 FILE_ITERATIONS = 40
-"""Steps back along the path that bring a robot the straight distance behind the one in
-front of it in its file (each step the distance missing; the straight distance grows by at
-most that)."""
+"""Most steps back along the path that bring a robot the straight distance behind the robots
+in front of it (secant steps on the distance still missing)."""
+FILE_SECANT_FLOOR = 0.5
+"""The least distance gained per metre gone back that the secant step counts with."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -113,15 +114,20 @@ def offset_path(leader: LeaderTrajectory, oy: float) -> OffsetPath:
     return OffsetPath(driven, points, heading, stretch)
 
 
-@functools.lru_cache(maxsize=512)
 def _offset_path(formation: PlannedFormation, oy: float) -> OffsetPath:
-    return offset_path(formation.leader, oy)
+    return _leader_offset_path(formation.leader, oy)
 
 
-def _leader_driven(formation: PlannedFormation, times: FloatArray) -> FloatArray:
-    """How far (m) the formation's leader has driven at show times (T,)."""
-    leader = formation.leader
-    path = _offset_path(formation, 0.0)
+@functools.lru_cache(maxsize=512)
+def _leader_offset_path(leader: LeaderTrajectory, oy: float) -> OffsetPath:
+    """:func:`offset_path`, once per leader (compared by identity: the planner's ordered
+    departures reuse the leaders that a trial does not change) and lateral offset."""
+    return offset_path(leader, oy)
+
+
+def _leader_driven(leader: LeaderTrajectory, times: FloatArray) -> FloatArray:
+    """How far (m) the leader has driven at show times (T,)."""
+    path = _leader_offset_path(leader, 0.0)
     k = np.clip(np.searchsorted(leader.times, times, side="right") - 1, 0,
                 len(leader.times) - 1)
     driven: FloatArray = path.driven[k] + leader.commands[k, 0] * np.maximum(
@@ -129,36 +135,59 @@ def _leader_driven(formation: PlannedFormation, times: FloatArray) -> FloatArray
     return driven
 
 
-@functools.lru_cache(maxsize=256)
 def _file_table(plan: Plan, index: int) -> dict[str, FloatArray]:
     """Per robot of formation ``index``, at its leader's sample times (N,): the leader path
     length (N,) m abeam which the robot's place is (module docstring: a robot keeps its
     distance behind the robot in front of it in its file, and catches up no faster than
     :func:`catch_up_speed`)."""
     formation = plan.formations[index]
-    times = formation.leader.times
-    length, width = plan.parameters.footprint
+    return _leader_file_table(formation.leader, tuple(formation.offsets.items()),
+                              plan.parameters.footprint, catch_up_speed(plan))
+
+
+@functools.lru_cache(maxsize=256)
+def _leader_file_table(leader: LeaderTrajectory,
+                       offsets_of: tuple[tuple[str, tuple[float, float]], ...],
+                       footprint: tuple[float, float], catch_up: float,
+                       ) -> dict[str, FloatArray]:
+    """:func:`_file_table` of a leader (by identity), the robots' offsets, the largest
+    footprint (m) and the catch-up speed (m/s)."""
+    times = leader.times
+    length, width = footprint
     reach = float(np.hypot(length, width)) + FILE_MARGIN
-    fastest = catch_up_speed(plan) * np.diff(times)  # (N - 1,) m per step
-    driven = _leader_driven(formation, times)
-    offsets = formation.offsets
+    fastest = catch_up * np.diff(times)  # (N - 1,) m per step
+    driven = _leader_driven(leader, times)
+    offsets = dict(offsets_of)
     placed: dict[str, tuple[FloatArray, FloatArray]] = {}
-    for robot in sorted(formation.robots, key=lambda name: -offsets[name][0]):
+    for robot in sorted(offsets, key=lambda name: -offsets[name][0]):
         ox, oy = offsets[robot]
-        path = _offset_path(formation, oy)
+        path = _leader_offset_path(leader, oy)
         abeam = driven + min(ox, 0.0)
         fronts = [(min(float(np.hypot(offsets[front][0] - ox, offsets[front][1] - oy)), reach),
                    front_place) for front, (_, front_place) in placed.items()
                   if offsets[front][0] > ox]
-        if fronts:
+        if fronts and len(times) >= 2:
+            active = np.arange(len(times))  # the samples still too near a robot in front
+            last_short = np.full(len(times), np.nan)
+            last_step = np.zeros(len(times))
             for _ in range(FILE_ITERATIONS):  # back along the path until far enough
-                point = path.at(abeam)[0]
-                short = np.zeros(len(times))
+                point = path.at(abeam[active])[0]
+                short = np.zeros(len(active))
                 for gap, front_place in fronts:
-                    short = np.maximum(short, gap - np.hypot(*(point - front_place).T))
-                if not (short > 1e-6).any():
+                    short = np.maximum(short, gap - np.hypot(*(point - front_place[active]).T))
+                # the distance gained per metre gone back on the last step (1 on a straight
+                # line, less round a corner): the secant step, at most 1 / FILE_SECANT_FLOOR
+                # times the distance missing (a place held a little further back is safe)
+                gained = np.where(last_step[active] > 0.0, (last_short[active] - short)
+                                  / np.where(last_step[active] > 0.0, last_step[active], 1.0),
+                                  1.0)
+                step = short / np.clip(gained, FILE_SECANT_FLOOR, 1.0)
+                going = short > 1e-6
+                last_short[active], last_step[active] = short, step
+                active = active[going]
+                if not len(active):
                     break
-                abeam = abeam - short
+                abeam[active] -= step[going]
             for k in range(1, len(abeam)):  # held back: catch up at a drivable speed
                 abeam[k] = min(abeam[k], abeam[k - 1] + fastest[k - 1])
         placed[robot] = (abeam, path.at(abeam)[0])

@@ -341,7 +341,8 @@ def build_plan(
     params = parameters or PlanParameters()
     records, assignment_order = _records(scenario, params)
     try:
-        plan, diagnostics = _simulate(scenario, params, records, assignment_order)
+        runs: dict[tuple[int, float, float, Pose, Pose], _LeaderRun] = {}
+        plan, diagnostics = _simulate(scenario, params, records, assignment_order, runs=runs)
         if params.timing != "feasible":
             return plan, diagnostics
         delays: dict[int, tuple[float, tuple[str, ...]]] = {}
@@ -359,7 +360,7 @@ def build_plan(
                 others += tuple(r for r in meeting.robots
                                 if r not in plan.formations[index].robots)
                 trial = {**delays, index: (before + wait, tuple(dict.fromkeys(others)))}
-                attempt = _simulate(scenario, params, records, assignment_order, trial)
+                attempt = _simulate(scenario, params, records, assignment_order, trial, runs)
                 after = [m for m in meetings(attempt[0]) if m.robots not in given_up]
                 if len(after) < len(found) and all(m.robots != meeting.robots for m in after):
                     delays, (plan, diagnostics), found = trial, attempt, after
@@ -480,11 +481,19 @@ def _records(scenario: Scenario, params: PlanParameters) -> tuple[list[_Record],
     return records, joined
 
 
+_LeaderRun = tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState]
+
+
 def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record],
               joined: list[list[int]],
               delays: Mapping[int, tuple[float, tuple[str, ...]]] | None = None,
+              runs: dict[tuple[int, float, float, Pose, Pose], _LeaderRun] | None = None,
               ) -> tuple[Plan, list[Diagnostic]]:
+    """Plan every formation's leader in turn. ``runs`` keeps the leaders already integrated
+    (by formation, start, hold and starting state) across the ordered departures' trials,
+    which change only the formations that wait and those after them."""
     delays = delays or {}
+    runs = {} if runs is None else runs
     diagnostics: list[Diagnostic] = []
     finals: list[_LeaderState] = []
     ends: list[float] = []
@@ -508,9 +517,11 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
         hold += delay
         _check_nominal_duration(scenario.path, state.ideal, record.program, start + hold,
                                 params)
-        trajectory, timings, waypoints, final = _run_leader(
-            scenario.path, state, record.program, start, hold, params,
-            tuple(record.offsets.values()))
+        key = (index, start, hold, state.pose, state.ideal)
+        if key not in runs:
+            runs[key] = _run_leader(scenario.path, state, record.program, start, hold, params,
+                                    tuple(record.offsets.values()))
+        trajectory, timings, waypoints, final = runs[key]
         end = float(trajectory.times[-1])
         finals.append(final)
         ends.append(end)
