@@ -65,3 +65,24 @@ def test_the_final_finding_uses_the_verdicts_tolerances(examples: Path) -> None:
     strict = replace(FindingLimits(), final_distance=0.05)
     assert any("R2 ends 0.10 m from its final slot" in d.message
                for d in simulated_findings(result, "x", strict))
+
+
+def test_moving_over_to_a_new_formation_is_not_a_finding_but_staying_away_is() -> None:
+    """A column that becomes a row: the rear robot drives 1.6 m to its new place, which is
+    the formation change, not a robot off its place; a robot whose recorded poses then stay
+    where it was is reported once driving over should have been done."""
+    import numpy as np
+
+    from dancebots.robot import BrainOptions
+
+    text = "robots A B\ncolumn A;B 1.5 0\nmove 2 0\nrow A,B 0 1.5\nmove 8 0\n"
+    result = simulated(text, SimConfig(lidar=None, brain=BrainOptions(follower="path")))
+    assert not [d for d in simulated_findings(result, "x") if "from its place" in d.message]
+    change = int(np.flatnonzero(np.diff(result.formation[1]) != 0)[0]) + 1
+    poses = result.poses.copy()
+    poses[1, change:] = poses[1, change]  # B never moves after the change
+    stuck = replace(result, poses=poses)
+    off = [f"{d.line}: {d.message}" for d in simulated_findings(stuck, "x")
+           if "from its place" in d.message]
+    assert len(off) == 1
+    assert off[0].startswith("5: simulated (x): B is more than 0.5 m")

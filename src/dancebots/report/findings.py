@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.plan.placement import instruction_position, true_runs
@@ -20,6 +21,8 @@ from dancebots.report.verdict import FINAL_HEADING_TOLERANCE, FINAL_SLOT_TOLERAN
 from dancebots.shows.formation import RunResult
 
 __all__ = ["FindingLimits", "simulated_findings"]
+
+FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,7 +73,7 @@ def simulated_findings(result: RunResult, what_ran: str,
         add(contacts, index[event.robot], tick,
             f"{event.robot} touches {other} at t = {event.time:.1f} s",
             "their paths cross or come too close here: move the formations apart, let one "
-            "wait, or slow the show (--vmax, --timing feasible)" if event.kind == "robot"
+            "wait, or slow the show (--vmax)" if event.kind == "robot"
             else "steer the formation clear of it, or let the robots see it (LIDAR)")
     reversing: list[Diagnostic] = []
     off_slot: list[Diagnostic] = []
@@ -85,19 +88,22 @@ def simulated_findings(result: RunResult, what_ran: str,
                 add(reversing, i, a, f"{name} drives against its slot's direction from t = "
                     f"{result.times[a]:.1f} s to {result.times[b - 1]:.1f} s",
                     "it drives backwards where its slot moves forwards (or the other way): "
-                    "the thesis follower turns round after sharp corners and stops; try "
-                    "--follower tracking, wider corners, or a slower --vmax")
+                    "the thesis follower turns round after sharp corners and stops (the "
+                    "path and tracking followers do not); give the corners more room or "
+                    "slow the show (--vmax)")
         # from where its follower should be (``RunResult.reference``): its rigid slot for
         # tracking, its place on the leader's path for thesis and path
         distance = np.hypot(result.poses[i, :, 0] - result.reference[i, :, 0],
                             result.poses[i, :, 1] - result.reference[i, :, 1])
-        for a, b in true_runs(during & (distance > limits.slot_distance)):
+        moving_over = _moving_over(result, i, distance, limits.min_duration)
+        for a, b in true_runs(during & ~moving_over & (distance > limits.slot_distance)):
             if b - a >= shortest:
                 add(off_slot, i, a, f"{name} is more than {limits.slot_distance:g} m from its "
                     f"place from t = {result.times[a]:.1f} s to {result.times[b - 1]:.1f} s "
                     f"(up to {distance[a:b].max():.2f} m)",
-                    "it cannot keep up or was held: slow the show (--vmax, --timing "
-                    "feasible) or give the formation more room")
+                    "it cannot keep up or was held: slow the show (--vmax) or give the "
+                    "formation more room (a robot close behind another is slowed by its "
+                    "LIDAR)")
     final: list[Diagnostic] = []
     last = len(result.times) - 1
     for i, name in enumerate(result.robots):
@@ -110,8 +116,8 @@ def simulated_findings(result: RunResult, what_ran: str,
                 "this one for why")
         if turn > limits.final_heading:
             add(final, i, last, f"{name} ends facing {turn:.0f} deg away from its final "
-                "heading", "it reached its place but turned round on the way (see the "
-                "findings before this one): try --follower tracking")
+                "heading", "it reached its place but turned round on the way, or could "
+                "not turn there (see the findings before this one)")
     for kind in (contacts, reversing, off_slot, final):
         if len(kind) > limits.per_kind:
             more = len(kind) - limits.per_kind + 1
@@ -121,3 +127,21 @@ def simulated_findings(result: RunResult, what_ran: str,
                 "ones above", None)]
         findings.extend(kind)
     return findings
+
+
+def _moving_over(result: RunResult, robot: int, distance: FloatArray,
+                 grace: float) -> NDArray[np.bool_]:
+    """(T,) the ticks at which ``robot`` is moving over to its place in a formation it has
+    just joined: from the tick its formation changes, for as long as closing the distance
+    (m, ``distance`` (T,) from its place then) takes at vmax less the place's speed then
+    (at least 0.2 vmax), plus ``grace`` s. Being far from the place then is the formation
+    change, not a finding."""
+    times = result.times
+    over = np.zeros(len(times), dtype=bool)
+    vmax = result.plan.parameters.vmax
+    changes = np.flatnonzero(np.diff(result.formation[robot]) != 0) + 1
+    for k in changes.tolist():
+        closing = max(vmax - abs(float(result.reference[robot, k, 3])), 0.2 * vmax)
+        until = times[k] + float(distance[k]) / closing + grace
+        over[k:int(np.searchsorted(times, until, side="right"))] = True
+    return over
