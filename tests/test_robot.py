@@ -113,3 +113,30 @@ def test_a_mate_on_its_place_does_not_push_the_robot_but_a_stranger_does(followe
     assert force_on_r1(follower, -0.9) == (0.0, 0.0)  # R2's side, where R2 stands
     assert force_on_r1(follower, 0.9)[1] < 0.0  # a stranger on the left pushes it right
     assert force_on_r1("thesis", -0.9)[1] > 0.0
+
+
+def test_the_tracking_followers_lead_their_feedforward_by_the_actuator_lag() -> None:
+    """A robot whose speeds follow its commands with a first-order lag of 0.25 s: its
+    reference keeps the pose of now and takes the speeds of 0.25 s later (interpolated
+    between the 10 Hz grid's rows); without a lag it is the reference of now."""
+    from dancebots.robot import BrainOptions, brain_for
+    from dancebots.world import DEFAULT_ROBOT_TYPE
+
+    plan = plan_of(PLAN_TEXT)
+    lagging = brain_for(plan, "R1", DEFAULT_ROBOT_TYPE,
+                        BrainOptions(follower="path", lidar=False, actuator_lag=0.25))
+    prompt = brain_for(plan, "R1", DEFAULT_ROBOT_TYPE,
+                       BrainOptions(follower="path", lidar=False))
+    assert lagging.feedforward_lead == 0.25
+    assert prompt.feedforward_lead == 0.0
+    for now in (2.0, 5.3, 7.1):
+        led, exact = lagging._reference(now), lagging.slot_at(now)
+        before, after = lagging.slot_at(now + 0.2), lagging.slot_at(now + 0.3)
+        assert led.pose == exact.pose
+        assert led.speed == pytest.approx(0.5 * (before.speed + after.speed))
+        assert led.angular_speed == pytest.approx(
+            0.5 * (before.angular_speed + after.angular_speed))
+        assert prompt._reference(now) == prompt.slot_at(now)
+    turning = [t for t in np.arange(0.0, plan.duration, 0.1)
+               if lagging._reference(t).angular_speed != lagging.slot_at(t).angular_speed]
+    assert turning  # the lead does change the feedforward where the place turns

@@ -153,7 +153,7 @@ class RobotBrain:
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
                  grid_period: float = 0.1, sensing: SensingConfig | None = None,
-                 follower: Follower = "thesis") -> None:
+                 follower: Follower = "thesis", feedforward_lead: float = 0.0) -> None:
         self.sensing = sensing or SensingConfig(lidar=False)
         if self.sensing.detector not in DETECTORS:
             raise ValueError(f"unknown detector {self.sensing.detector!r}; choose from "
@@ -165,6 +165,7 @@ class RobotBrain:
         self.robot = robot
         self.params = params
         self.follower = follower
+        self.feedforward_lead = feedforward_lead
         self.tracking = TrackingParams(max_linear=params.max_linear,
                                        max_angular=params.max_angular)
         slot = plan.desired_poses(robot, np.zeros(1))[0]
@@ -232,6 +233,23 @@ class RobotBrain:
         return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
                              float(row[3]), float(row[4]))
 
+    def _reference(self, show_time: float) -> SlotReference:
+        """What the tracking and path followers track at ``show_time`` s: the reference's
+        pose then, its speeds ``feedforward_lead`` s later (interpolated on the grid: a robot
+        whose speeds follow its commands with a first-order lag of time constant tau reaches
+        a commanded speed about tau later, so the commands lead by tau)."""
+        reference = self.slot_at(show_time)
+        if self.feedforward_lead <= 0.0:
+            return reference
+        steps = (show_time + self.feedforward_lead) / self.grid_period
+        first = math.floor(steps)
+        weight = steps - first  # between the two grid ticks around the time ahead
+        before = self.slot_at(first * self.grid_period)
+        after = self.slot_at((first + 1) * self.grid_period)
+        return SlotReference(
+            reference.pose, (1.0 - weight) * before.speed + weight * after.speed,
+            (1.0 - weight) * before.angular_speed + weight * after.angular_speed)
+
     def _sample(self, show_time: float) -> _Sample:
         k = self._grid_index(show_time, len(self._grid))
         if k is not None:
@@ -270,7 +288,7 @@ class RobotBrain:
                         obstacles, height_step, seen_from or pose, pose, show_time, seen.force))
             if self.follower != "thesis":
                 follower = state.follower
-                linear, angular = tracking_step(self.tracking, pose, self.slot_at(show_time),
+                linear, angular = tracking_step(self.tracking, pose, self._reference(show_time),
                                                 seen.force)
             else:
                 sample = self._sample(show_time)
@@ -394,7 +412,10 @@ class BrainOptions:
     follower: ``FOLLOWERS``; lidar: False for a robot without obstacle detection (no stops,
     no force field, no sensor-age check); detector: ``DETECTORS``; force_radius: the virtual
     force field's reach, m (0: off); force_steering: how the force steers the thesis
-    follower (``FollowerParams.force_steering``).
+    follower (``FollowerParams.force_steering``); actuator_lag: the first-order time
+    constant (s) with which the robot's speeds follow its commands, by which the tracking and
+    path followers lead their feedforward speeds (None: the simulator's profile's; 0 on ROS
+    unless ``~actuator_lag`` says).
     """
 
     follower: Follower = "thesis"
@@ -402,6 +423,7 @@ class BrainOptions:
     detector: Detector = "compensated"
     force_radius: float = 1.0
     force_steering: ForceSteering = "blend"
+    actuator_lag: float | None = None
 
 
 def brain_for(plan: Plan, robot: str, robot_type: RobotType,
@@ -415,4 +437,4 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
         sensing=SensingConfig(
             robot_type.length, robot_type.width, lidar=options.lidar,
             detector=options.detector, force_radius=options.force_radius),
-        follower=options.follower)
+        follower=options.follower, feedforward_lead=options.actuator_lag or 0.0)

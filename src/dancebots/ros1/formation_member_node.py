@@ -6,7 +6,9 @@ Parameters: ``~scenario``, ``~role`` (required); ``~world`` and ``~vmax`` (optio
 on every robot: they set the plan's vmax); ``~robot_name`` (optional prefix of topics and
 frames); ``~start_strategy`` ("agreed", or "thesis" as written); ``~follower`` ("path", the
 default, "tracking" or "thesis"; docs/control.md) and ``~timing`` ("feasible", the default,
-or "thesis"; the same on every robot: it sets the plan's timing); ``~lidar`` (default true:
+or "thesis"; the same on every robot: it sets the plan's timing); ``~actuator_lag`` (s,
+default 0: the time constant with which the robot's speeds follow its commands; the
+tracking and path followers lead their feedforward by it); ``~lidar`` (default true:
 read ``obstacles`` and stop for them); ``~max_speed`` and ``~max_angular_speed`` (default:
 the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
 ``obstacle_detection`` node through the roslaunch API, as the thesis does);
@@ -100,7 +102,8 @@ def main() -> None:
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
         follower = cast(Follower, str(rospy.get_param("~follower", "path")))
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks follower
-            follower=follower, lidar=use_lidar))
+            follower=follower, lidar=use_lidar,
+            actuator_lag=float(rospy.get_param("~actuator_lag", 0.0))))
     except ValueError as exc:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None

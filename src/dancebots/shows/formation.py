@@ -158,7 +158,9 @@ def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: in
 def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig = SimConfig(),
              progress: Progress | None = None) -> RunResult:
     """Run the show; ``progress(show_time, end_time)`` is called about once per second."""
-    options = replace(config.brain, lidar=config.lidar is not None)
+    options = replace(config.brain, lidar=config.lidar is not None,
+                      actuator_lag=config.profile.lag if config.brain.actuator_lag is None
+                      else config.brain.actuator_lag)
     brains = [brain_for(plan, robot, kind, options)
               for robot, kind in zip(placement.robots, placement.types, strict=True)]
     stage = Stage(arena, placement, config.profile, config.dt, config.lidar,
