@@ -1,5 +1,6 @@
 """The formation-change examples of issue 12, run as a spectator would judge them: the
-thesis's follower and timing against the tracking follower on the feasible timing."""
+thesis's follower and timing against the tracking and path followers on the feasible
+timing."""
 
 from __future__ import annotations
 
@@ -34,6 +35,18 @@ def judged(name: str, follower: Follower, timing: Timing) -> tuple[RunMetrics, b
 def test_tracking_on_feasible_timing_performs_them_cleanly(name: str) -> None:
     """Every robot ends within 10 cm and 5 deg of its slot, nobody touches anything."""
     metrics, clean = judged(name, "tracking", "feasible")
+    assert clean
+    assert metrics.collisions == 0
+    assert metrics.max_final_error < 0.10
+    assert metrics.max_final_heading_error < 5.0
+
+
+@pytest.mark.parametrize("name", ["triangle_to_column", "square_path", "block_split_rejoin"])
+def test_the_defaults_perform_them_cleanly(name: str) -> None:
+    """The path follower on the feasible timing (the defaults), with LIDAR: every robot ends
+    within 10 cm and 5 deg of its slot, nobody touches anything; the 2 x 3 block's rows part
+    and meet again before they rejoin."""
+    metrics, clean = judged(name, "path", "feasible")
     assert clean
     assert metrics.collisions == 0
     assert metrics.max_final_error < 0.10
