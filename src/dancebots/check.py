@@ -22,7 +22,13 @@ from numpy.typing import NDArray
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.geometry import Pose, footprint_corners
 from dancebots.perception.obstacles import DetectorParams
-from dancebots.plan.placement import PlacedShow, ShowSamples, instruction_position, place_show
+from dancebots.plan.placement import (
+    PlacedShow,
+    Places,
+    ShowSamples,
+    instruction_position,
+    place_show,
+)
 from dancebots.plan.planner import Plan
 from dancebots.scenario.model import Circle
 from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
@@ -49,6 +55,9 @@ class CheckOptions:
     start_tolerance: a robot starting further than this from its first slot is reported, m.
     detection: the robots' obstacle detection: rows nearer than its stop distance behind each
         other are reported (their LIDAR would hold the rear robots).
+    places: which desired poses the clearance, speed and room checks judge: ``rigid`` (the
+        rigid slots, the ``tracking`` follower's) or ``path`` (the places on the leaders'
+        paths that the ``path`` and ``thesis`` followers drive to).
     """
 
     clearance: float = 0.2
@@ -56,6 +65,7 @@ class CheckOptions:
     robot_type: RobotType = DEFAULT_ROBOT_TYPE
     start_tolerance: float = 0.25
     detection: DetectorParams = field(default_factory=DetectorParams)
+    places: Places = "rigid"
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,7 +125,8 @@ def check_plan(plan: Plan, world: World | None = None,
     options = options or CheckOptions()
     return check_show(place_show(plan, world, options.robot_type,
                                  period=options.sample_period,
-                                 start_tolerance=options.start_tolerance), options)
+                                 start_tolerance=options.start_tolerance,
+                                 places=options.places), options)
 
 
 def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckReport:

@@ -299,3 +299,20 @@ def test_a_bug_is_an_internal_error_with_its_own_exit_status(
     assert "ZeroDivisionError: boom" in err
     assert err.rstrip().endswith("dancebots: internal error: this is a bug in dancebots, not "
                                  "in your input; please report it with the lines above")
+
+
+def test_check_judges_the_places_its_follower_drives_to(capsys: Capture) -> None:
+    """The bundled show: its columns' rigid slots swing into each other where the columns
+    turn (line 23), which the tracking follower would drive; the places on the leaders'
+    paths that the default path follower drives to keep apart, so check agrees with the
+    clean run."""
+    from dancebots.cli.common import bundled
+
+    show, world = str(bundled("open_day.dance")), str(bundled("open_day.toml"))
+    status, _, err = run(capsys, "check", "--rigid-only", show, "--world", world)
+    assert status == 0
+    assert err.rstrip().endswith("0 errors, 0 warnings, 10 notes")
+    status, _, err = run(capsys, "check", "--rigid-only", "--follower", "tracking", show,
+                         "--world", world)
+    assert status == 0
+    assert "open_day.dance:23:1: warning: R1 and R2 come within 0.00 m of each other" in err

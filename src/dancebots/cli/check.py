@@ -52,8 +52,9 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.diagnostics import has_errors
     from dancebots.loading import load_show
 
-    show = load_show(args.scenario, args.world, args.vmax,
-                     check=CheckOptions(clearance=args.clearance), timing=args.timing)
+    show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(
+        clearance=args.clearance, places="rigid" if args.follower == "tracking" else "path"),
+        timing=args.timing)
     diagnostics = show.diagnostics
     invalid = has_errors(diagnostics)
     report = show.report if not invalid else None

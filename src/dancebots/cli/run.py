@@ -108,8 +108,8 @@ def run(args: argparse.Namespace) -> int:
         args.scenario = short_path(bundled("open_day.dance"))
         if args.world is None:
             args.world = short_path(bundled("open_day.toml"))
-    show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(),
-                     timing=args.timing)
+    show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(
+        places="rigid" if args.follower == "tracking" else "path"), timing=args.timing)
     if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
     from dancebots.sim.setup import SetupError, prepare_show

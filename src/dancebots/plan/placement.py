@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 import shapely
@@ -25,6 +26,7 @@ from dancebots.geometry import (
     footprint_corners,
     points_to_world,
     wrap_angle,
+    wrap_angles,
 )
 from dancebots.plan.planner import Plan, PlannedFormation
 from dancebots.world import DEFAULT_ROBOT_TYPE, Obstacle, RobotType, World, start_conflicts
@@ -34,6 +36,7 @@ __all__ = [
     "MAX_SIMULATED_ROBOT_SECONDS",
     "MAX_START_OVERLAPS",
     "PlacedShow",
+    "Places",
     "ShowSamples",
     "WorldViolation",
     "instruction_position",
@@ -117,13 +120,29 @@ class ShowSamples:
         return slots
 
 
-def sample_show(plan: Plan, period: float = 0.1) -> ShowSamples:
-    """Sample every robot's desired pose every ``period`` s (longer for very large shows:
-    at most :data:`MAX_ROBOT_SAMPLES` poses) and at every formation change."""
+Places = Literal["rigid", "path"]
+"""Which poses a placement samples: the rigid slots (the ``tracking`` follower's), or the
+places on the leaders' paths that the ``path`` and ``thesis`` followers drive to
+(``plan.places.path_places``)."""
+
+
+def sample_show(plan: Plan, period: float = 0.1, places: Places = "rigid") -> ShowSamples:
+    """Sample every robot's desired pose (``places``: its rigid slot, or its place on its
+    leader's path) every ``period`` s (longer for very large shows: at most
+    :data:`MAX_ROBOT_SAMPLES` poses) and at every formation change."""
     diagnostics: list[Diagnostic] = []
     chosen = _sample_period(plan, period, diagnostics)
     times = _sample_times(plan, chosen)
-    poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
+    if places == "path":
+        from dancebots.plan.places import path_places  # places imports the planner
+
+        def placed(robot: str) -> FloatArray:
+            points, heading, _, _ = path_places(plan, robot, times)
+            return np.column_stack([points, wrap_angles(heading)])
+
+        poses = np.stack([placed(r) for r in plan.robots])  # (R, T, 3)
+    else:
+        poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
     which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
     return ShowSamples(chosen, times, poses, which, tuple(diagnostics))
 
@@ -238,14 +257,14 @@ class PlacedShow:
 
 def place_show(plan: Plan, world: World | None = None,
                default_type: RobotType = DEFAULT_ROBOT_TYPE, *, period: float = 0.1,
-               start_tolerance: float = 0.25) -> PlacedShow:
+               start_tolerance: float = 0.25, places: Places = "rigid") -> PlacedShow:
     """Place a plan in a world (or in an open arena without one) and find what makes the
     show impossible to simulate: the one function that ``check`` and the simulator's setup
     both use. default_type: robots the world does not define (:func:`robot_types`); desired
-    poses are sampled every ``period`` s; a robot starting further than ``start_tolerance`` m
-    from its first slot is a warning."""
+    poses (``places``: :func:`sample_show`) are sampled every ``period`` s; a robot starting
+    further than ``start_tolerance`` m from its first slot is a warning."""
     types = tuple(robot_types(plan, world, default_type))
-    samples = sample_show(plan, period)
+    samples = sample_show(plan, period, places)
     diagnostics: list[Diagnostic] = []
     size = len(plan.robots) * plan.duration
     if size > MAX_SIMULATED_ROBOT_SECONDS:
