@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -107,8 +109,9 @@ def test_a_mate_on_its_place_does_not_push_the_robot_but_a_stranger_does(followe
         seen = brain._perceive(cloud.columns, 0.1, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
         if brain_follower == "thesis":
             return seen.force
-        return brain._force_without_mates(cloud.columns, 0.1, (0.0, 0.0, 0.0),
-                                          (0.0, 0.0, 0.0), 0.0, seen.force)
+        strangers = brain._without_mates(cloud.columns, 0.1, (0.0, 0.0, 0.0),
+                                         (0.0, 0.0, 0.0), 0.0)
+        return seen.force if strangers is None else strangers.force
 
     assert force_on_r1(follower, -0.9) == (0.0, 0.0)  # R2's side, where R2 stands
     assert force_on_r1(follower, 0.9)[1] < 0.0  # a stranger on the left pushes it right
@@ -140,3 +143,23 @@ def test_the_tracking_followers_lead_their_feedforward_by_the_actuator_lag() -> 
     turning = [t for t in np.arange(0.0, plan.duration, 0.1)
                if lagging._reference(t).angular_speed != lagging.slot_at(t).angular_speed]
     assert turning  # the lead does change the feedforward where the place turns
+
+
+def test_a_robot_keeps_its_speed_behind_a_mate_on_its_place_but_not_behind_a_stranger(
+        ) -> None:
+    """The approach limit (gain 1/s, stop distance 0.55 m): 1 m of free space ahead allows
+    0.45 m/s; when what is there is a formation mate on its place, the robot may keep its
+    reference's speed plus the gain times the room beyond the stop distance and MATE_GAP
+    (0.3 + 0.35 m/s), never more than a stranger further ahead allows, and within MATE_GAP
+    of the stop distance the first limit holds."""
+    from dancebots.robot import MATE_GAP, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(), sensing=SensingConfig(),
+                       follower="path")
+    stop = brain.sensing.detection.stop_distance
+    assert brain._approach_limit(1.0, None, 0.3) == pytest.approx(1.0 - stop)
+    assert brain._approach_limit(1.0, math.inf, 0.3) == pytest.approx(
+        0.3 + 1.0 - stop - MATE_GAP)
+    assert brain._approach_limit(1.0, 0.8, 0.3) == pytest.approx(1.0 - stop)  # a stranger
+    assert brain._approach_limit(stop + 0.5 * MATE_GAP, math.inf, 0.3) == pytest.approx(
+        0.5 * MATE_GAP)

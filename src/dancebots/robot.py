@@ -69,6 +69,9 @@ DETECTORS: tuple[Detector, ...] = get_args(Detector)
 ``compensated`` moves its points by the robot's own motion since the cloud's stamp."""
 FORCE_GAIN = 0.02
 """Gain of each obstacle point's push (see ``control.force_field.repulsive_force``)."""
+MATE_GAP = 0.1
+"""m beyond the stop distance at which a robot following a formation mate on its place stops
+keeping its reference's speed (:meth:`RobotBrain._approach_limit`)."""
 MATE_MARGIN = 0.3
 """m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
 should be are left out of the tracking and path followers' force field."""
@@ -281,15 +284,20 @@ class RobotBrain:
         held = False
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
+            strangers: Perception | None = None  # the points that are no mate on its place
             if sensing.lidar and len(obstacles):
                 seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
                 if self._mates is not None:
-                    seen = replace(seen, force=self._force_without_mates(
-                        obstacles, height_step, seen_from or pose, pose, show_time, seen.force))
+                    strangers = self._without_mates(obstacles, height_step, seen_from or pose,
+                                                    pose, show_time)
+                    if strangers is not None:
+                        seen = replace(seen, force=strangers.force)
+            reference_speed = 0.0
             if self.follower != "thesis":
                 follower = state.follower
-                linear, angular = tracking_step(self.tracking, pose, self._reference(show_time),
-                                                seen.force)
+                reference = self._reference(show_time)
+                reference_speed = abs(reference.speed)
+                linear, angular = tracking_step(self.tracking, pose, reference, seen.force)
             else:
                 sample = self._sample(show_time)
                 follower, (linear, angular) = thesis_follower_step(
@@ -300,11 +308,14 @@ class RobotBrain:
                 held = True  # thesis 5.2: the flags prevent moving that way
                 linear = 0.0
             elif sensing.approach_gain > 0:
-                stop = sensing.detection.stop_distance
                 if linear > 0:
-                    linear = min(linear, sensing.approach_gain * max(seen.front_free - stop, 0.0))
+                    linear = min(linear, self._approach_limit(
+                        seen.front_free, strangers.front_free if strangers else None,
+                        reference_speed))
                 elif linear < 0:
-                    linear = max(linear, -sensing.approach_gain * max(seen.rear_free - stop, 0.0))
+                    linear = max(linear, -self._approach_limit(
+                        seen.rear_free, strangers.rear_free if strangers else None,
+                        reference_speed))
             if (angular > 0 and not seen.turn_left) or (angular < 0 and not seen.turn_right):
                 angular = 0.0  # never swing a corner into something beside the robot
             command = Command(linear, angular)
@@ -327,21 +338,41 @@ class RobotBrain:
         k = min(max(round(show_time / self.grid_period), 0), self._mates.shape[1] - 1)
         return points_to_world(self._mates[:, k], self._to_own)
 
-    def _force_without_mates(self, columns: np.ndarray, height_step: float,
-                             seen_from: tuple[float, float, float],
-                             pose: tuple[float, float, float], show_time: float,
-                             force: tuple[float, float]) -> tuple[float, float]:
-        """The virtual force of the cloud's columns (K, 4) (``base_link`` at ``seen_from``)
-        without the points within ``mate_radius`` of where a formation mate should be (an
-        addition of the tracking and path followers: a mate on its place is part of the
-        plan, not an obstacle to steer around; the stop flags still see it)."""
+    def _approach_limit(self, free: float, strangers_free: float | None,
+                        reference_speed: float) -> float:
+        """The fastest (m/s) the robot may drive towards what it sees ``free`` m ahead (or
+        behind): approach_gain * (free - stop distance). Where the nearest of it is a
+        formation mate on its place (``strangers_free``: the free distance without the mates'
+        points, None when none was left out), the mate moves with the formation, so the robot
+        may keep its own reference's speed ``reference_speed`` (m/s) until it is within
+        :data:`MATE_GAP` of the stop distance (adaptive cruise control: the gap closes
+        only as fast as the mate drives away); the stop flags still hold it at the stop
+        distance, and anything else within reach keeps the first limit."""
+        sensing = self.sensing
+        stop = sensing.detection.stop_distance
+        limit = sensing.approach_gain * max(free - stop, 0.0)
+        if strangers_free is None or free <= stop + MATE_GAP:
+            return limit
+        cruise = reference_speed + sensing.approach_gain * (free - stop - MATE_GAP)
+        return max(limit, min(cruise, sensing.approach_gain * max(strangers_free - stop, 0.0)))
+
+    def _without_mates(self, columns: np.ndarray, height_step: float,
+                       seen_from: tuple[float, float, float],
+                       pose: tuple[float, float, float], show_time: float,
+                       ) -> Perception | None:
+        """The perception of the cloud's columns (K, 4) (``base_link`` at ``seen_from``)
+        without the points within ``mate_radius`` of where a formation mate should be, or
+        None when no point is left out (an addition of the tracking and path followers: a
+        mate on its place is part of the plan: its force and the approach limit,
+        :meth:`_approach_limit`, leave it out; the stop flags and the turn guard still see
+        every point)."""
         mates = points_to_local(self.mates_at(show_time), seen_from)  # (M, 2) base_link
         gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
                         columns[:, None, 1] - mates[None, :, 1])  # (K, M)
         keep = gaps.min(axis=1) > self.mate_radius
         if keep.all():
-            return force
-        return self._perceive(columns[keep], height_step, seen_from, pose).force
+            return None
+        return self._perceive(columns[keep], height_step, seen_from, pose)
 
     def _perceive(self, columns: np.ndarray, height_step: float,
                   seen_from: tuple[float, float, float],
