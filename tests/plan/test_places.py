@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from dancebots.plan import PlanParameters
 from dancebots.plan.places import FILE_MARGIN, catch_up_speed, path_places, places_end
@@ -68,3 +70,28 @@ def test_places_go_smoothly_to_the_rigid_slots_after_a_show_that_ends_on_an_arc(
     rear = path_places(plan, "R4", np.array([plan.duration]))[0][0]
     slot = plan.desired_poses("R4", np.array([plan.duration]))[0]
     assert np.hypot(*(rear - slot[:2])) > 0.2  # the arc did leave it off its rigid slot
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(["row A,B,C 0 {s}", "column A;B;C {s} 0", "triangle A;B,C {s} {s}"]),
+       st.floats(0.3, 3.0),
+       st.lists(st.tuples(st.floats(0.0, 4.0), st.floats(-180.0, 180.0)), min_size=1,
+                max_size=4),
+       st.sampled_from(["thesis", "feasible"]))
+def test_places_are_finite_and_end_on_the_rigid_slots(
+        shape: str, spacing: float, moves: list[tuple[float, float]], timing: str) -> None:
+    """Any formation of three on any moves: the places, their headings and speeds are
+    finite, speeds are >= 0, and every place stands on its rigid slot at ``places_end``."""
+    text = ("robots A B C\n" + shape.format(s=f"{spacing:.3f}") + "\n"
+            + "".join(f"move {d:.3f} {a:.1f}\n" for d, a in moves))
+    plan = plan_of(text, PlanParameters(timing=timing, footprint=HUSKY))  # type: ignore[arg-type]
+    end = places_end(plan)
+    assert end >= plan.duration
+    times = np.concatenate([np.arange(0.0, end, 0.25), [end, end + 1.0]])
+    for robot in plan.robots:
+        points, heading, motion, speed = path_places(plan, robot, times)
+        for array in (points, heading, motion, speed):
+            assert np.isfinite(array).all()
+        assert (speed >= 0.0).all()
+        slot = plan.desired_poses(robot, times[-1:])[0]
+        assert np.hypot(*(points[-1] - slot[:2])) < 1e-6
