@@ -19,7 +19,9 @@ import numpy as np
 
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
+from dancebots.plan.planner import PlanParameters
 from dancebots.report.metrics import spacing_change
+from dancebots.robot import BrainOptions
 from dancebots.shows.formation import SimConfig, simulate
 from dancebots.sim import prepare_show
 
@@ -30,9 +32,12 @@ SPACING = 1.2
 def main() -> None:
     argparse.ArgumentParser(description=__doc__,
                             formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
-    _, plan, diagnostics = compile_scenario(SCENARIO.read_text(), str(SCENARIO))
+    # the ROS nodes' defaults: the path follower on the feasible timing
+    _, plan, diagnostics = compile_scenario(SCENARIO.read_text(), str(SCENARIO),
+                                            PlanParameters(timing="feasible"))
     assert plan is not None, diagnostics
-    pure = simulate(plan, *prepare_show(place_show(plan, None)), SimConfig())
+    pure = simulate(plan, *prepare_show(place_show(plan, None, places="path")),
+                    SimConfig(brain=BrainOptions(follower="path")))
     with tempfile.TemporaryDirectory() as folder:
         record = Path(folder) / "record.npz"
         subprocess.run([str(Path(sys.executable).parent / "dancebots"), "ros", "simulate",

@@ -41,13 +41,13 @@ def test_the_rear_robot_of_the_inner_file_keeps_its_distance_round_a_sharp_corne
 
 def test_robots_side_by_side_keep_the_leaders_timing() -> None:
     """A row is not a file: thesis 7.1's two robots are placed abeam the same point of the
-    leader's path at every instant, so their distance is 1.2 m wherever the path is straight
-    and both robots' places come back to it after the corner."""
+    leader's path at every instant (its inner robot backs up round the corners' loops), so
+    they stay exactly 1.2 m apart, in the corners too."""
     text = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 -90\nmove 4 90\n"
     _, places = _places(text, PlanParameters(timing="feasible"))
     distance = np.hypot(*(places["R1"][0] - places["R2"][0]).T)
-    assert abs(distance[0] - 1.2) < 1e-9
-    assert abs(distance[-1] - 1.2) < 1e-6
+    assert np.abs(distance - 1.2).max() < 1e-3  # chords between the leader's 0.05 s samples
+    assert (places["R2"][2] != places["R2"][1]).any()  # R2 backs up somewhere
 
 
 def test_places_go_smoothly_to_the_rigid_slots_after_a_show_that_ends_on_an_arc() -> None:
@@ -72,22 +72,27 @@ def test_places_go_smoothly_to_the_rigid_slots_after_a_show_that_ends_on_an_arc(
     assert np.hypot(*(rear - slot[:2])) > 0.2  # the arc did leave it off its rigid slot
 
 
+SHAPES = ["row A,B,C 0 {s}", "column A;B;C {s} 0", "triangle A;B,C {s} {s}"]
+
+
 @settings(max_examples=40, deadline=None)
-@given(st.sampled_from(["row A,B,C 0 {s}", "column A;B;C {s} 0", "triangle A;B,C {s} {s}"]),
-       st.floats(0.3, 3.0),
-       st.lists(st.tuples(st.floats(0.0, 4.0), st.floats(-180.0, 180.0)), min_size=1,
-                max_size=4),
-       st.sampled_from(["thesis", "feasible"]))
+@given(st.sampled_from(SHAPES), st.floats(0.3, 3.0),
+       st.lists(st.tuples(st.floats(0.0, 4.0), st.floats(-180.0, 180.0)), max_size=4),
+       st.none() | st.sampled_from(SHAPES), st.sampled_from(["thesis", "feasible"]))
 def test_places_are_finite_and_end_on_the_rigid_slots(
-        shape: str, spacing: float, moves: list[tuple[float, float]], timing: str) -> None:
-    """Any formation of three on any moves: the places, their headings and speeds are
-    finite, speeds are >= 0, and every place stands on its rigid slot at ``places_end``."""
+        shape: str, spacing: float, moves: list[tuple[float, float]], then: str | None,
+        timing: str) -> None:
+    """Any formation of three on any moves (none too), maybe ending in a formation change:
+    the places, their headings and speeds are finite, speeds are >= 0, the places keep apart
+    until the leader's end, and every place stands on its rigid slot at ``places_end``."""
     text = ("robots A B C\n" + shape.format(s=f"{spacing:.3f}") + "\n"
-            + "".join(f"move {d:.3f} {a:.1f}\n" for d, a in moves))
+            + "".join(f"move {d:.3f} {a:.1f}\n" for d, a in moves)
+            + ("" if then is None else then.format(s=f"{spacing:.3f}") + "\n"))
     plan = plan_of(text, PlanParameters(timing=timing, footprint=HUSKY))  # type: ignore[arg-type]
     end = places_end(plan)
     assert end >= plan.duration
     times = np.concatenate([np.arange(0.0, end, 0.25), [end, end + 1.0]])
+    placed = {}
     for robot in plan.robots:
         points, heading, motion, speed = path_places(plan, robot, times)
         for array in (points, heading, motion, speed):
@@ -95,3 +100,11 @@ def test_places_are_finite_and_end_on_the_rigid_slots(
         assert (speed >= 0.0).all()
         slot = plan.desired_poses(robot, times[-1:])[0]
         assert np.hypot(*(points[-1] - slot[:2])) < 1e-6
+        placed[robot] = points
+    # until the leader's end the places keep their distance (the slots are at least 0.3 m
+    # apart); on the way to the slots after it they do not look at each other (a column
+    # that ends with a U-turn crosses itself: check's simulation pass reports that)
+    during = times <= plan.duration
+    gaps = [np.hypot(*(placed[a] - placed[b]).T)[during].min()
+            for a, b in (("A", "B"), ("B", "C"))]
+    assert min(gaps) > 0.29

@@ -17,7 +17,8 @@ from tests.ros1.conftest import Master, stop, tagged
 
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
-from dancebots.plan.planner import Plan
+from dancebots.plan.planner import Plan, PlanParameters
+from dancebots.robot import BrainOptions
 from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim import prepare_show
 
@@ -27,15 +28,19 @@ START_ALLOWANCE = 30.0  # s for the nodes to start, test the network and agree (
 
 
 def plan_of(path: Path) -> Plan:
-    _, plan, diagnostics = compile_scenario(path.read_text(), str(path))
+    """The plan the ROS nodes make of ``path`` with their defaults (the feasible timing)."""
+    _, plan, diagnostics = compile_scenario(path.read_text(), str(path),
+                                            PlanParameters(timing="feasible"))
     assert plan is not None, diagnostics
     return plan
 
 
 def pure_run(path: Path) -> RunResult:
+    """The pure simulation of ``path`` with the ROS nodes' defaults (the path follower on
+    the feasible timing), to compare a ROS run with."""
     plan = plan_of(path)
-    arena, placement = prepare_show(place_show(plan, None))
-    return simulate(plan, arena, placement, SimConfig())
+    arena, placement = prepare_show(place_show(plan, None, places="path"))
+    return simulate(plan, arena, placement, SimConfig(brain=BrainOptions(follower="path")))
 
 
 @dataclass

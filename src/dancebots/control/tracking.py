@@ -187,9 +187,9 @@ def path_references(plan: Plan, robot: str, times: FloatArray,
     the leader was ``-ox`` m of path earlier, shifted by (0, oy) (:func:`path_places`). So a
     column follows its leader's path round a corner instead of swinging sideways as a rigid
     body would (``ox sin(turn)``: 1.5 m for the rear of a 2.1 m column at 45 deg), and the
-    robots of a row stay parallel. Loops on the inner side of tight turns are cut, a robot
-    keeps its distance behind the one in front in its file, and after the leader's last
-    instruction the place goes straight to the rigid slot (``plan.places``). Speed: the
+    robots of a row stay parallel. A robot keeps its distance from the places of the robots
+    ahead of it, and after the leader's last instruction the place goes on a smooth curve to
+    the rigid slot (``plan.places``). Speed: the
     leader's v times (1 - kappa oy), kappa the path's curvature there (the feasible timing
     bounds it: ``plan.planner.path_speed_scale``), less where the place is held back.
     Returns (T, 5) as :func:`references_from_motion`."""

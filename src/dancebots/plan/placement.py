@@ -90,10 +90,13 @@ def _sample_period(plan: Plan, period: float, diagnostics: list[Diagnostic]) -> 
     return coarse
 
 
-def _sample_times(plan: Plan, period: float) -> FloatArray:
-    grid = np.arange(0.0, plan.duration + 0.5 * period, period)
+def _sample_times(plan: Plan, period: float, end: float | None = None) -> FloatArray:
+    """Every ``period`` s from 0 to ``end`` (default the plan's duration), and every
+    formation's start."""
+    end = plan.duration if end is None else end
+    grid = np.arange(0.0, end + 0.5 * period, period)
     starts = [f.start for f in plan.formations]
-    return np.unique(np.concatenate([grid, starts, [plan.duration]]))
+    return np.unique(np.concatenate([grid, starts, [plan.duration, end]]))
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -128,13 +131,15 @@ places on the leaders' paths that the ``path`` and ``thesis`` followers drive to
 
 def sample_show(plan: Plan, period: float = 0.1, places: Places = "rigid") -> ShowSamples:
     """Sample every robot's desired pose (``places``: its rigid slot, or its place on its
-    leader's path) every ``period`` s (longer for very large shows: at most
+    leader's path, then on its way to its rigid slot after its leader's end until
+    ``places_end``) every ``period`` s (longer for very large shows: at most
     :data:`MAX_ROBOT_SAMPLES` poses) and at every formation change."""
     diagnostics: list[Diagnostic] = []
     chosen = _sample_period(plan, period, diagnostics)
-    times = _sample_times(plan, chosen)
     if places == "path":
-        from dancebots.plan.places import path_places  # places imports the planner
+        from dancebots.plan.places import path_places, places_end  # places imports the planner
+
+        times = _sample_times(plan, chosen, places_end(plan))  # and their way to the slots
 
         def placed(robot: str) -> FloatArray:
             points, heading, _, _ = path_places(plan, robot, times)
@@ -142,6 +147,7 @@ def sample_show(plan: Plan, period: float = 0.1, places: Places = "rigid") -> Sh
 
         poses = np.stack([placed(r) for r in plan.robots])  # (R, T, 3)
     else:
+        times = _sample_times(plan, chosen)
         poses = np.stack([plan.desired_poses(r, times) for r in plan.robots])  # (R, T, 3)
     which = np.stack([plan.formation_indices(r, times) for r in plan.robots])  # (R, T)
     return ShowSamples(chosen, times, poses, which, tuple(diagnostics))

@@ -8,16 +8,17 @@ times in s of show time.
 Two additions make the places drivable where the leader turns more tightly than the
 formation is wide:
 
-* **Distance kept in a file** (:func:`path_places`). On the inner side of a turn the shifted
-  path is shorter than the leader's (it loops back where the turn is tighter than |oy|), so a
-  place ``L`` m of the leader's path behind another one comes nearer than ``L`` to it
-  (2 |oy| tan(turn / 2) nearer at a sharp corner: 1 m at the open-day square's 90 deg
-  corner, which put the rear robot on the front one). A robot behind another one of its
-  formation (ox smaller, lateral offsets closer than a robot's width plus
-  :data:`FILE_MARGIN`) keeps at least ``min(L, diagonal + FILE_MARGIN)`` straight distance
-  from that one's place (``diagonal`` the world's largest robot's): its place waits, then
-  catches up at no more than :func:`catch_up_speed`. Robots side by side (a row) keep the
-  leader's timing, so the row stays abeam (the inner robot backs up round the loop).
+* **Distance kept behind the robots ahead** (:func:`path_places`). On the inner side of a
+  turn the shifted path is shorter than the leader's (it loops back where the turn is
+  tighter than |oy|), so a place ``L`` m of the leader's path behind another one comes
+  nearer than ``L`` to it (2 |oy| tan(turn / 2) nearer at a sharp corner: 1 m at the
+  open-day square's 90 deg corner, which put the rear robot on the front one). A robot keeps
+  at least ``min(D, diagonal + FILE_MARGIN)`` straight distance from the place of every
+  robot of its formation ahead of it (ox larger; ``D`` their rigid distance, ``diagonal``
+  the world's largest robot's): its place waits on the path (it falls back and catches up
+  no faster than :func:`catch_up_speed`). Robots side by side (a row) keep the leader's
+  timing, so the row stays abeam (the inner robot backs up round the loop: loops are not
+  cut).
 * **A smooth way to the rigid slot at the end.** Where the path behind the leader is curved
   when it stops (a show that ends on an arc), a place ``-ox`` m behind on the path is not
   the rigid slot; the place goes there on a cubic Hermite curve.
@@ -25,8 +26,8 @@ formation is wide:
 
 from __future__ import annotations
 
-import functools
 import itertools
+import weakref
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -34,9 +35,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.geometry import compose_points
+from dancebots.plan.planner import LeaderTrajectory
 
 if TYPE_CHECKING:
-    from dancebots.plan.planner import LeaderTrajectory, Plan, PlannedFormation
+    from dancebots.plan.planner import Plan, PlannedFormation
 
 __all__ = ["FILE_MARGIN", "OffsetPath", "catch_up_speed", "offset_path", "path_places",
            "places_end"]
@@ -44,12 +46,15 @@ __all__ = ["FILE_MARGIN", "OffsetPath", "catch_up_speed", "offset_path", "path_p
 FloatArray = NDArray[np.float64]
 
 FILE_MARGIN = 0.3
-"""Least gap (m) kept between a robot and the one in front of it in its file, along its path
-(the planner's CLEARANCE)."""
+"""m added to the largest robot's diagonal: the least straight distance a robot keeps from
+the places of the robots ahead of it in its formation (unless their rigid distance is
+smaller); the planner's CLEARANCE."""
 FILE_ITERATIONS = 40
 """Most steps back along the path that bring a robot the straight distance behind the robots
 in front of it (secant steps on the distance still missing)."""
 FILE_SECANT_FLOOR = 0.5
+RATE_PASSES = 2
+"""Rounds of the places' speed limit (each with the stretch where the last one left them)."""
 """The least distance gained per metre gone back that the secant step counts with."""
 
 
@@ -74,17 +79,19 @@ class OffsetPath:
         (T, 2), heading (T,) rad and stretch (T,). Before the leader's first pose (driven <
         0) on the straight line behind it; after its last, at the end."""
         count = len(driven)
-        if len(self.driven) < 2:
-            return (np.broadcast_to(self.points[0], (count, 2)).copy(),
-                    np.full(count, self.heading[0]), np.ones(count))
-        j = np.clip(np.searchsorted(self.driven, driven, side="right") - 1, 0,
-                    len(self.driven) - 2)
-        step = self.driven[j + 1] - self.driven[j]
-        fraction = np.clip(np.where(step > 0.0, (driven - self.driven[j])
-                                    / np.where(step > 0.0, step, 1.0), 0.0), 0.0, 1.0)
-        points = self.points[j] + fraction[:, None] * (self.points[j + 1] - self.points[j])
-        heading = self.heading[j] + fraction * (self.heading[j + 1] - self.heading[j])
-        stretch = self.stretch[j].copy()
+        if len(self.driven) < 2:  # a leader that never moves: its one pose
+            points = np.broadcast_to(self.points[0], (count, 2)).copy()
+            heading = np.full(count, self.heading[0])
+            stretch = np.ones(count)
+        else:
+            j = np.clip(np.searchsorted(self.driven, driven, side="right") - 1, 0,
+                        len(self.driven) - 2)
+            step = self.driven[j + 1] - self.driven[j]
+            fraction = np.clip(np.where(step > 0.0, (driven - self.driven[j])
+                                        / np.where(step > 0.0, step, 1.0), 0.0), 0.0, 1.0)
+            points = self.points[j] + fraction[:, None] * (self.points[j + 1] - self.points[j])
+            heading = self.heading[j] + fraction * (self.heading[j + 1] - self.heading[j])
+            stretch = self.stretch[j].copy()
         behind = driven < 0.0
         if behind.any():
             back = driven[behind]
@@ -118,11 +125,21 @@ def _offset_path(formation: PlannedFormation, oy: float) -> OffsetPath:
     return _leader_offset_path(formation.leader, oy)
 
 
-@functools.lru_cache(maxsize=512)
+_OFFSET_PATHS: weakref.WeakKeyDictionary[LeaderTrajectory, dict[float, OffsetPath]] = (
+    weakref.WeakKeyDictionary())
+_FILE_TABLES: weakref.WeakKeyDictionary[LeaderTrajectory, dict[
+    tuple[tuple[tuple[str, tuple[float, float]], ...], tuple[float, float], float],
+    dict[str, FloatArray]]] = weakref.WeakKeyDictionary()
+"""Caches per leader (by identity: the planner's ordered departures reuse the leaders that a
+trial does not change), let go with the leader's plan."""
+
+
 def _leader_offset_path(leader: LeaderTrajectory, oy: float) -> OffsetPath:
-    """:func:`offset_path`, once per leader (compared by identity: the planner's ordered
-    departures reuse the leaders that a trial does not change) and lateral offset."""
-    return offset_path(leader, oy)
+    """:func:`offset_path`, once per leader and lateral offset."""
+    paths = _OFFSET_PATHS.setdefault(leader, {})
+    if oy not in paths:
+        paths[oy] = offset_path(leader, oy)
+    return paths[oy]
 
 
 def _leader_driven(leader: LeaderTrajectory, times: FloatArray) -> FloatArray:
@@ -145,13 +162,24 @@ def _file_table(plan: Plan, index: int) -> dict[str, FloatArray]:
                               plan.parameters.footprint, catch_up_speed(plan))
 
 
-@functools.lru_cache(maxsize=256)
 def _leader_file_table(leader: LeaderTrajectory,
                        offsets_of: tuple[tuple[str, tuple[float, float]], ...],
                        footprint: tuple[float, float], catch_up: float,
                        ) -> dict[str, FloatArray]:
     """:func:`_file_table` of a leader (by identity), the robots' offsets, the largest
-    footprint (m) and the catch-up speed (m/s)."""
+    footprint (m) and the catch-up speed (m/s), once."""
+    tables = _FILE_TABLES.setdefault(leader, {})
+    key = (offsets_of, footprint, catch_up)
+    if key not in tables:
+        tables[key] = _compute_file_table(leader, offsets_of, footprint, catch_up)
+    return tables[key]
+
+
+def _compute_file_table(leader: LeaderTrajectory,
+                        offsets_of: tuple[tuple[str, tuple[float, float]], ...],
+                        footprint: tuple[float, float], catch_up: float,
+                        ) -> dict[str, FloatArray]:
+    """See :func:`_leader_file_table`."""
     times = leader.times
     length, width = footprint
     reach = float(np.hypot(length, width)) + FILE_MARGIN
@@ -188,8 +216,18 @@ def _leader_file_table(leader: LeaderTrajectory,
                 if not len(active):
                     break
                 abeam[active] -= step[going]
-            for k in range(1, len(abeam)):  # held back: catch up at a drivable speed
-                abeam[k] = min(abeam[k], abeam[k - 1] + fastest[k - 1])
+            # held back: fall back and catch up at a drivable speed (start waiting earlier
+            # rather than jump back, then catch up no faster than the feasible timing's
+            # bound), the place's own speed: the leader's path length per step over the
+            # stretch there (|1 - kappa oy|); both passes only move places further back
+            for _ in range(RATE_PASSES):
+                room = (fastest / np.maximum(np.abs(path.at(abeam)[2][:-1]), 1.0)).tolist()
+                values = abeam.tolist()
+                for k in range(len(values) - 2, -1, -1):
+                    values[k] = min(values[k], values[k + 1] + room[k])
+                for k in range(1, len(values)):
+                    values[k] = min(values[k], values[k - 1] + room[k - 1])
+                abeam = np.array(values)
         placed[robot] = (abeam, path.at(abeam)[0])
     return {robot: abeam for robot, (abeam, _) in placed.items()}
 
@@ -199,15 +237,16 @@ def path_places(plan: Plan, robot: str, times: FloatArray,
     """Where ``robot``'s place on its leader's path is at show times ``times`` (T,) s,
     ascending, show frame: positions (T, 2) m; the heading the robot should have there (T,)
     rad, unwrapped (the path's, at the end the leader's final heading); the direction the
-    place moves (T,) rad and its speed (T,) m/s (>= 0: it never moves backwards).
+    place moves (T,) rad (the heading plus pi where the place moves backwards round a loop)
+    and its speed (T,) m/s (>= 0).
 
     The leader's pose where the leader was ``-ox`` m of path earlier, shifted by (0, oy),
-    with loops cut and distance kept in a file (module docstring); before the leader has
-    driven that far, on the straight line behind its first pose. Computed at the leader's
-    samples and interpolated between them. Once the leader stands after its last
-    instruction, the place goes on a straight line at :func:`catch_up_speed` to the robot's
-    rigid slot (the leader's final pose composed with (ox, oy)): where the path behind the
-    leader is curved (a show that ends on an arc) the two differ."""
+    held back to keep its distance from the robots ahead (module docstring); before the
+    leader has driven that far, on the straight line behind its first pose. Computed at the
+    leader's samples and interpolated between them. Once the leader stands after its last
+    instruction, the place goes at :func:`catch_up_speed` on a cubic Hermite curve to the
+    robot's rigid slot (the leader's final pose composed with (ox, oy)): where the path
+    behind the leader is curved (a show that ends on an arc) the two differ."""
     times = np.asarray(times, dtype=float)
     count = len(times)
     points = np.empty((count, 2))

@@ -134,7 +134,7 @@ class InstructionTiming:
         return self.instruction.span
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@dataclass(frozen=True, slots=True, eq=False, weakref_slot=True)
 class LeaderTrajectory:
     """A virtual leader's motion sampled at the plan step.
 
