@@ -80,7 +80,8 @@ def plot_speeds_and_distances(result: RunResult) -> Any:
 
 
 def plot_trajectories(result: RunResult) -> Any:
-    """Robot paths (solid), their desired paths (dashed), the virtual leaders (black), the
+    """Robot paths (solid), where their followers should have them (dashed: the rigid slots
+    for ``tracking``, the places on the leaders' paths otherwise), the virtual leaders (black), the
     room and obstacles, footprints at start and end, spectators' walks (dotted), stops
     (orange rings) and collisions (red crosses) (fig. 7.6)."""
     import matplotlib.pyplot as plt
@@ -96,7 +97,9 @@ def plot_trajectories(result: RunResult) -> Any:
         leader = broken_at_changes(result.leader[i, :, :2], result.formation[i])
         ax.plot(leader[:, 0], leader[:, 1], color="black", linewidth=0.8,
                 label="virtual leader" if i == 0 else None)
-        desired = broken_at_changes(result.desired[i, :, :2], result.formation[i])
+        # dashed: where its follower should have it (``RunResult.reference``: the rigid slot
+        # for tracking, the place on the leader's path for path and thesis)
+        desired = broken_at_changes(result.reference[i, :, :2], result.formation[i])
         ax.plot(desired[:, 0], desired[:, 1], "--", color=colours[i], linewidth=0.8)
         ax.plot(result.poses[i, :, 0], result.poses[i, :, 1], color=colours[i], linewidth=1.6,
                 label=robot)
@@ -126,6 +129,6 @@ def plot_trajectories(result: RunResult) -> Any:
     ax.set_ylabel("y [m]")
     ax.grid(True, linewidth=0.3)
     ax.legend(loc="best", fontsize="small")
-    ax.set_title(f"{result.plan.scenario.path}: trajectories ({result.config.profile.name}; "
-                 "dashed: desired)")
+    ax.set_title(f"{result.plan.scenario.path}: trajectories ({result.config.profile.name}, "
+                 f"{result.config.brain.follower} follower; dashed: its places)")
     return fig
