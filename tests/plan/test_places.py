@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from dancebots.plan import PlanParameters
@@ -79,6 +79,7 @@ SHAPES = ["row A,B,C 0 {s}", "column A;B;C {s} 0", "triangle A;B,C {s} {s}"]
 @given(st.sampled_from(SHAPES), st.floats(0.3, 3.0),
        st.lists(st.tuples(st.floats(0.0, 4.0), st.floats(-180.0, 180.0)), max_size=4),
        st.none() | st.sampled_from(SHAPES), st.sampled_from(["thesis", "feasible"]))
+@example("column A;B;C {s} 0", 0.375, [(0.25, -84.0), (1.0, -116.0)], None, "thesis")
 def test_places_are_finite_and_end_on_the_rigid_slots(
         shape: str, spacing: float, moves: list[tuple[float, float]], then: str | None,
         timing: str) -> None:

@@ -195,41 +195,58 @@ def _compute_file_table(leader: LeaderTrajectory,
                    front_place) for front, (_, front_place) in placed.items()
                   if offsets[front][0] > ox]
         if fronts and len(times) >= 2:
-            active = np.arange(len(times))  # the samples still too near a robot in front
-            last_short = np.full(len(times), np.nan)
-            last_step = np.zeros(len(times))
-            for _ in range(FILE_ITERATIONS):  # back along the path until far enough
-                point = path.at(abeam[active])[0]
-                short = np.zeros(len(active))
-                for gap, front_place in fronts:
-                    short = np.maximum(short, gap - np.hypot(*(point - front_place[active]).T))
-                # the distance gained per metre gone back on the last step (1 on a straight
-                # line, less round a corner): the secant step, at most 1 / FILE_SECANT_FLOOR
-                # times the distance missing (a place held a little further back is safe)
-                gained = np.where(last_step[active] > 0.0, (last_short[active] - short)
-                                  / np.where(last_step[active] > 0.0, last_step[active], 1.0),
-                                  1.0)
-                step = short / np.clip(gained, FILE_SECANT_FLOOR, 1.0)
-                going = short > 1e-6
-                last_short[active], last_step[active] = short, step
-                active = active[going]
-                if not len(active):
-                    break
-                abeam[active] -= step[going]
-            # held back: fall back and catch up at a drivable speed (start waiting earlier
-            # rather than jump back, then catch up no faster than the feasible timing's
-            # bound), the place's own speed: the leader's path length per step over the
-            # stretch there (|1 - kappa oy|); both passes only move places further back
-            for _ in range(RATE_PASSES):
-                room = (fastest / np.maximum(np.abs(path.at(abeam)[2][:-1]), 1.0)).tolist()
-                values = abeam.tolist()
-                for k in range(len(values) - 2, -1, -1):
-                    values[k] = min(values[k], values[k + 1] + room[k])
-                for k in range(1, len(values)):
-                    values[k] = min(values[k], values[k - 1] + room[k - 1])
-                abeam = np.array(values)
+            # the distance first, then the speed limit, then the distance again: going back
+            # round a loop can bring a place nearer, and the distance comes first
+            abeam = _kept_apart(path, abeam, fronts)
+            abeam = _drivable(path, abeam, fastest)
+            abeam = _kept_apart(path, abeam, fronts)
         placed[robot] = (abeam, path.at(abeam)[0])
     return {robot: abeam for robot, (abeam, _) in placed.items()}
+
+
+def _kept_apart(path: OffsetPath, abeam: FloatArray,
+                fronts: list[tuple[float, FloatArray]]) -> FloatArray:
+    """``abeam`` (N,) (leader path length, m) moved back along ``path`` until the place is at
+    least ``gap`` m straight from each ``front_place`` (N, 2) of ``fronts`` (secant steps)."""
+    abeam = abeam.copy()
+    count = len(abeam)
+    active = np.arange(count)  # the samples still too near a robot in front
+    last_short = np.full(count, np.nan)
+    last_step = np.zeros(count)
+    for _ in range(FILE_ITERATIONS):
+        point = path.at(abeam[active])[0]
+        short = np.zeros(len(active))
+        for gap, front_place in fronts:
+            short = np.maximum(short, gap - np.hypot(*(point - front_place[active]).T))
+        # the distance gained per metre gone back on the last step (1 on a straight line,
+        # less round a corner): the secant step, at most 1 / FILE_SECANT_FLOOR times the
+        # distance missing (a place held a little further back is safe)
+        gained = np.where(last_step[active] > 0.0, (last_short[active] - short)
+                          / np.where(last_step[active] > 0.0, last_step[active], 1.0), 1.0)
+        step = short / np.clip(gained, FILE_SECANT_FLOOR, 1.0)
+        going = short > 1e-6
+        last_short[active], last_step[active] = short, step
+        active = active[going]
+        if not len(active):
+            break
+        abeam[active] -= step[going]
+    return abeam
+
+
+def _drivable(path: OffsetPath, abeam: FloatArray, fastest: FloatArray) -> FloatArray:
+    """``abeam`` (N,) held back so that the place falls back and catches up no faster than
+    ``fastest`` (N - 1,) m per step (start waiting earlier rather than jump back), as the
+    place's own speed: the leader's path length per step over the stretch there
+    (|1 - kappa oy|); both passes only move places further back."""
+    for _ in range(RATE_PASSES):
+        room = (fastest / np.maximum(np.abs(path.at(abeam)[2][:-1]), 1.0)).tolist()
+        values = abeam.tolist()
+        for k in range(len(values) - 2, -1, -1):
+            values[k] = min(values[k], values[k + 1] + room[k])
+        for k in range(1, len(values)):
+            values[k] = min(values[k], values[k - 1] + room[k - 1])
+        abeam = np.array(values)
+    return abeam
 
 
 def path_places(plan: Plan, robot: str, times: FloatArray,
