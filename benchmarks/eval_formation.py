@@ -2,8 +2,9 @@
 
 Runs every thesis listing that forms a formation (6.1-6.3, 7.1-7.4), the bundled demo and the
 bundled open-day show (in its hall) with each follower (``thesis``: eq. 4.4; ``tracking``:
-Kanayama's law on the slot's motion) and each timing (``thesis``; ``feasible``: the leader
-slows where a slot would move faster than 0.8 vmax), in the ideal and realistic profiles,
+Kanayama's law on the rigid slot's motion; ``path``, the default: the same law on the place
+on the leader's path) and each timing (``thesis``; ``feasible``, the default: the leader
+slows where a slot or place would move faster than 0.8 vmax), in the ideal and realistic profiles,
 with and without LIDAR, and prints per run:
 
 * ``head°``: the largest heading error against the slot's heading, deg (180: turned round);

@@ -51,10 +51,10 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.check import CheckOptions
     from dancebots.diagnostics import has_errors
     from dancebots.loading import load_show
+    from dancebots.plan.placement import places_followed
 
     show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(
-        clearance=args.clearance, places="rigid" if args.follower == "tracking" else "path"),
-        timing=args.timing)
+        clearance=args.clearance, places=places_followed(args.follower)), timing=args.timing)
     diagnostics = show.diagnostics
     invalid = has_errors(diagnostics)
     report = show.report if not invalid else None

@@ -103,13 +103,14 @@ def run(args: argparse.Namespace) -> int:
 
     from dancebots.check import CheckOptions
     from dancebots.loading import load_show
+    from dancebots.plan.placement import places_followed
 
     if args.scenario is None:  # the bundled open-day show in its hall
         args.scenario = short_path(bundled("open_day.dance"))
         if args.world is None:
             args.world = short_path(bundled("open_day.toml"))
     show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(
-        places="rigid" if args.follower == "tracking" else "path"), timing=args.timing)
+        places=places_followed(args.follower)), timing=args.timing)
     if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
     from dancebots.sim.setup import SetupError, prepare_show

@@ -41,6 +41,7 @@ __all__ = [
     "WorldViolation",
     "instruction_position",
     "place_show",
+    "places_followed",
     "robot_types",
     "sample_show",
     "show_transform",
@@ -127,6 +128,12 @@ Places = Literal["rigid", "path"]
 """Which poses a placement samples: the rigid slots (the ``tracking`` follower's), or the
 places on the leaders' paths that the ``path`` and ``thesis`` followers drive to
 (``plan.places.path_places``)."""
+
+
+def places_followed(follower: str) -> Places:
+    """The poses ``follower`` drives its robot to: the rigid slots for ``tracking``, the
+    places on the leaders' paths for ``path`` and ``thesis``."""
+    return "rigid" if follower == "tracking" else "path"
 
 
 def sample_show(plan: Plan, period: float = 0.1, places: Places = "rigid") -> ShowSamples:
