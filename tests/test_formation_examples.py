@@ -20,8 +20,11 @@ from dancebots.sim.setup import prepare_show
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
-def judged(name: str, follower: Follower, timing: Timing) -> tuple[RunMetrics, bool]:
-    show = load_show(str(EXAMPLES / f"{name}.dance"), check=CheckOptions(), timing=timing)
+def judged(name: str, follower: Follower, timing: Timing,
+           world: str | None = None) -> tuple[RunMetrics, bool]:
+    show = load_show(str(EXAMPLES / f"{name}.dance"),
+                     str(EXAMPLES / "worlds" / world) if world else None,
+                     check=CheckOptions(), timing=timing)
     assert show.report is not None
     assert show.report.placement is not None
     assert show.plan is not None
@@ -50,6 +53,19 @@ def test_the_defaults_perform_them_cleanly(name: str) -> None:
     assert clean
     assert metrics.collisions == 0
     assert metrics.max_final_error < 0.10
+    assert metrics.max_final_heading_error < 5.0
+
+
+def test_listing_7_4_with_a_husky_and_a_tradr_splits_without_a_stall() -> None:
+    """Listing 7.4 on the thesis's robots, with LIDAR (the defaults): R1 turns right into R2's
+    lane while R2 turns away. The turn guard used to forbid both robots every turn while
+    they were beside each other, and they drove on straight side by side until their places
+    were behind them (1.07 m off, 133 deg). Now R2's turn is cut only as far as its tail
+    would swing into R1, R1 gives way, and both end on their slots."""
+    metrics, clean = judged("thesis_7_4", "path", "feasible", "thesis_7_4_husky_tradr.toml")
+    assert clean
+    assert metrics.collisions == 0
+    assert metrics.max_final_error < 0.05
     assert metrics.max_final_heading_error < 5.0
 
 

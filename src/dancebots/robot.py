@@ -29,6 +29,7 @@ from dancebots.control.follower import (
     thesis_follower_step,
 )
 from dancebots.control.tracking import (
+    REFERENCE_TURN,
     SlotReference,
     TrackingParams,
     fold_reference,
@@ -47,6 +48,7 @@ from dancebots.perception.obstacles import (
     compensate_motion,
     obstacle_points_from_columns,
     perceive,
+    turn_fraction,
 )
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
@@ -75,6 +77,11 @@ keeping its reference's speed (:meth:`RobotBrain._approach_limit`)."""
 MATE_MARGIN = 0.3
 """m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
 should be are left out of the tracking and path followers' force field."""
+GIVE_WAY_SPEED = 0.05
+"""m/s: the fastest a robot drives while the turn it should make would swing its leading
+end into something beside its way (an addition; ``Perception.leading_corner_blocked``): a
+robot that would cut into a neighbour's lane lets it go first instead of driving on beside
+it, neither able to turn (thesis listing 7.4's split), and still creeps past what stands."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -177,6 +184,7 @@ class RobotBrain:
         self.grid_period = grid_period
         grid = _grid_times(plan, grid_period)
         self.grid_end = float(grid[-1])
+        self.rest_from = places_end(plan)  # s: from then on every reference stands for good
         track = plan.track(robot, grid)
         # the cache of the follower in use only: (leader, path point, ...) or slot references
         self._grid = self._samples(track) if follower == "thesis" else []
@@ -234,7 +242,7 @@ class RobotBrain:
             row = fold_reference(exact, float(before[2]))
             row[4] = before[4]
         return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
-                             float(row[3]), float(row[4]))
+                             float(row[3]), float(row[4]), show_time >= self.rest_from)
 
     def _reference(self, show_time: float) -> SlotReference:
         """What the tracking and path followers track at ``show_time`` s: the reference's
@@ -251,7 +259,8 @@ class RobotBrain:
         after = self.slot_at((first + 1) * self.grid_period)
         return SlotReference(
             reference.pose, (1.0 - weight) * before.speed + weight * after.speed,
-            (1.0 - weight) * before.angular_speed + weight * after.angular_speed)
+            (1.0 - weight) * before.angular_speed + weight * after.angular_speed,
+            reference.final)
 
     def _sample(self, show_time: float) -> _Sample:
         k = self._grid_index(show_time, len(self._grid))
@@ -317,7 +326,8 @@ class RobotBrain:
                         seen.rear_free, strangers.rear_free if strangers else None,
                         reference_speed))
             if (angular > 0 and not seen.turn_left) or (angular < 0 and not seen.turn_right):
-                angular = 0.0  # never swing a corner into something beside the robot
+                linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
+                                                   pose, linear, angular)
             command = Command(linear, angular)
         else:
             follower = state.follower
@@ -330,6 +340,27 @@ class RobotBrain:
                                height_step=height_step, seen_from=seen_from, history=history,
                                held=held)
         return new_state, command, events
+
+    def _guard_turn(self, columns: np.ndarray, height_step: float,
+                    seen_from: tuple[float, float, float], pose: tuple[float, float, float],
+                    linear: float, angular: float) -> tuple[float, float]:
+        """The turn guard (an addition), for a command (m/s, rad/s) that turns a corner towards
+        a point near the footprint: the largest fraction of the turn that swings no corner
+        into anything (``perception.obstacles.turn_fraction``). When none is left and what
+        blocks it is beside the robot's leading half (the front driving forwards), the robot
+        gives way: it creeps at :data:`GIVE_WAY_SPEED`, so that a robot that would cut into
+        a neighbour's lane lets the neighbour go first instead of driving on beside it."""
+        detection = self.sensing.detection
+        points = obstacle_points_from_columns(columns, height_step, detection)
+        if seen_from != pose:
+            points = compensate_motion(points, seen_from, pose)
+        length, width = self.sensing.length, self.sensing.width
+        fraction = turn_fraction(points, length, width, linear, angular, detection)
+        if fraction == 0.0:
+            leading = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
+            if turn_fraction(leading, length, width, linear, angular, detection) == 0.0:
+                linear = math.copysign(min(abs(linear), GIVE_WAY_SPEED), linear)
+        return linear, fraction * angular
 
     def mates_at(self, show_time: float) -> np.ndarray:
         """(M, 2) where the other robots should be at ``show_time`` s (their followers'
@@ -382,14 +413,14 @@ class RobotBrain:
         ``SensingConfig.compiled`` is off; the NumPy functions are the tested reference)."""
         sensing, detection = self.sensing, self.sensing.detection
         if sensing.compiled:
-            front, rear, left, right, fx, fy = perceive_columns(
+            front, rear, *near, fx, fy = perceive_columns(
                 columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
                 np.array(seen_from), np.array(pose), sensing.length, sensing.width,
                 detection.stop_distance, detection.corridor_margin, detection.turn_guard,
                 sensing.force_radius, FORCE_GAIN)
             return Perception(StopFlags(front < detection.stop_distance,
                                         rear < detection.stop_distance),
-                              front, rear, left, right, (fx, fy))
+                              front, rear, (near[0], near[1], near[2], near[3]), (fx, fy))
         points = obstacle_points_from_columns(columns, height_step, detection)
         current = points if seen_from == pose else compensate_motion(points, seen_from, pose)
         return perceive(current, sensing.length, sensing.width, detection,
@@ -425,8 +456,10 @@ def _places(plan: Plan, grid_period: float, follower: Follower) -> np.ndarray:
 def _grid_times(plan: Plan, grid_period: float) -> np.ndarray:
     """The brains' control grid (T,): every ``grid_period`` s from 0 to the end of the
     references (the plan's end, or later while places on the path go to their slots:
-    ``places_end``), the last entries the end itself."""
-    end = places_end(plan)
+    ``places_end``, and a half turn at ``REFERENCE_TURN`` more, in which a reference whose
+    heading is rate-limited turns to its slot's: without it a robot was left 16 deg off its
+    final heading in listing 7.4), the last entries the end itself."""
+    end = places_end(plan) + math.pi / REFERENCE_TURN
     count = math.ceil(end / grid_period) + 1
     return np.minimum(np.arange(count + 1, dtype=np.float64) * grid_period, end)
 

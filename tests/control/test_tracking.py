@@ -7,11 +7,14 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
     choose_folds,
+    parking_step,
     path_references,
     slot_reference,
     slot_references,
@@ -109,6 +112,46 @@ def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:
     distance, heading = _track(lambda t: behind, (0.0, 0.0, 0.0), 10.0)
     assert distance[-1] <= PARAMS.arrival_distance
     assert heading.max() < math.radians(10)  # it never turned round
+
+
+@pytest.mark.parametrize("start", [(0.0, 0.15, 0.0), (0.0, -0.15, 0.3), (0.1, 0.1, -0.4),
+                                   (-0.05, 0.12, 0.0), (0.4, 0.3, 2.0)])
+def test_a_slot_beside_the_robot_is_parked_on_with_its_heading(
+        start: tuple[float, float, float]) -> None:
+    """A standing slot some centimetres to the side (where a held robot ends): the parking
+    law (Aicardi et al. 1995) brings the robot within ``settle_distance`` and it ends with
+    the slot's heading (before: the robot turned to face the slot's bearing and was left
+    facing that way, 154 deg off in listing 7.4); within ``settle_distance`` it no longer
+    turns towards the slot (a spin for a few millimetres)."""
+    slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    distance, heading = _track(lambda t: slot, start, 30.0)
+    assert distance[-1] <= PARAMS.settle_distance
+    assert heading[-1] <= PARAMS.heading_tolerance
+    settled = np.flatnonzero(distance <= PARAMS.settle_distance)[0]
+    assert np.all(np.diff(heading[settled:]) <= 1e-9)  # from there it only turns to heading
+
+
+@settings(max_examples=300)
+@given(st.floats(0.01, 2.0), st.floats(-math.pi, math.pi), st.floats(-math.pi, math.pi),
+       st.booleans())
+def test_the_parking_law_decreases_its_lyapunov_function(
+        distance: float, bearing: float, heading_error: float, backwards: bool) -> None:
+    """V = (e^2 + alpha^2 + h theta^2) / 2 (lambda = 1) decreases along the unsaturated law
+    (Aicardi et al.: dV/dt = -gamma cos^2(alpha) e^2 - k alpha^2), forwards and in reverse."""
+    alpha = wrap_angle(bearing - math.pi) if backwards else bearing
+    theta = wrap_angle(alpha - heading_error)
+    assume(abs(alpha) < math.pi - 0.05 and abs(theta) < math.pi - 0.05)
+    h = PARAMS.park_gain_theta
+    linear, angular = parking_step(PARAMS, distance, bearing, heading_error, backwards)
+    u = -linear if backwards else linear  # the speed along the (turned) heading
+    e_dot = -u * math.cos(alpha)
+    theta_dot = u * math.sin(alpha) / distance
+    alpha_dot = -angular + theta_dot
+    v_dot = distance * e_dot + alpha * alpha_dot + h * theta * theta_dot
+    expected = (-PARAMS.arrival_gain * math.cos(alpha) ** 2 * distance ** 2
+                - PARAMS.park_gain_alpha * alpha ** 2)
+    assert v_dot == pytest.approx(expected, abs=1e-9)
+    assert v_dot <= 1e-12
 
 
 def _references(text: str, robot: str) -> tuple[np.ndarray, np.ndarray]:

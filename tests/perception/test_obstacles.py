@@ -15,9 +15,12 @@ from dancebots.perception.obstacles import (
     DetectorParams,
     clear_distances,
     compensate_motion,
+    near_quadrants,
     obstacle_points,
     obstacle_points_from_columns,
+    rotation_allowed,
     stop_flags,
+    turn_fraction,
 )
 
 LENGTH, WIDTH = 1.2, 0.6
@@ -123,14 +126,14 @@ def test_compiled_perception_agrees_with_the_reference(
     params = DetectorParams()
     reference = perceive(compensate_motion(points, seen_from, pose), LENGTH, WIDTH, params,
                          1.0, 0.02)
-    front, rear, left, right, fx, fy = perceive_moved(
+    front, rear, *near, fx, fy = perceive_moved(
         points, np.array(seen_from), np.array(pose), LENGTH, WIDTH, params.stop_distance,
         params.corridor_margin, params.turn_guard, 1.0, 0.02)
     assert front == pytest.approx(reference.front_free, abs=1e-9)
     assert rear == pytest.approx(reference.rear_free, abs=1e-9)
     assert (fx, fy) == pytest.approx(reference.force, abs=1e-9)
     # the turn guard compares x * y with 0 and distances with 0.3 m: equal away from the edges
-    assert (left, right) == (reference.turn_left, reference.turn_right) or min(
+    assert tuple(near) == reference.near or min(
         abs(np.prod(compensate_motion(points, seen_from, pose), axis=1)).min(), 1.0) < 1e-9
 
 
@@ -150,3 +153,59 @@ def test_compiled_column_filter_agrees_with_the_reference(
     assert perceive_columns(data, 0.1, params.crop_half, params.z_min, params.z_max, where,
                             *rest) == perceive_moved(
         obstacle_points_from_columns(data, 0.1), where, *rest)
+
+
+def _side(y: float, x_from: float = -0.6, x_to: float = 0.6) -> np.ndarray:
+    """A neighbour's side seen as points (M, 2) along y = ``y`` m, every 2 cm."""
+    xs = np.arange(x_from, x_to + 1e-9, 0.02)
+    return np.column_stack([xs, np.full(len(xs), y)])
+
+
+def test_near_quadrants_and_the_turns_they_forbid() -> None:
+    points = np.array([[0.7, 0.4], [-0.7, -0.4]])  # ahead-left, behind-right: turning left
+    assert near_quadrants(points, LENGTH, WIDTH) == (True, False, False, True)
+    assert rotation_allowed(points, LENGTH, WIDTH) == (False, True)
+    assert near_quadrants(np.array([[0.0, 1.0], [3.0, 0.0]]), LENGTH, WIDTH) == (
+        False, False, False, False)
+
+
+def _nearest_on_arc(points: np.ndarray, linear: float, angular: float,
+                    seconds: float) -> float:
+    """The nearest any point comes to the footprint of a robot driving (v, w) for
+    ``seconds``, sampled every 5 ms (the reference for turn_fraction's 0.1 s samples)."""
+    from dancebots.geometry import points_to_local
+
+    best = math.inf
+    for t in np.arange(0.0, seconds + 1e-9, 0.005):
+        if abs(angular) < 1e-12:
+            pose = (linear * t, 0.0, 0.0)
+        else:
+            pose = (linear * math.sin(angular * t) / angular,
+                    linear * (1 - math.cos(angular * t)) / angular, angular * t)
+        local = points_to_local(points, pose)
+        outside = np.maximum(np.abs(local) - [LENGTH / 2, WIDTH / 2], 0.0)
+        best = min(best, float(np.hypot(outside[:, 0], outside[:, 1]).min()))
+    return best
+
+
+def test_a_tight_turn_is_cut_where_the_tail_would_swing_into_a_neighbour() -> None:
+    """A 1.2 m robot 0.2 m beside a neighbour (listing 7.4's split) turning right on a
+    0.25 m radius swings its tail 0.26 m out: the guard cuts the turn to a fraction that
+    keeps 5 cm (checked on a 5 ms grid); a gentle turn is left alone, as is a turn away
+    from the neighbour's side in open space."""
+    params = DetectorParams()
+    neighbour = _side(0.5)
+    assert _nearest_on_arc(neighbour, 0.35, -1.4, 1.0) < 0.01  # the full turn would touch
+    fraction = turn_fraction(neighbour, LENGTH, WIDTH, 0.35, -1.4, params)
+    assert 0.0 < fraction < 1.0
+    assert _nearest_on_arc(neighbour, 0.35, -1.4 * fraction, 1.0) > params.turn_margin - 0.01
+    assert turn_fraction(neighbour, LENGTH, WIDTH, 0.35, -0.1, params) == 1.0
+    assert turn_fraction(np.empty((0, 2)), LENGTH, WIDTH, 0.35, -1.4, params) == 1.0
+
+
+def test_a_turn_on_the_spot_beside_a_wall_is_refused() -> None:
+    """Turning on the spot sweeps the corners out to the half diagonal (0.67 m): with a wall
+    0.1 m beside the robot no fraction of the turn keeps 5 cm."""
+    wall = _side(0.4, -2.0, 2.0)
+    assert turn_fraction(wall, LENGTH, WIDTH, 0.0, 1.0) == 0.0
+    assert turn_fraction(wall, LENGTH, WIDTH, 0.0, -1.0) == 0.0

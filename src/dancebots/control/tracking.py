@@ -47,7 +47,7 @@ from dancebots.plan.planner import Plan, slot_velocities
 
 __all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
            "choose_folds", "fold_reference", "follower_places", "follower_references",
-           "path_places", "path_references",
+           "parking_step", "path_places", "path_references",
            "references_from_motion", "slot_reference",
            "slot_references", "tracking_step"]
 
@@ -65,6 +65,8 @@ class TrackingParams:
     max_linear, max_angular: the robot's limits, m/s and rad/s.
     arrival_distance: at rest (the slot stands still), a robot nearer than this to its slot
         only turns to the slot's heading, m; heading_tolerance: and then stops turning, rad.
+    settle_distance: nearer than this (m), it turns to the slot's heading and closes the
+        distance along it, without turning towards the slot (its sideways error is left).
     arrival_gain: speed per metre of remaining distance when arriving at a standing slot, 1/s
         (the thesis follower's arrival, eq. 4.1a's form).
     turn_gain: angular speed per radian of heading error when turning on the spot at rest,
@@ -74,6 +76,8 @@ class TrackingParams:
     force_gain: angular speed per unit of the virtual force's sideways component, rad/s.
     heading_speed: v0, the least speed (m/s) the heading term counts with, so that a robot
         whose slot momentarily stands (the cusp of a tight turn) still turns to its heading.
+    park_gain_alpha, park_gain_theta: k and h of the parking law at a standing slot
+        (:func:`parking_step`), 1/s and 1.
     """
 
     gain_x: float = 1.5
@@ -82,22 +86,27 @@ class TrackingParams:
     max_linear: float = 0.5
     max_angular: float = math.pi
     arrival_distance: float = 0.03
+    settle_distance: float = 0.06
     heading_tolerance: float = math.radians(2.0)
     arrival_gain: float = ARRIVAL_GAIN
     turn_gain: float = 1.5
     reverse_distance: float = 1.0
     force_gain: float = 1.0
     heading_speed: float = 0.1
+    park_gain_alpha: float = 3.0
+    park_gain_theta: float = 1.5
 
 
 @dataclass(frozen=True, slots=True)
 class SlotReference:
     """Where a robot's slot is and how it moves: pose (x, y, theta) in the robot's map frame,
-    signed speed along its heading, m/s, and angular speed, rad/s."""
+    signed speed along its heading, m/s, and angular speed, rad/s; final: the slot stands for
+    good (the show is over), so the robot parks on it (:func:`parking_step`)."""
 
     pose: tuple[float, float, float]
     speed: float
     angular_speed: float
+    final: bool = False
 
     @property
     def moving(self) -> bool:
@@ -300,6 +309,34 @@ def _saturate(linear: float, angular: float, params: TrackingParams) -> tuple[fl
     return linear * scale, angular * scale
 
 
+def parking_step(params: TrackingParams, distance: float, bearing: float,
+                 heading_error: float, backwards: bool) -> tuple[float, float]:
+    """(linear m/s, angular rad/s) that bring a robot onto a standing slot ``distance`` m
+    away at ``bearing`` rad in ``base_link``, whose heading is ``heading_error`` rad from the
+    robot's, arriving with the slot's heading: the Lyapunov-based posture law of Aicardi,
+    Casalino, Bicchi and Balestrino ("Closed loop steering of unicycle-like vehicles via
+    Lyapunov techniques", IEEE RAM 1995), with e = distance, alpha = bearing and theta =
+    alpha - heading_error (the direction to the slot from the slot's heading):
+
+        u = gamma e cos(alpha),  w = k alpha + gamma (cos(alpha) sin(alpha) / alpha)
+                                                  (alpha + h theta)
+
+    (gamma: ``arrival_gain``, k: ``park_gain_alpha``, h: ``park_gain_theta``), for which
+    V = (lambda e^2 + alpha^2 + h theta^2) / 2 decreases (dV/dt = -lambda gamma cos^2(alpha)
+    e^2 - k alpha^2), so the robot arrives with the slot's heading instead of turning to face
+    a slot a few centimetres to its side and being left facing that way (listing 7.4: 154 deg
+    off). ``backwards``: the same law for the robot and slot both turned by pi (it reverses
+    onto the slot)."""
+    alpha = wrap_angle(bearing - math.pi) if backwards else bearing
+    theta = wrap_angle(alpha - heading_error)
+    gain = params.arrival_gain
+    ratio = math.sin(alpha) / alpha if abs(alpha) > 1e-9 else 1.0
+    linear = gain * distance * math.cos(alpha)
+    angular = (params.park_gain_alpha * alpha
+               + gain * math.cos(alpha) * ratio * (alpha + params.park_gain_theta * theta))
+    return (-linear if backwards else linear), angular
+
+
 def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
                   reference: SlotReference,
                   force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
@@ -308,8 +345,11 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     Returns (linear m/s, angular rad/s), within the limits.
 
     While the slot moves: Kanayama's law above, plus a turn away from obstacles
-    (``force_gain * Fy``, in the direction of travel). While it stands: drive to it (forwards,
-    or backwards when it is less than ``reverse_distance`` behind), then turn to its heading.
+    (``force_gain * Fy``, in the direction of travel). While it stands a moment: drive to
+    it (forwards, or backwards when it is less than ``reverse_distance`` behind). Once it
+    stands for good (``reference.final``): park on it (:func:`parking_step`); within
+    ``settle_distance``, turn to its heading and close the distance along it. Within
+    ``arrival_distance`` of a standing slot: only turn to its heading.
     """
     ex, ey = Pose(*pose).to_local(reference.pose[0], reference.pose[1])
     heading_error = wrap_angle(reference.pose[2] - pose[2])
@@ -324,15 +364,28 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
         angular += direction * params.force_gain * fy
         return _saturate(linear, angular, params)
     distance = math.hypot(ex, ey)
-    if distance > params.arrival_distance:
+    if distance > params.arrival_distance and not reference.final:
+        # a slot that stands a moment (a place waiting on its path): drive to it, turning
+        # towards it first (forwards, or backwards when it is less than reverse_distance behind)
         backwards = ex < 0.0 and distance < params.reverse_distance
         bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
         speed = min(params.arrival_gain * distance, params.max_linear) * max(
-            math.cos(bearing), 0.0)  # turn towards the slot first, then drive
+            math.cos(bearing), 0.0)
         linear = -speed if backwards else speed
         angular = params.turn_gain * bearing + (-1.0 if backwards else 1.0) * (
             params.force_gain * fy)
         return _saturate(linear, angular, params)
+    if params.arrival_distance < distance <= params.settle_distance:
+        # a few centimetres off its final slot: face the slot's heading and close the
+        # distance along it (no turn towards a slot beside the robot: a spin for millimetres)
+        linear = params.arrival_gain * ex * max(math.cos(heading_error), 0.0)
+        return _saturate(linear, params.turn_gain * heading_error, params)
+    if distance > params.arrival_distance:
+        backwards = ex < 0.0 and distance < params.reverse_distance
+        linear, angular = parking_step(params, distance, math.atan2(ey, ex), heading_error,
+                                       backwards)
+        return _saturate(linear, angular + (-1.0 if backwards else 1.0) * (
+            params.force_gain * fy), params)
     if abs(heading_error) > params.heading_tolerance:
         return _saturate(0.0, params.turn_gain * heading_error, params)
     return 0.0, 0.0

@@ -22,7 +22,7 @@ def perceive_columns(columns: NDArray[np.float64], height_step: float, crop_half
                      pose: NDArray[np.float64], length: float, width: float,
                      stop_distance: float, corridor_margin: float, turn_guard: float,
                      force_radius: float, force_gain: float,
-                     ) -> tuple[float, float, bool, bool, float, float]:
+                     ) -> tuple[float, float, bool, bool, bool, bool, float, float]:
     """A cloud stored as columns (K, 4) (see ``PointCloud``): its obstacle points (crop and
     height filter of ``obstacle_points_from_columns``), then :func:`perceive_moved`."""
     keep = np.zeros(columns.shape[0], dtype=np.bool_)
@@ -41,15 +41,16 @@ def perceive_moved(points: NDArray[np.float64], seen_from: NDArray[np.float64],
                    pose: NDArray[np.float64], length: float, width: float,
                    stop_distance: float, corridor_margin: float, turn_guard: float,
                    force_radius: float, force_gain: float,
-                   ) -> tuple[float, float, bool, bool, float, float]:
+                   ) -> tuple[float, float, bool, bool, bool, bool, float, float]:
     """Obstacle points (M, 2) in ``base_link`` at ``seen_from`` (x, y, theta), moved to the
-    robot's ``pose`` (same frame), then: free distance ahead and behind (m), may turn left,
-    may turn right, force (Fx, Fy). See ``perception.obstacles.perceive``."""
+    robot's ``pose`` (same frame), then: free distance ahead and behind (m), a point near
+    the footprint front-left, front-right, rear-left, rear-right (``near_quadrants``), force
+    (Fx, Fy). See ``perception.obstacles.perceive``."""
     c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
     c1, s1 = math.cos(pose[2]), math.sin(pose[2])
     half_l, half_w = 0.5 * length, 0.5 * width
     front, rear = math.inf, math.inf
-    left_ok, right_ok = True, True
+    front_left, front_right, rear_left, rear_right = False, False, False, False
     fx, fy = 0.0, 0.0
     for i in range(points.shape[0]):
         wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
@@ -66,12 +67,16 @@ def perceive_moved(points: NDArray[np.float64], seen_from: NDArray[np.float64],
         ax, ay = nx - x, ny - y
         d = math.hypot(ax, ay)
         if d < turn_guard:
-            if x * y > 0:
-                left_ok = False
-            elif x * y < 0:
-                right_ok = False
+            if x > 0 and y > 0:
+                front_left = True
+            elif x > 0 and y < 0:
+                front_right = True
+            elif x < 0 and y > 0:
+                rear_left = True
+            elif x < 0 and y < 0:
+                rear_right = True
         if force_radius > 0 and 1e-9 < d < force_radius:
             weight = force_gain * (1.0 - d / force_radius) ** 2 / d
             fx += ax * weight
             fy += ay * weight
-    return front, rear, left_ok, right_ok, fx, fy
+    return front, rear, front_left, front_right, rear_left, rear_right, fx, fy

@@ -26,11 +26,13 @@ __all__ = [
     "StopFlags",
     "clear_distances",
     "compensate_motion",
+    "near_quadrants",
     "obstacle_points",
     "obstacle_points_from_columns",
     "perceive",
     "rotation_allowed",
     "stop_flags",
+    "turn_fraction",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -42,7 +44,9 @@ class DetectorParams:
     z_min, z_max: kept heights, m (thesis: above 10 cm, below 1.5 m); stop_distance: m
     (thesis: 55 cm); corridor_margin: the stop zones are as wide as the robot plus this on
     each side, m, so that neighbours beside the robot do not stop it; turn_guard: points this
-    near the footprint forbid turning the corner nearest to them towards them, m."""
+    near the footprint (m) are checked before the robot turns a corner towards them
+    (:func:`turn_fraction`): the turn may not bring any of them nearer than turn_margin (m)
+    within turn_horizon (s)."""
 
     crop_half: float = 2.0
     z_min: float = 0.10
@@ -50,6 +54,8 @@ class DetectorParams:
     stop_distance: float = 0.55
     corridor_margin: float = 0.10
     turn_guard: float = 0.30
+    turn_margin: float = 0.05
+    turn_horizon: float = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,18 +112,68 @@ def clear_distances(points: FloatArray, length: float, width: float,
     return front, rear
 
 
+def near_quadrants(points: FloatArray, length: float, width: float,
+                   params: DetectorParams = DetectorParams()) -> tuple[bool, bool, bool, bool]:
+    """Which quadrants of ``base_link`` (front-left, front-right, rear-left, rear-right) hold
+    an obstacle point (M, 2) within ``turn_guard`` m of the footprint (points on an axis
+    count in none)."""
+    if len(points) == 0:
+        return False, False, False, False
+    half = np.array([0.5 * length, 0.5 * width])
+    outside = np.maximum(np.abs(points) - half, 0.0)
+    near = points[np.hypot(outside[:, 0], outside[:, 1]) < params.turn_guard]
+    x, y = near[:, 0], near[:, 1]
+    return (bool(((x > 0) & (y > 0)).any()), bool(((x > 0) & (y < 0)).any()),
+            bool(((x < 0) & (y > 0)).any()), bool(((x < 0) & (y < 0)).any()))
+
+
 def rotation_allowed(points: FloatArray, length: float, width: float,
                      params: DetectorParams = DetectorParams()) -> tuple[bool, bool]:
     """(may turn left, may turn right): turning left swings the front half of the robot to
     the left and the rear half to the right, so a point within ``turn_guard`` of the
     footprint ahead-left or behind-right forbids turning left (and mirrored for right)."""
-    if len(points) == 0:
-        return True, True
+    front_left, front_right, rear_left, rear_right = near_quadrants(points, length, width,
+                                                                    params)
+    return not (front_left or rear_right), not (front_right or rear_left)
+
+
+TURN_FRACTIONS = (1.0, 0.5, 0.25, 0.0)
+"""The fractions of a commanded angular speed :func:`turn_fraction` tries, largest first."""
+
+
+def turn_fraction(points: FloatArray, length: float, width: float, linear: float,
+                  angular: float, params: DetectorParams = DetectorParams()) -> float:
+    """The largest of :data:`TURN_FRACTIONS` of ``angular`` (rad/s) at which the robot,
+    driving ``linear`` (m/s) on that arc for ``params.turn_horizon`` s (sampled every 0.1 s),
+    brings no obstacle point (M, 2) in ``base_link`` (taken as standing) within
+    ``params.turn_margin`` m of its footprint, nor nearer than it already is if it is nearer,
+    unless driving straight would bring it as near (the stop flags are for that). 0.0 when
+    only driving straight does (an addition; thesis ch. 5.2 stops the robot only ahead and
+    behind, and a skid-steer robot's corners swing out as it turns: a 1.2 m robot turning
+    on a 0.25 m radius sweeps its tail 0.26 m beyond its side)."""
+    if len(points) == 0 or angular == 0.0:
+        return 1.0
     half = np.array([0.5 * length, 0.5 * width])
-    outside = np.maximum(np.abs(points) - half, 0.0)
-    near = np.hypot(outside[:, 0], outside[:, 1]) < params.turn_guard
-    quadrant = points[near, 0] * points[near, 1]
-    return not bool((quadrant > 0).any()), not bool((quadrant < 0).any())
+    times = np.arange(0.0, params.turn_horizon + 1e-9, 0.1)  # (K,)
+    fractions = np.array(TURN_FRACTIONS)  # (F,)
+    w = fractions[:, None] * angular  # (F, 1)
+    theta = w * times  # (F, K)
+    small = np.abs(w) < 1e-9
+    safe_w = np.where(small, 1.0, w)
+    dx = np.where(small, linear * times, linear * np.sin(theta) / safe_w)  # (F, K)
+    dy = np.where(small, 0.0, linear * (1.0 - np.cos(theta)) / safe_w)
+    px = points[:, 0][None, None, :] - dx[..., None]  # (F, K, M), world frame of now
+    py = points[:, 1][None, None, :] - dy[..., None]
+    c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
+    x, y = c * px + s * py, -s * px + c * py  # in base_link at each time
+    gap = np.hypot(np.maximum(np.abs(x) - half[0], 0.0), np.maximum(np.abs(y) - half[1], 0.0))
+    nearest = gap.min(axis=1)  # (F, M): the nearest each point comes on each arc
+    floor = np.minimum(gap[0, 0], params.turn_margin) - 1e-9  # (M,)
+    bad = (nearest < floor) & (nearest < nearest[-1] - 1e-9)  # worse than straight, too near
+    for fraction, blocked in zip(TURN_FRACTIONS, bad.any(axis=1), strict=True):
+        if not blocked:
+            return fraction
+    return 0.0
 
 
 def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, float],
@@ -136,12 +192,22 @@ class Perception:
     flags: StopFlags
     front_free: float
     rear_free: float
-    turn_left: bool
-    turn_right: bool
+    near: tuple[bool, bool, bool, bool]
     force: tuple[float, float]
 
+    @property
+    def turn_left(self) -> bool:
+        """Turning left swings no corner into a point near it (front-left, rear-right)."""
+        return not (self.near[0] or self.near[3])
 
-CLEAR = Perception(StopFlags(False, False), math.inf, math.inf, True, True, (0.0, 0.0))
+    @property
+    def turn_right(self) -> bool:
+        """Turning right swings no corner into a point near it (front-right, rear-left)."""
+        return not (self.near[1] or self.near[2])
+
+
+CLEAR = Perception(StopFlags(False, False), math.inf, math.inf,
+                   (False, False, False, False), (0.0, 0.0))
 
 
 def perceive(points: FloatArray, length: float, width: float,
@@ -153,8 +219,8 @@ def perceive(points: FloatArray, length: float, width: float,
     if len(points) == 0:
         return CLEAR
     front, rear = clear_distances(points, length, width, params)
-    turn_left, turn_right = rotation_allowed(points, length, width, params)
+    near = near_quadrants(points, length, width, params)
     force = repulsive_force(points, length, width, force_radius, force_gain) if (
         force_radius > 0) else (0.0, 0.0)
     return Perception(StopFlags(front < params.stop_distance, rear < params.stop_distance),
-                      front, rear, turn_left, turn_right, force)
+                      front, rear, near, force)
