@@ -114,6 +114,27 @@ def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:
     assert heading.max() < math.radians(10)  # it never turned round
 
 
+def test_a_robot_far_ahead_of_its_moving_reference_waits_for_it() -> None:
+    """A robot 1.5 m ahead of a place that drives towards it (a place that jumped behind it
+    at a formation change, triangle_to_column) waits, turned to the place's heading, instead
+    of reversing to it (before, C backed 2 m and looped round: 6.5 % against its direction)
+    and follows once the place has come by: it never drives backwards."""
+    def line(t: float) -> SlotReference:
+        return SlotReference((0.3 * t, 0.0, 0.0), 0.3, 0.0)
+    v, w = tracking_step(PARAMS, (1.5, 0.2, 0.4), line(0.0))
+    assert v == 0.0
+    assert w == pytest.approx(PARAMS.turn_gain * -0.4)
+    speeds = []
+    x, y, theta = 1.5, 0.2, 0.4
+    for k in range(400):
+        v, w = tracking_step(PARAMS, (x, y, theta), line(k * 0.05))
+        speeds.append(v)
+        nx, ny, nt = integrate_unicycle(*(np.array([q]) for q in (x, y, theta, v, w, 0.05)))
+        x, y, theta = float(nx[0]), float(ny[0]), float(nt[0])
+    assert min(speeds) >= 0.0
+    assert math.hypot(x - 0.3 * 400 * 0.05, y) < 0.02
+
+
 @pytest.mark.parametrize("start", [(0.0, 0.15, 0.0), (0.0, -0.15, 0.3), (0.1, 0.1, -0.4),
                                    (-0.05, 0.12, 0.0), (0.4, 0.3, 2.0)])
 def test_a_slot_beside_the_robot_is_parked_on_with_its_heading(

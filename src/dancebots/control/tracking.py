@@ -78,6 +78,9 @@ class TrackingParams:
         whose slot momentarily stands (the cusp of a tight turn) still turns to its heading.
     park_gain_alpha, park_gain_theta: k and h of the parking law at a standing slot
         (:func:`parking_step`), 1/s and 1.
+    wait_speed: a robot whose law would drive it against its reference's motion while the
+        reference moves at least this fast (m/s) waits for it instead (it drives backwards
+        only where its reference does).
     """
 
     gain_x: float = 1.5
@@ -95,6 +98,7 @@ class TrackingParams:
     heading_speed: float = 0.1
     park_gain_alpha: float = 3.0
     park_gain_theta: float = 1.5
+    wait_speed: float = 0.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -345,7 +349,9 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     Returns (linear m/s, angular rad/s), within the limits.
 
     While the slot moves: Kanayama's law above, plus a turn away from obstacles
-    (``force_gain * Fy``, in the direction of travel). While it stands a moment: drive to
+    (``force_gain * Fy``, in the direction of travel); where the law would drive against
+    the slot's motion (the robot far ahead of a slot that moves towards it), the robot
+    waits, turning to the slot's heading. While it stands a moment: drive to
     it (forwards, or backwards when it is less than ``reverse_distance`` behind). Once it
     stands for good (``reference.final``): park on it (:func:`parking_step`); within
     ``settle_distance``, turn to its heading and close the distance along it. Within
@@ -357,6 +363,11 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     if reference.moving:
         vr, wr = reference.speed, reference.angular_speed
         linear = vr * math.cos(heading_error) + params.gain_x * ex
+        if linear * vr < 0.0 and abs(vr) >= params.wait_speed:
+            # far ahead of a reference that moves (a place that jumped behind the robot at a
+            # formation change): it would drive against its reference's motion; it waits
+            # for the reference, turned to its heading, and follows once it has come by
+            return _saturate(0.0, params.turn_gain * heading_error, params)
         angular = (wr + vr * params.gain_y * ey
                    + max(abs(vr), params.heading_speed) * params.gain_theta
                    * math.sin(heading_error))

@@ -289,18 +289,27 @@ def heading_errors(yaw: FloatArray, desired_yaw: FloatArray) -> FloatArray:
 def against_desired(speed: FloatArray, desired_speed: FloatArray,
                     desired_min: float = DESIRED_SPEED_MIN,
                     actual_min: float = REVERSE_SPEED_MIN) -> BoolArray:
-    """Where a robot drives against its desired direction, shape (T,).
+    """Where a robot drives against its desired direction, shape (T,), one sample per
+    control tick.
 
     speed (T,): the robot's actual linear speed, m/s (``RunResult.velocities[r, :, 0]``);
     desired_speed (T,): its reference's signed speed, m/s (``RunResult.reference[r, :, 3]``:
     negative where the reference drives its slot's path in reverse). True where the reference
     drives at least ``desired_min`` one way and the robot at least ``actual_min`` the other
-    way: a robot that turned round and reverses while its reference drives forwards, or
-    drives forwards while its reference reverses.
+    way, at this tick and at the tick before: a robot that turned round and reverses while
+    its reference drives forwards, or drives forwards while its reference reverses. The tick
+    before counts because a robot's speed at a tick is its command of the tick before, made
+    for the reference then: where the reference itself turns from forwards to reverse from
+    one tick to the next (the inner place of a corner sharper than its offset, thesis ch.
+    4.1), a robot that follows it exactly is not against it.
     """
-    result: BoolArray = (np.abs(desired_speed) >= desired_min) & (
-        speed * np.sign(desired_speed) <= -actual_min)
-    return result
+    def against(desired: FloatArray) -> BoolArray:
+        result: BoolArray = (np.abs(desired) >= desired_min) & (
+            speed * np.sign(desired) <= -actual_min)
+        return result
+
+    before = np.concatenate([desired_speed[:1], desired_speed[:-1]])
+    return against(desired_speed) & against(before)
 
 
 def sign_flips(angular: FloatArray, deadband: float = ANGULAR_DEADBAND) -> int:
