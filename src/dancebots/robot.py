@@ -39,7 +39,7 @@ from dancebots.control.tracking import (
 )
 from dancebots.geometry import Pose, points_to_local, points_to_world, wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.perception.fast import perceive_columns
+from dancebots.perception.fast import perceive_columns, turn_fraction_columns
 from dancebots.perception.obstacles import (
     CLEAR,
     DetectorParams,
@@ -49,6 +49,7 @@ from dancebots.perception.obstacles import (
     obstacle_points_from_columns,
     perceive,
     turn_fraction,
+    turn_reach,
 )
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
@@ -78,10 +79,10 @@ MATE_MARGIN = 0.3
 """m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
 should be are left out of the tracking and path followers' force field."""
 GIVE_WAY_SPEED = 0.05
-"""m/s: the fastest a robot drives while the turn it should make would swing its leading
-end into something beside its way (an addition; ``Perception.leading_corner_blocked``): a
-robot that would cut into a neighbour's lane lets it go first instead of driving on beside
-it, neither able to turn (thesis listing 7.4's split), and still creeps past what stands."""
+"""m/s: the fastest a robot drives while no part of the turn it should make is allowed and
+what blocks it is beside its leading half (an addition; ``RobotBrain._guard_turn``): a robot
+that would cut into a neighbour's lane lets it go first instead of driving on beside it,
+neither able to turn (thesis listing 7.4's split), and still creeps past what stands."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -109,7 +110,7 @@ class SensingConfig:
     distance smoothly instead of driving into the stop zone and being held there again and
     again (a robot behind another in a formation that shrinks in a turn); the stop flags
     remain for what appears suddenly (a spectator stepping in). Turn guard (an addition): a
-    robot does not turn a corner towards an obstacle within ``detection.turn_guard`` of it.
+    robot does not swing a corner into an obstacle (``RobotBrain._guard_turn``).
     """
 
     length: float = 1.2
@@ -325,7 +326,8 @@ class RobotBrain:
                     linear = max(linear, -self._approach_limit(
                         seen.rear_free, strangers.rear_free if strangers else None,
                         reference_speed))
-            if (angular > 0 and not seen.turn_left) or (angular < 0 and not seen.turn_right):
+            if angular != 0.0 and seen.nearest < turn_reach(
+                    self.sensing.length, self.sensing.width, linear, self.sensing.detection):
                 linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
                                                    pose, linear, angular)
             command = Command(linear, angular)
@@ -344,22 +346,32 @@ class RobotBrain:
     def _guard_turn(self, columns: np.ndarray, height_step: float,
                     seen_from: tuple[float, float, float], pose: tuple[float, float, float],
                     linear: float, angular: float) -> tuple[float, float]:
-        """The turn guard (an addition), for a command (m/s, rad/s) that turns a corner towards
-        a point near the footprint: the largest fraction of the turn that swings no corner
-        into anything (``perception.obstacles.turn_fraction``). When none is left and what
-        blocks it is beside the robot's leading half (the front driving forwards), the robot
-        gives way: it creeps at :data:`GIVE_WAY_SPEED`, so that a robot that would cut into
-        a neighbour's lane lets the neighbour go first instead of driving on beside it."""
-        detection = self.sensing.detection
-        points = obstacle_points_from_columns(columns, height_step, detection)
-        if seen_from != pose:
-            points = compensate_motion(points, seen_from, pose)
-        length, width = self.sensing.length, self.sensing.width
-        fraction = turn_fraction(points, length, width, linear, angular, detection)
-        if fraction == 0.0:
-            leading = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
-            if turn_fraction(leading, length, width, linear, angular, detection) == 0.0:
-                linear = math.copysign(min(abs(linear), GIVE_WAY_SPEED), linear)
+        """The turn guard (an addition), for a command (m/s, rad/s) that turns while a point is
+        within reach of the turn (``perception.obstacles.turn_reach``): the largest fraction
+        of the turn that swings no corner into anything (``turn_fraction``). When none is left
+        and what blocks it is beside the robot's leading half (the front driving forwards),
+        the robot gives way: it creeps at :data:`GIVE_WAY_SPEED`, so that a robot that would
+        cut into a neighbour's lane lets the neighbour go first instead of driving on beside
+        it."""
+        sensing, detection = self.sensing, self.sensing.detection
+        length, width = sensing.length, sensing.width
+
+        def fraction_of(leading: bool) -> float:
+            if sensing.compiled:
+                return float(turn_fraction_columns(
+                    columns, height_step, detection.crop_half, detection.z_min,
+                    detection.z_max, np.array(seen_from), np.array(pose), length, width,
+                    linear, angular, detection.turn_margin, detection.turn_horizon, leading))
+            points = obstacle_points_from_columns(columns, height_step, detection)
+            if seen_from != pose:
+                points = compensate_motion(points, seen_from, pose)
+            if leading:
+                points = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
+            return turn_fraction(points, length, width, linear, angular, detection)
+
+        fraction = fraction_of(False)
+        if fraction == 0.0 and fraction_of(True) == 0.0:
+            linear = math.copysign(min(abs(linear), GIVE_WAY_SPEED), linear)
         return linear, fraction * angular
 
     def mates_at(self, show_time: float) -> np.ndarray:
@@ -413,14 +425,14 @@ class RobotBrain:
         ``SensingConfig.compiled`` is off; the NumPy functions are the tested reference)."""
         sensing, detection = self.sensing, self.sensing.detection
         if sensing.compiled:
-            front, rear, *near, fx, fy = perceive_columns(
+            front, rear, nearest, fx, fy = perceive_columns(
                 columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
                 np.array(seen_from), np.array(pose), sensing.length, sensing.width,
-                detection.stop_distance, detection.corridor_margin, detection.turn_guard,
-                sensing.force_radius, FORCE_GAIN)
+                detection.stop_distance, detection.corridor_margin, sensing.force_radius,
+                FORCE_GAIN)
             return Perception(StopFlags(front < detection.stop_distance,
                                         rear < detection.stop_distance),
-                              front, rear, (near[0], near[1], near[2], near[3]), (fx, fy))
+                              front, rear, nearest, (fx, fy))
         points = obstacle_points_from_columns(columns, height_step, detection)
         current = points if seen_from == pose else compensate_motion(points, seen_from, pose)
         return perceive(current, sensing.length, sensing.width, detection,

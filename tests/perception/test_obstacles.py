@@ -15,12 +15,12 @@ from dancebots.perception.obstacles import (
     DetectorParams,
     clear_distances,
     compensate_motion,
-    near_quadrants,
+    footprint_clearance,
     obstacle_points,
     obstacle_points_from_columns,
-    rotation_allowed,
     stop_flags,
     turn_fraction,
+    turn_reach,
 )
 
 LENGTH, WIDTH = 1.2, 0.6
@@ -126,15 +126,13 @@ def test_compiled_perception_agrees_with_the_reference(
     params = DetectorParams()
     reference = perceive(compensate_motion(points, seen_from, pose), LENGTH, WIDTH, params,
                          1.0, 0.02)
-    front, rear, *near, fx, fy = perceive_moved(
+    front, rear, nearest, fx, fy = perceive_moved(
         points, np.array(seen_from), np.array(pose), LENGTH, WIDTH, params.stop_distance,
-        params.corridor_margin, params.turn_guard, 1.0, 0.02)
+        params.corridor_margin, 1.0, 0.02)
     assert front == pytest.approx(reference.front_free, abs=1e-9)
     assert rear == pytest.approx(reference.rear_free, abs=1e-9)
     assert (fx, fy) == pytest.approx(reference.force, abs=1e-9)
-    # the turn guard compares x * y with 0 and distances with 0.3 m: equal away from the edges
-    assert tuple(near) == reference.near or min(
-        abs(np.prod(compensate_motion(points, seen_from, pose), axis=1)).min(), 1.0) < 1e-9
+    assert nearest == pytest.approx(reference.nearest, abs=1e-9)
 
 
 @settings(deadline=None)
@@ -149,7 +147,7 @@ def test_compiled_column_filter_agrees_with_the_reference(
     params = DetectorParams()
     where = np.array([0.0, 0.0, 0.0])
     rest = (np.array(pose), LENGTH, WIDTH, params.stop_distance, params.corridor_margin,
-            params.turn_guard, 1.0, 0.02)
+            1.0, 0.02)
     assert perceive_columns(data, 0.1, params.crop_half, params.z_min, params.z_max, where,
                             *rest) == perceive_moved(
         obstacle_points_from_columns(data, 0.1), where, *rest)
@@ -161,12 +159,16 @@ def _side(y: float, x_from: float = -0.6, x_to: float = 0.6) -> np.ndarray:
     return np.column_stack([xs, np.full(len(xs), y)])
 
 
-def test_near_quadrants_and_the_turns_they_forbid() -> None:
-    points = np.array([[0.7, 0.4], [-0.7, -0.4]])  # ahead-left, behind-right: turning left
-    assert near_quadrants(points, LENGTH, WIDTH) == (True, False, False, True)
-    assert rotation_allowed(points, LENGTH, WIDTH) == (False, True)
-    assert near_quadrants(np.array([[0.0, 1.0], [3.0, 0.0]]), LENGTH, WIDTH) == (
-        False, False, False, False)
+def test_the_reach_of_a_turn_covers_what_the_turn_can_meet() -> None:
+    """A 1.2 x 0.6 m robot turning on the spot swings its corners 0.37 m beyond its sides
+    (half diagonal 0.67 m): a point 0.35 m beside its middle is out of the old 0.3 m guard's
+    reach but is met; turn_reach covers it, and the guard cuts the spin."""
+    beside = np.array([[0.0, 0.3 + 0.35]])
+    assert footprint_clearance(beside, LENGTH, WIDTH) == pytest.approx(0.35)
+    assert _nearest_on_arc(beside, 0.0, 2.0, 1.0) < 0.01  # a corner comes round onto it
+    assert turn_reach(LENGTH, WIDTH, 0.0) > 0.35
+    assert turn_fraction(beside, LENGTH, WIDTH, 0.0, 2.0) < 1.0
+    assert footprint_clearance(np.empty((0, 2)), LENGTH, WIDTH) == math.inf
 
 
 def _nearest_on_arc(points: np.ndarray, linear: float, angular: float,
@@ -209,3 +211,37 @@ def test_a_turn_on_the_spot_beside_a_wall_is_refused() -> None:
     wall = _side(0.4, -2.0, 2.0)
     assert turn_fraction(wall, LENGTH, WIDTH, 0.0, 1.0) == 0.0
     assert turn_fraction(wall, LENGTH, WIDTH, 0.0, -1.0) == 0.0
+
+
+@settings(deadline=None, max_examples=300)  # the first call compiles the numba function
+@given(columns, st.tuples(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3), st.floats(-3, 3)),
+       st.floats(-0.5, 0.5), st.floats(-3.2, 3.2), st.booleans())
+def test_the_compiled_turn_guard_agrees_with_the_reference(
+        data: np.ndarray, pose: tuple[float, float, float], linear: float, angular: float,
+        leading: bool) -> None:
+    """turn_fraction_columns (compiled, on the cloud's columns seen at another pose) gives
+    turn_fraction's answer on the same points moved to the pose (the tested reference)."""
+    from dancebots.perception.fast import turn_fraction_columns
+
+    data = data.copy()
+    data[:, 2] = np.abs(data[:, 2]) * 0.5
+    data[:, 3] = data[:, 2] + np.abs(data[:, 3])
+    params = DetectorParams()
+    seen_from = (0.0, 0.0, 0.0)
+    points = compensate_motion(obstacle_points_from_columns(data, 0.1), seen_from, pose)
+    if leading:
+        points = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
+    expected = turn_fraction(points, LENGTH, WIDTH, linear, angular, params)
+    compiled = turn_fraction_columns(data, 0.1, params.crop_half, params.z_min, params.z_max,
+                                     np.array(seen_from), np.array(pose), LENGTH, WIDTH,
+                                     linear, angular, params.turn_margin, params.turn_horizon,
+                                     leading)
+    assert compiled == expected
+
+
+def test_a_turn_that_cannot_be_predicted_is_refused() -> None:
+    """Speeds that are not finite (a corrupt command) give no turn at all."""
+    neighbour = _side(0.5)
+    for linear, angular in ((0.3, math.inf), (math.nan, 1.0), (0.3, math.nan)):
+        assert turn_fraction(neighbour, LENGTH, WIDTH, linear, angular) == 0.0
+    assert turn_fraction(neighbour, LENGTH, WIDTH, 1e308, 1e-300) in (0.0, 0.25, 0.5, 1.0)

@@ -364,9 +364,10 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
         vr, wr = reference.speed, reference.angular_speed
         linear = vr * math.cos(heading_error) + params.gain_x * ex
         if linear * vr < 0.0 and abs(vr) >= params.wait_speed:
-            # far ahead of a reference that moves (a place that jumped behind the robot at a
-            # formation change): it would drive against its reference's motion; it waits
-            # for the reference, turned to its heading, and follows once it has come by
+            # it would drive against its reference's motion (far ahead of a place that jumped
+            # behind it at a formation change, or turned round): it stands, turning to the
+            # reference's heading, until the law drives it the reference's way (a heuristic
+            # outside Kanayama's proof: docs/control.md)
             return _saturate(0.0, params.turn_gain * heading_error, params)
         angular = (wr + vr * params.gain_y * ey
                    + max(abs(vr), params.heading_speed) * params.gain_theta

@@ -13,18 +13,14 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["perceive_columns", "perceive_moved"]
+__all__ = ["perceive_columns", "perceive_moved", "turn_fraction_columns"]
 
 
 @njit(cache=True)
-def perceive_columns(columns: NDArray[np.float64], height_step: float, crop_half: float,
-                     z_min: float, z_max: float, seen_from: NDArray[np.float64],
-                     pose: NDArray[np.float64], length: float, width: float,
-                     stop_distance: float, corridor_margin: float, turn_guard: float,
-                     force_radius: float, force_gain: float,
-                     ) -> tuple[float, float, bool, bool, bool, bool, float, float]:
-    """A cloud stored as columns (K, 4) (see ``PointCloud``): its obstacle points (crop and
-    height filter of ``obstacle_points_from_columns``), then :func:`perceive_moved`."""
+def _kept(columns: NDArray[np.float64], height_step: float, crop_half: float, z_min: float,
+          z_max: float) -> NDArray[np.float64]:
+    """The obstacle points (M, 2) of a cloud stored as columns (K, 4) (see ``PointCloud``):
+    the crop and height filter of ``obstacle_points_from_columns``."""
     keep = np.zeros(columns.shape[0], dtype=np.bool_)
     for i in range(columns.shape[0]):
         low, high = columns[i, 2], columns[i, 3]
@@ -32,25 +28,111 @@ def perceive_columns(columns: NDArray[np.float64], height_step: float, crop_half
         z = low + first * height_step
         keep[i] = (z < z_max and z <= high + 1e-9 and abs(columns[i, 0]) <= crop_half
                    and abs(columns[i, 1]) <= crop_half)
-    return perceive_moved(columns[keep, :2], seen_from, pose, length, width, stop_distance,
-                          corridor_margin, turn_guard, force_radius, force_gain)
+    return columns[keep, :2]
+
+
+@njit(cache=True)
+def perceive_columns(columns: NDArray[np.float64], height_step: float, crop_half: float,
+                     z_min: float, z_max: float, seen_from: NDArray[np.float64],
+                     pose: NDArray[np.float64], length: float, width: float,
+                     stop_distance: float, corridor_margin: float,
+                     force_radius: float, force_gain: float,
+                     ) -> tuple[float, float, float, float, float]:
+    """A cloud stored as columns (K, 4) (see ``PointCloud``): its obstacle points (crop and
+    height filter of ``obstacle_points_from_columns``), then :func:`perceive_moved`."""
+    return perceive_moved(_kept(columns, height_step, crop_half, z_min, z_max), seen_from,
+                          pose, length, width, stop_distance, corridor_margin, force_radius,
+                          force_gain)
+
+
+@njit(cache=True)
+def turn_fraction_columns(columns: NDArray[np.float64], height_step: float, crop_half: float,
+                          z_min: float, z_max: float, seen_from: NDArray[np.float64],
+                          pose: NDArray[np.float64], length: float, width: float,
+                          linear: float, angular: float, margin: float, horizon: float,
+                          leading: bool) -> float:
+    """``perception.obstacles.turn_fraction`` of the obstacle points of a cloud stored as
+    columns (K, 4) seen at ``seen_from``, moved to ``pose`` (as :func:`perceive_columns`);
+    ``leading``: of the points ahead of the robot's middle in its direction of travel only
+    (behind it when ``linear`` < 0)."""
+    if angular == 0.0:
+        return 1.0
+    if not (math.isfinite(linear) and math.isfinite(angular)):
+        return 0.0
+    points = _kept(columns, height_step, crop_half, z_min, z_max)
+    half_l, half_w = 0.5 * length, 0.5 * width
+    reach = (math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * horizon
+             + margin)
+    c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
+    c1, s1 = math.cos(pose[2]), math.sin(pose[2])
+    # the instants of ``perception.obstacles.turn_samples``, evenly over the horizon
+    spread = math.hypot(half_l, half_w) + reach
+    step = min(0.1, 0.5 * margin / (abs(linear) + abs(angular) * spread))
+    needed = horizon / step
+    if not needed < 1000.0:  # perception.obstacles.MAX_TURN_SAMPLES: no turn
+        return 0.0
+    steps = math.ceil(needed - 1e-9) + 1
+    spacing = horizon / (steps - 1) if steps > 1 else 0.0
+    fractions = (1.0, 0.5, 0.25, 0.0)
+    # the robot's pose on each arc (fraction, step): dx, dy, cos, sin
+    arcs = np.empty((4, steps, 4))
+    for f in range(4):
+        w = fractions[f] * angular
+        for k in range(steps):
+            t = horizon if k == steps - 1 and steps > 1 else k * spacing  # as np.linspace
+            theta = w * t
+            if abs(w) < 1e-9:
+                dx, dy = linear * t, 0.0
+            else:
+                dx, dy = linear * math.sin(theta) / w, linear * (1.0 - math.cos(theta)) / w
+            arcs[f, k, 0], arcs[f, k, 1] = dx, dy
+            arcs[f, k, 2], arcs[f, k, 3] = math.cos(theta), math.sin(theta)
+    blocked = np.zeros(3, dtype=np.bool_)
+    for i in range(points.shape[0]):
+        wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
+        wy = seen_from[1] + s0 * points[i, 0] + c0 * points[i, 1] - pose[1]
+        x0 = c1 * wx + s1 * wy
+        y0 = -s1 * wx + c1 * wy
+        if leading and x0 * (1.0 if linear >= 0.0 else -1.0) <= 0.0:
+            continue
+        gap0 = math.hypot(max(abs(x0) - half_l, 0.0), max(abs(y0) - half_w, 0.0))
+        if gap0 >= reach:
+            continue
+        nearest = np.empty(4)
+        for f in range(4):
+            best = math.inf
+            for k in range(steps):
+                px, py = x0 - arcs[f, k, 0], y0 - arcs[f, k, 1]
+                c, s = arcs[f, k, 2], arcs[f, k, 3]
+                x, y = c * px + s * py, -s * px + c * py
+                best = min(best, math.hypot(max(abs(x) - half_l, 0.0),
+                                            max(abs(y) - half_w, 0.0)))
+            nearest[f] = best
+        floor = min(gap0, margin) - 1e-9
+        for f in range(3):
+            if nearest[f] < floor and nearest[f] < nearest[3] - 1e-9:
+                blocked[f] = True
+    for f in range(3):
+        if not blocked[f]:
+            return fractions[f]
+    return 0.0
 
 
 @njit(cache=True)
 def perceive_moved(points: NDArray[np.float64], seen_from: NDArray[np.float64],
                    pose: NDArray[np.float64], length: float, width: float,
-                   stop_distance: float, corridor_margin: float, turn_guard: float,
+                   stop_distance: float, corridor_margin: float,
                    force_radius: float, force_gain: float,
-                   ) -> tuple[float, float, bool, bool, bool, bool, float, float]:
+                   ) -> tuple[float, float, float, float, float]:
     """Obstacle points (M, 2) in ``base_link`` at ``seen_from`` (x, y, theta), moved to the
-    robot's ``pose`` (same frame), then: free distance ahead and behind (m), a point near
-    the footprint front-left, front-right, rear-left, rear-right (``near_quadrants``), force
-    (Fx, Fy). See ``perception.obstacles.perceive``."""
+    robot's ``pose`` (same frame), then: free distance ahead and behind (m), the smallest
+    distance of a point to the footprint (m, ``footprint_clearance``), force (Fx, Fy). See
+    ``perception.obstacles.perceive``."""
     c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
     c1, s1 = math.cos(pose[2]), math.sin(pose[2])
     half_l, half_w = 0.5 * length, 0.5 * width
     front, rear = math.inf, math.inf
-    front_left, front_right, rear_left, rear_right = False, False, False, False
+    nearest = math.inf
     fx, fy = 0.0, 0.0
     for i in range(points.shape[0]):
         wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
@@ -66,17 +148,9 @@ def perceive_moved(points: NDArray[np.float64], seen_from: NDArray[np.float64],
         ny = min(max(y, -half_w), half_w)
         ax, ay = nx - x, ny - y
         d = math.hypot(ax, ay)
-        if d < turn_guard:
-            if x > 0 and y > 0:
-                front_left = True
-            elif x > 0 and y < 0:
-                front_right = True
-            elif x < 0 and y > 0:
-                rear_left = True
-            elif x < 0 and y < 0:
-                rear_right = True
+        nearest = min(nearest, d)
         if force_radius > 0 and 1e-9 < d < force_radius:
             weight = force_gain * (1.0 - d / force_radius) ** 2 / d
             fx += ax * weight
             fy += ay * weight
-    return front, rear, front_left, front_right, rear_left, rear_right, fx, fy
+    return front, rear, nearest, fx, fy

@@ -26,13 +26,14 @@ __all__ = [
     "StopFlags",
     "clear_distances",
     "compensate_motion",
-    "near_quadrants",
+    "footprint_clearance",
     "obstacle_points",
     "obstacle_points_from_columns",
     "perceive",
-    "rotation_allowed",
     "stop_flags",
     "turn_fraction",
+    "turn_reach",
+    "turn_samples",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -43,19 +44,21 @@ class DetectorParams:
     """crop_half: half side of the square kept around ``base_link``, m (thesis: 4 x 4 m);
     z_min, z_max: kept heights, m (thesis: above 10 cm, below 1.5 m); stop_distance: m
     (thesis: 55 cm); corridor_margin: the stop zones are as wide as the robot plus this on
-    each side, m, so that neighbours beside the robot do not stop it; turn_guard: points this
-    near the footprint (m) are checked before the robot turns a corner towards them
-    (:func:`turn_fraction`): the turn may not bring any of them nearer than turn_margin (m)
-    within turn_horizon (s)."""
+    each side, m, so that neighbours beside the robot do not stop it; turn_margin,
+    turn_horizon: a turn may not bring any obstacle point nearer than turn_margin (m) to the
+    footprint within turn_horizon (s) (:func:`turn_fraction`)."""
 
     crop_half: float = 2.0
     z_min: float = 0.10
     z_max: float = 1.5
     stop_distance: float = 0.55
     corridor_margin: float = 0.10
-    turn_guard: float = 0.30
     turn_margin: float = 0.05
     turn_horizon: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not (self.turn_horizon >= 0.0 and self.turn_margin > 0.0):
+            raise ValueError("turn_horizon must be >= 0 s and turn_margin > 0 m")
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,29 +115,43 @@ def clear_distances(points: FloatArray, length: float, width: float,
     return front, rear
 
 
-def near_quadrants(points: FloatArray, length: float, width: float,
-                   params: DetectorParams = DetectorParams()) -> tuple[bool, bool, bool, bool]:
-    """Which quadrants of ``base_link`` (front-left, front-right, rear-left, rear-right) hold
-    an obstacle point (M, 2) within ``turn_guard`` m of the footprint (points on an axis
-    count in none)."""
+def footprint_clearance(points: FloatArray, length: float, width: float) -> float:
+    """The smallest distance (m) from obstacle points (M, 2) in ``base_link`` to the robot's
+    footprint (0 for a point on or in it; inf without points)."""
     if len(points) == 0:
-        return False, False, False, False
-    half = np.array([0.5 * length, 0.5 * width])
-    outside = np.maximum(np.abs(points) - half, 0.0)
-    near = points[np.hypot(outside[:, 0], outside[:, 1]) < params.turn_guard]
-    x, y = near[:, 0], near[:, 1]
-    return (bool(((x > 0) & (y > 0)).any()), bool(((x > 0) & (y < 0)).any()),
-            bool(((x < 0) & (y > 0)).any()), bool(((x < 0) & (y < 0)).any()))
+        return math.inf
+    outside = np.maximum(np.abs(points) - np.array([0.5 * length, 0.5 * width]), 0.0)
+    return float(np.hypot(outside[:, 0], outside[:, 1]).min())
 
 
-def rotation_allowed(points: FloatArray, length: float, width: float,
-                     params: DetectorParams = DetectorParams()) -> tuple[bool, bool]:
-    """(may turn left, may turn right): turning left swings the front half of the robot to
-    the left and the rear half to the right, so a point within ``turn_guard`` of the
-    footprint ahead-left or behind-right forbids turning left (and mirrored for right)."""
-    front_left, front_right, rear_left, rear_right = near_quadrants(points, length, width,
-                                                                    params)
-    return not (front_left or rear_right), not (front_right or rear_left)
+def turn_reach(length: float, width: float, linear: float,
+               params: DetectorParams = DetectorParams()) -> float:
+    """How far from the footprint (m) a point can be and still be met by the robot turning
+    within ``params.turn_horizon`` s at ``linear`` m/s: the corners' swing beyond the sides
+    (half diagonal less the smaller half side, a turn on the spot), the way driven, and the
+    turn margin; :func:`turn_fraction` is needed only for points nearer than this."""
+    half_l, half_w = 0.5 * length, 0.5 * width
+    return (math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * params.turn_horizon
+            + params.turn_margin)
+
+
+MAX_TURN_SAMPLES = 1000
+"""Where :func:`turn_samples` would need more steps than this (speeds no robot drives: a
+1.2 m robot at about 50 rad/s), :func:`turn_fraction` allows no turn."""
+
+
+def turn_samples(length: float, width: float, linear: float, angular: float,
+                 params: DetectorParams = DetectorParams()) -> int:
+    """How many instants :func:`turn_fraction` checks, evenly over ``params.turn_horizon``:
+    at most 0.1 s apart, and so close that a point within :func:`turn_reach` moves at most
+    half the turn margin across the robot between two of them (its speed in ``base_link``
+    is at most |v| + |w| r, r its distance from the middle), so that a point the samples
+    keep 5 cm away is never nearer than 2.5 cm in between; 0 when that would take more than
+    :data:`MAX_TURN_SAMPLES` steps."""
+    reach = math.hypot(0.5 * length, 0.5 * width) + turn_reach(length, width, linear, params)
+    step = min(0.1, 0.5 * params.turn_margin / (abs(linear) + abs(angular) * reach))
+    needed = params.turn_horizon / step  # inf or huge for absurd speeds
+    return math.ceil(needed - 1e-9) + 1 if needed < MAX_TURN_SAMPLES else 0
 
 
 TURN_FRACTIONS = (1.0, 0.5, 0.25, 0.0)
@@ -144,17 +161,28 @@ TURN_FRACTIONS = (1.0, 0.5, 0.25, 0.0)
 def turn_fraction(points: FloatArray, length: float, width: float, linear: float,
                   angular: float, params: DetectorParams = DetectorParams()) -> float:
     """The largest of :data:`TURN_FRACTIONS` of ``angular`` (rad/s) at which the robot,
-    driving ``linear`` (m/s) on that arc for ``params.turn_horizon`` s (sampled every 0.1 s),
+    driving ``linear`` (m/s) on that arc for ``params.turn_horizon`` s (at
+    :func:`turn_samples` instants),
     brings no obstacle point (M, 2) in ``base_link`` (taken as standing) within
     ``params.turn_margin`` m of its footprint, nor nearer than it already is if it is nearer,
     unless driving straight would bring it as near (the stop flags are for that). 0.0 when
-    only driving straight does (an addition; thesis ch. 5.2 stops the robot only ahead and
+    only driving straight does, and for speeds that are not finite or too fast to sample
+    (:data:`MAX_TURN_SAMPLES`) (an addition; thesis ch. 5.2 stops the robot only ahead and
     behind, and a skid-steer robot's corners swing out as it turns: a 1.2 m robot turning
     on a 0.25 m radius sweeps its tail 0.26 m beyond its side)."""
     if len(points) == 0 or angular == 0.0:
         return 1.0
+    if not (math.isfinite(linear) and math.isfinite(angular)):
+        return 0.0  # no turn that cannot be predicted
+    points = points[np.hypot(*np.maximum(np.abs(points) - [0.5 * length, 0.5 * width],
+                                         0.0).T) < turn_reach(length, width, linear, params)]
+    if len(points) == 0:
+        return 1.0
+    samples = turn_samples(length, width, linear, angular, params)
+    if samples == 0:
+        return 0.0
     half = np.array([0.5 * length, 0.5 * width])
-    times = np.arange(0.0, params.turn_horizon + 1e-9, 0.1)  # (K,)
+    times = np.linspace(0.0, params.turn_horizon, samples)  # (K,)
     fractions = np.array(TURN_FRACTIONS)  # (F,)
     w = fractions[:, None] * angular  # (F, 1)
     theta = w * times  # (F, K)
@@ -192,22 +220,11 @@ class Perception:
     flags: StopFlags
     front_free: float
     rear_free: float
-    near: tuple[bool, bool, bool, bool]
+    nearest: float
     force: tuple[float, float]
 
-    @property
-    def turn_left(self) -> bool:
-        """Turning left swings no corner into a point near it (front-left, rear-right)."""
-        return not (self.near[0] or self.near[3])
 
-    @property
-    def turn_right(self) -> bool:
-        """Turning right swings no corner into a point near it (front-right, rear-left)."""
-        return not (self.near[1] or self.near[2])
-
-
-CLEAR = Perception(StopFlags(False, False), math.inf, math.inf,
-                   (False, False, False, False), (0.0, 0.0))
+CLEAR = Perception(StopFlags(False, False), math.inf, math.inf, math.inf, (0.0, 0.0))
 
 
 def perceive(points: FloatArray, length: float, width: float,
@@ -219,8 +236,8 @@ def perceive(points: FloatArray, length: float, width: float,
     if len(points) == 0:
         return CLEAR
     front, rear = clear_distances(points, length, width, params)
-    near = near_quadrants(points, length, width, params)
+    nearest = footprint_clearance(points, length, width)
     force = repulsive_force(points, length, width, force_radius, force_gain) if (
         force_radius > 0) else (0.0, 0.0)
     return Perception(StopFlags(front < params.stop_distance, rear < params.stop_distance),
-                      front, rear, near, force)
+                      front, rear, nearest, force)
