@@ -77,7 +77,7 @@ def test_check_runs_the_show_and_reports_at_the_instruction(capsys: Capture,
             "is more than 0.5 m from its place from t = 8.0 s to 9.6 s (up to 0.57 m)") in err
     assert out.rstrip().endswith("ok (4 warnings)")
     # the tracking follower on the feasible timing: no speed above a robot's maximum, but with
-    # LIDAR its rigid slots point the robots at each other in the corners (README: 41-43 cm):
+    # LIDAR its rigid slots point the robots at each other in the corners (README: 49-50 cm):
     # the robot held there falls behind its slot (it waits for its slot rather than reverse
     # against it), and that is all check may find (0.51 m at most with the default guard)
     status, out, err = run(capsys, "check", "--follower", "tracking", "--timing", "feasible",

