@@ -69,6 +69,32 @@ def test_listing_7_4_with_a_husky_and_a_tradr_splits_without_a_stall() -> None:
     assert metrics.max_final_heading_error < 5.0
 
 
+@pytest.mark.parametrize("profile", ["ideal", "realistic"])
+def test_no_chatter_on_the_arc_of_listing_7_2(profile: str) -> None:
+    """Issue 12: the inner robot of 7.2 made 101 angular-speed sign flips in 45 s under the
+    thesis follower; with the defaults (LIDAR on) neither robot's commanded angular speed
+    changes sign on the 270 deg arc (target: at most 5), and nobody drives against its
+    reference."""
+    from dancebots.report.metrics import sign_flips
+    from dancebots.scenario.model import Circle
+    from dancebots.sim import PROFILES
+
+    show = load_show(str(EXAMPLES / "thesis_7_2.dance"), check=CheckOptions(),
+                     timing="feasible")
+    assert show.report is not None
+    assert show.report.placement is not None
+    assert show.plan is not None
+    result = simulate(show.plan, *prepare_show(show.report.placement),
+                      SimConfig(profile=PROFILES[profile], brain=BrainOptions(follower="path")))
+    arcs = [t for f in show.plan.formations for t in f.timings
+            if isinstance(t.instruction, Circle)]
+    assert len(arcs) == 1
+    during = (result.times >= arcs[0].start) & (result.times <= arcs[0].end)
+    assert during.sum() > 400  # the arc lasts about 48 s
+    assert [sign_flips(result.commands[i, during, 1]) for i in range(2)] == [0, 0]
+    assert run_metrics(result).reverse_fraction == 0.0
+
+
 @pytest.mark.parametrize("name", ["triangle_to_column", "square_path"])
 def test_the_thesis_follower_does_not(name: str) -> None:
     """The thesis follower ends a robot off its slot (the triangle: 0.49 m, 45 deg) or turned
