@@ -446,3 +446,26 @@ def test_feasible_timing_notes_where_the_leader_slows() -> None:
                                      "on the path moves faster than 0.40 m/s "
                                      "(--timing feasible)")
     assert not any(d.severity is Severity.NOTE for d in check(text).diagnostics)
+
+
+def test_a_meeting_no_departure_delay_removes_is_named_so(examples: Path) -> None:
+    """Listing 7.4 with SIM robots 0.2 m apart: the robots' places meet whichever formation
+    waits (R2's tail swings into R1 beside it), so the hint says that waiting does not help
+    and asks for room; crossing_groups' meeting is removed by B waiting (a note) and the
+    rigid pass has nothing to say about it."""
+    def feasible(name: str) -> CheckReport:
+        text = (examples / name).read_text()
+        _, plan, diagnostics = compile_scenario(text, name, PlanParameters(timing="feasible"))
+        assert plan is not None, diagnostics
+        return check_plan(plan)
+
+    report = feasible("thesis_7_4.dance")
+    meeting = [d for d in report.diagnostics if d.message.startswith("R1 and R2 come within")]
+    assert [(d.line, d.hint) for d in meeting] == [(15, (
+        "no departure delay keeps them apart (the feasible timing tried 1, 3 and 8 s for "
+        "either formation): give the robots more room (a wider row or spacing) or change "
+        "one's path"))]
+    crossing = feasible("crossing_groups.dance").diagnostics
+    assert not any("come within" in d.message for d in crossing)
+    assert any(d.severity is Severity.NOTE and d.message.startswith("B waits 8 s here")
+               for d in crossing)

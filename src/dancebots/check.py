@@ -29,7 +29,7 @@ from dancebots.plan.placement import (
     instruction_position,
     place_show,
 )
-from dancebots.plan.planner import Plan
+from dancebots.plan.planner import DEPARTURE_DELAYS, Plan
 from dancebots.scenario.model import Circle
 from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
 
@@ -353,13 +353,24 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
             break
         first, last = int(k[a]), int(k[b - 1])
         formation = plan.formations[int(which[i[a], first])]
+        pair = (robots[i[a]], robots[j[a]])
+        stuck = pair in plan.apart_by_no_delay or pair[::-1] in plan.apart_by_no_delay
         _warn(plan, instruction_position(formation, float(times[first])),
-              f"{robots[i[a]]} and {robots[j[a]]} come within {nearest[n]:.2f} m of each "
+              f"{pair[0]} and {pair[1]} come within {nearest[n]:.2f} m of each "
               f"other (clearance {options.clearance:g} m) from t = {times[first]:.1f} s to "
               f"{times[last]:.1f} s",
+              "no departure delay keeps them apart (the feasible timing tried "
+              f"{_delays_text()} s for either formation): give the robots more room (a wider "
+              "row or spacing) or change one's path" if stuck else
               "their paths cross: move the formations further apart or let one wait",
               diagnostics)
     return min(gaps) if gaps else None
+
+
+def _delays_text() -> str:
+    """The ordered departures' delays as a reader reads them: '1, 3 and 8'."""
+    words = [f"{delay:g}" for delay in DEPARTURE_DELAYS]
+    return ", ".join(words[:-1]) + " and " + words[-1] if len(words) > 1 else words[0]
 
 
 def _pairs_within(tree: shapely.STRtree, shapes: NDArray[np.object_], distance: float,

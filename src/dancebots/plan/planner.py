@@ -12,6 +12,7 @@ frame of the first virtual leader at t = 0 (x forward, y left).
 from __future__ import annotations
 
 import bisect
+import dataclasses
 import itertools
 import math
 from collections.abc import Mapping, Sequence
@@ -200,6 +201,9 @@ class Plan:
     """The compiled choreography: formations over time and each robot's assignments.
 
     ``assignments[robot]`` lists (from show time, formation index), in time order.
+    ``apart_by_no_delay``: pairs of robots (scenario order) of different formations that
+    would meet on their leaders' paths and that no departure delay of the ``feasible``
+    timing keeps apart (:func:`meetings`; empty under the thesis's timing).
     """
 
     scenario: Scenario
@@ -207,6 +211,7 @@ class Plan:
     formations: tuple[PlannedFormation, ...]
     assignments: Mapping[str, tuple[tuple[float, int], ...]]
     duration: float
+    apart_by_no_delay: tuple[tuple[str, str], ...] = ()
 
     @property
     def robots(self) -> tuple[str, ...]:
@@ -366,9 +371,11 @@ def build_plan(
                     delays, (plan, diagnostics), found = trial, attempt, after
                     break
             else:
-                given_up.add(meeting.robots)  # no wait removes it: check's simulation reports
+                given_up.add(meeting.robots)  # no wait removes it: check reports it
                 found = found[1:]
-        return plan, diagnostics
+        order = {robot: k for k, robot in enumerate(scenario.robots)}
+        unresolved = tuple(sorted(given_up, key=lambda pair: (order[pair[0]], order[pair[1]])))
+        return dataclasses.replace(plan, apart_by_no_delay=unresolved), diagnostics
     except _PlanError as exc:
         return None, [exc.diagnostic]
 
