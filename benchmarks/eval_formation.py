@@ -1,6 +1,7 @@
 """What a spectator sees of a formation: the thesis's follower and timing against the additions.
 
-Runs every thesis listing that forms a formation (6.1-6.3, 7.1-7.4), the bundled demo and the
+Runs every thesis listing that forms a formation (6.1-6.3, 7.1-7.4; 7.4 also with the thesis's
+robots, a HUSKY and a TRADR: ``thesis_7_4+HT``), the bundled demo and the
 bundled open-day show (in its hall) with each follower (``thesis``: eq. 4.4; ``tracking``:
 Kanayama's law on the rigid slot's motion; ``path``, the default: the same law on the place
 on the leader's path) and each timing (``thesis``; ``feasible``, the default: the leader
@@ -42,7 +43,8 @@ DATA = ROOT / "src" / "dancebots" / "data"
 SHOWS: list[tuple[str, str | None]] = [
     (f"examples/thesis_{n}.dance", None) for n in ("6_1", "6_2", "6_3", "7_1", "7_2", "7_3",
                                                     "7_4")]
-SHOWS += [(str(DATA / "demo.dance"), None), (str(DATA / "open_day.dance"),
+SHOWS += [("examples/thesis_7_4.dance", "examples/worlds/thesis_7_4_husky_tradr.toml"),
+          (str(DATA / "demo.dance"), None), (str(DATA / "open_day.dance"),
                                             str(DATA / "open_day.toml"))]
 
 
@@ -81,7 +83,8 @@ def main() -> None:
     for (scenario, world), profile, lidar in itertools.product(shows, profiles, (False, True)):
         for follower, timing in itertools.product(FOLLOWERS, TIMINGS):
             figures = run(scenario, world, follower, timing, profile, lidar)
-            print(f"{Path(scenario).stem:<16} {profile:<9} {'on' if lidar else 'off':<5} "
+            name = Path(scenario).stem + ("+HT" if world and "husky" in world else "")
+            print(f"{name:<16} {profile:<9} {'on' if lidar else 'off':<5} "
                   f"{follower:<8} {timing:<8} " + " ".join(
                       f"{figures[c]:>8.0f}" if c in ("head°", "flips", "contacts", "clean")
                       else f"{figures[c]:>8.1f}" if c == "rev%" else f"{figures[c]:>8.3f}"
