@@ -88,3 +88,21 @@ def test_moving_over_to_a_new_formation_is_not_a_finding_but_staying_away_is() -
            if "from its place" in d.message]
     assert len(off) == 1
     assert off[0].startswith("5: simulated (x): B is more than 0.5 m")
+
+
+def test_a_robot_that_ends_off_its_slot_and_turned_is_not_said_to_have_reached_it(
+        examples: Path) -> None:
+    """7.4 with SIM robots, defaults, LIDAR: R2 is held beside R1 and ends 1.05 m off its
+    slot and turned; the heading finding's hint no longer says it reached its place."""
+    from dancebots.plan.planner import PlanParameters
+    from dancebots.robot import BrainOptions
+
+    plan = plan_of((examples / "thesis_7_4.dance").read_text(),
+                   PlanParameters(timing="feasible"), path="show.dance")
+    result = simulate(plan, *prepare_show(place_show(plan)),
+                      SimConfig(brain=BrainOptions(follower="path")))
+    final = {d.message.split(" ends ")[1].split(" ")[0]: d for d in
+             simulated_findings(result, "x") if d.message.startswith("simulated (x): R2 ends")}
+    assert set(final) == {"1.05", "facing"}
+    assert final["facing"].hint == ("it did not reach its place either: see the findings "
+                                    "before this one for why")

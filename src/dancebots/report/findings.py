@@ -116,8 +116,10 @@ def simulated_findings(result: RunResult, what_ran: str,
                 "this one for why")
         if turn > limits.final_heading:
             add(final, i, last, f"{name} ends facing {turn:.0f} deg away from its final "
-                "heading", "it reached its place but turned round on the way, or could "
-                "not turn there (see the findings before this one)")
+                "heading", "it did not reach its place either: see the findings before this "
+                "one for why" if gap > limits.final_distance else "it reached its place but "
+                "turned round on the way, or could not turn there (see the findings before "
+                "this one)")
     for kind in (contacts, reversing, off_slot, final):
         if len(kind) > limits.per_kind:
             more = len(kind) - limits.per_kind + 1
