@@ -215,6 +215,10 @@ def test_the_pure_helpers() -> None:
     against = against_desired(np.array([0.3, -0.3, -0.3, -0.04, 0.3, 0.3, 0.3, 0.0, -0.3]),
                               np.array([0.3, 0.3, 0.3, 0.3, -0.3, -0.3, -0.3, -0.3, 0.04]))
     assert against.tolist() == [False, True, True, False, False, True, True, False, False]
+    # sampled twice per control tick, the reaction allowed is two samples
+    twice = against_desired(np.array([0.3, 0.3, 0.3, 0.3, 0.3, 0.3]),
+                            np.array([0.3, 0.3, -0.3, -0.3, -0.3, -0.3]), tick=2)
+    assert twice.tolist() == [False, False, False, False, True, True]
     assert sign_flips(np.array([0.3, 0.01, -0.3, -0.2, 0.04, 0.2, 0.0, -0.06])) == 3
     assert sign_flips(np.array([0.03, -0.03])) == sign_flips(np.array([])) == 0
     assert heading_errors(np.array([3.0, math.pi]), np.array([-3.0, -math.pi])) == (

@@ -376,28 +376,25 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
         angular += direction * params.force_gain * fy
         return _saturate(linear, angular, params)
     distance = math.hypot(ex, ey)
+    backwards = ex < 0.0 and distance < params.reverse_distance
+    push = (-1.0 if backwards else 1.0) * params.force_gain * fy  # away from what pushes
     if distance > params.arrival_distance and not reference.final:
         # a slot that stands a moment (a place waiting on its path): drive to it, turning
         # towards it first (forwards, or backwards when it is less than reverse_distance behind)
-        backwards = ex < 0.0 and distance < params.reverse_distance
         bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
         speed = min(params.arrival_gain * distance, params.max_linear) * max(
             math.cos(bearing), 0.0)
-        linear = -speed if backwards else speed
-        angular = params.turn_gain * bearing + (-1.0 if backwards else 1.0) * (
-            params.force_gain * fy)
-        return _saturate(linear, angular, params)
+        return _saturate(-speed if backwards else speed, params.turn_gain * bearing + push,
+                         params)
     if params.arrival_distance < distance <= params.settle_distance:
         # a few centimetres off its final slot: face the slot's heading and close the
         # distance along it (no turn towards a slot beside the robot: a spin for millimetres)
         linear = params.arrival_gain * ex * max(math.cos(heading_error), 0.0)
         return _saturate(linear, params.turn_gain * heading_error, params)
     if distance > params.arrival_distance:
-        backwards = ex < 0.0 and distance < params.reverse_distance
         linear, angular = parking_step(params, distance, math.atan2(ey, ex), heading_error,
                                        backwards)
-        return _saturate(linear, angular + (-1.0 if backwards else 1.0) * (
-            params.force_gain * fy), params)
+        return _saturate(linear, angular + push, params)
     if abs(heading_error) > params.heading_tolerance:
         return _saturate(0.0, params.turn_gain * heading_error, params)
     return 0.0, 0.0

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.plan.placement import instruction_position, true_runs
-from dancebots.report.metrics import against_desired, heading_errors
+from dancebots.report.metrics import against_desired, heading_errors, samples_per_tick
 from dancebots.report.verdict import FINAL_HEADING_TOLERANCE, FINAL_SLOT_TOLERANCE
 from dancebots.shows.formation import RunResult
 
@@ -82,7 +82,8 @@ def simulated_findings(result: RunResult, what_ran: str,
     shortest = max(1, round(limits.min_duration / step)) if step > 0 else 1
     for i, name in enumerate(result.robots):
         against = during & against_desired(result.velocities[i, :, 0],
-                                           result.reference[i, :, 3])
+                                           result.reference[i, :, 3],
+                                           tick=samples_per_tick(result))
         for a, b in true_runs(against):
             if b - a >= shortest:
                 add(reversing, i, a, f"{name} drives against its slot's direction from t = "

@@ -32,7 +32,7 @@ from dancebots.shows.formation import STATUS, RunResult
 __all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_SPEED_MIN",
            "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics", "against_desired",
            "formation_error", "heading_errors", "run_metrics",
-           "sign_flips", "spacing_change"]
+           "samples_per_tick", "sign_flips", "spacing_change"]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -233,12 +233,13 @@ def run_metrics(result: RunResult) -> RunMetrics:
     period = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     stopped = result.status == STATUS.index("stopped")
     heading = np.degrees(heading_errors(result.poses[..., 2], result.reference[..., 2]))  # (R, T)
+    tick = samples_per_tick(result)
     moving = np.empty(result.status.shape, dtype=bool)  # (R, T) the slot moves along its heading
     against = np.empty(result.status.shape, dtype=bool)  # (R, T) ... and the robot the other way
     for i in range(len(result.robots)):
         moving[i] = during & (np.abs(result.reference[i, :, 3]) >= DESIRED_SPEED_MIN)
         against[i] = moving[i] & against_desired(result.velocities[i, :, 0],
-                                                 result.reference[i, :, 3])
+                                                 result.reference[i, :, 3], tick=tick)
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
     flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
@@ -288,9 +289,9 @@ def heading_errors(yaw: FloatArray, desired_yaw: FloatArray) -> FloatArray:
 
 def against_desired(speed: FloatArray, desired_speed: FloatArray,
                     desired_min: float = DESIRED_SPEED_MIN,
-                    actual_min: float = REVERSE_SPEED_MIN) -> BoolArray:
-    """Where a robot drives against its desired direction, shape (T,), one sample per
-    control tick.
+                    actual_min: float = REVERSE_SPEED_MIN, tick: int = 1) -> BoolArray:
+    """Where a robot drives against its desired direction, shape (T,); ``tick``: samples
+    per control tick (:func:`samples_per_tick`).
 
     speed (T,): the robot's actual linear speed, m/s (``RunResult.velocities[r, :, 0]``);
     desired_speed (T,): its reference's signed speed, m/s (``RunResult.reference[r, :, 3]``:
@@ -308,8 +309,15 @@ def against_desired(speed: FloatArray, desired_speed: FloatArray,
             speed * np.sign(desired) <= -actual_min)
         return result
 
-    before = np.concatenate([desired_speed[:1], desired_speed[:-1]])
+    lag = min(max(tick, 1), len(desired_speed))
+    before = np.concatenate([np.repeat(desired_speed[:1], lag),
+                             desired_speed[:len(desired_speed) - lag]])
     return against(desired_speed) & against(before)
+
+
+def samples_per_tick(result: RunResult) -> int:
+    """How many of the run's samples make one control tick (1 with the default step)."""
+    return max(1, round(result.config.control_period / result.config.dt))
 
 
 def sign_flips(angular: FloatArray, deadband: float = ANGULAR_DEADBAND) -> int:
