@@ -9,7 +9,10 @@ slows where a slot or place would move faster than 0.8 vmax), in the ideal and r
 with and without LIDAR, and prints per run:
 
 * ``head°``: the largest heading error against the slot's heading, deg (180: turned round);
-* ``rev%``: the share of the time a slot moves that a robot drives against it;
+* ``rev%``: the share of the time a slot moves that a robot drives against it (at least
+  5 cm in one go: ``report.metrics.REVERSE_DISTANCE_MIN``);
+* ``rev cm``: the longest way a robot drove against its slot's direction in one go, cm
+  (shorter ones too: a robot braking while its reference turns round);
 * ``flips``: sign flips of the commanded angular speeds (chatter);
 * ``slot rms`` / ``slot max``: the distance from the slot, m (over robots and ticks);
 * ``spacing``: the largest change of the distance between two robots of one formation, m;
@@ -52,6 +55,7 @@ def spectator_figures(result: RunResult) -> dict[str, float]:
     """The figures above, as ``metrics.json`` has them (``report.metrics.run_metrics``)."""
     metrics = run_metrics(result)
     return {"head°": metrics.max_heading_error, "rev%": 100.0 * metrics.reverse_fraction,
+            "rev cm": 100.0 * metrics.max_reverse_distance,
             "flips": metrics.angular_sign_flips, "slot rms": metrics.rms_slot_error,
             "slot max": metrics.max_slot_error, "spacing": metrics.max_formation_error or 0.0,
             "final": metrics.max_final_error, "contacts": metrics.collisions,
@@ -76,7 +80,7 @@ def main() -> None:
     args = parser.parse_args()
     shows = SHOWS[3:5] if args.quick else SHOWS
     profiles = ("ideal",) if args.quick else ("ideal", "realistic")
-    columns = ("head°", "rev%", "flips", "slot rms", "slot max", "spacing", "final",
+    columns = ("head°", "rev%", "rev cm", "flips", "slot rms", "slot max", "spacing", "final",
                "contacts", "clean")
     print(f"{'show':<16} {'profile':<9} {'lidar':<5} {'follower':<8} {'timing':<8} "
           + " ".join(f"{c:>8}" for c in columns))
@@ -87,7 +91,8 @@ def main() -> None:
             print(f"{name:<16} {profile:<9} {'on' if lidar else 'off':<5} "
                   f"{follower:<8} {timing:<8} " + " ".join(
                       f"{figures[c]:>8.0f}" if c in ("head°", "flips", "contacts", "clean")
-                      else f"{figures[c]:>8.1f}" if c == "rev%" else f"{figures[c]:>8.3f}"
+                      else f"{figures[c]:>8.1f}" if c in ("rev%", "rev cm")
+                      else f"{figures[c]:>8.3f}"
                       for c in columns), flush=True)
 
 

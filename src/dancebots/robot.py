@@ -37,9 +37,9 @@ from dancebots.control.tracking import (
     follower_references,
     tracking_step,
 )
-from dancebots.geometry import Pose, points_to_local, points_to_world, wrap_angle
+from dancebots.geometry import Pose, compose_points, points_to_local, points_to_world, wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.perception.fast import perceive_columns, turn_fraction_columns
+from dancebots.perception.fast import far_from_all, perceive_columns, turn_fraction_columns
 from dancebots.perception.obstacles import (
     CLEAR,
     DetectorParams,
@@ -195,7 +195,9 @@ class RobotBrain:
         self._mates: np.ndarray | None = None
         if follower != "thesis" and len(plan.robots) > 1:
             places = _places(plan, grid_period, follower)
-            self._mates = np.delete(places, plan.robots.index(robot), axis=0)
+            mates = np.delete(places, plan.robots.index(robot), axis=0)  # (M, T, 2)
+            self._mates = compose_points(
+                np.array([self._to_own.x, self._to_own.y, self._to_own.theta]), mates)
         self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
 
     def _grid_index(self, show_time: float, length: int) -> int | None:
@@ -379,7 +381,7 @@ class RobotBrain:
         places, from the 10 Hz grid, nearest row), in this robot's own frame."""
         assert self._mates is not None
         k = min(max(round(show_time / self.grid_period), 0), self._mates.shape[1] - 1)
-        return points_to_world(self._mates[:, k], self._to_own)
+        return self._mates[:, k]
 
     def _approach_limit(self, free: float, strangers_free: float | None,
                         reference_speed: float) -> float:
@@ -410,9 +412,12 @@ class RobotBrain:
         :meth:`_approach_limit`, leave it out; the stop flags and the turn guard still see
         every point)."""
         mates = points_to_local(self.mates_at(show_time), seen_from)  # (M, 2) base_link
-        gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
-                        columns[:, None, 1] - mates[None, :, 1])  # (K, M)
-        keep = gaps.min(axis=1) > self.mate_radius
+        if self.sensing.compiled:
+            keep = far_from_all(columns, mates, self.mate_radius)
+        else:
+            gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
+                            columns[:, None, 1] - mates[None, :, 1])  # (K, M)
+            keep = gaps.min(axis=1) > self.mate_radius
         if keep.all():
             return None
         return self._perceive(columns[keep], height_step, seen_from, pose)

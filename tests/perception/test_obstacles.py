@@ -248,3 +248,21 @@ def test_a_turn_that_cannot_be_predicted_is_refused() -> None:
         assert turn_fraction(neighbour, LENGTH, WIDTH, linear, angular) == 0.0
     assert turn_samples(LENGTH, WIDTH, 1e308, 1e-300) == 0  # too fast to sample
     assert turn_fraction(neighbour, LENGTH, WIDTH, 1e308, 1e-300) == 0.0
+
+
+@settings(max_examples=80, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), points=st.integers(0, 40), centres=st.integers(0, 6),
+       radius=st.sampled_from([0.0, 1e-300, 0.3, 0.85, 5.0]))
+def test_far_from_all_is_the_numpy_mask(seed: int, points: int, centres: int,
+                                        radius: float) -> None:
+    """The compiled mate mask keeps exactly the points that NumPy's (K, M) distances say are
+    more than ``radius`` from every centre (all of them for no centre)."""
+    from dancebots.perception.fast import far_from_all
+
+    rng = np.random.default_rng(seed)
+    columns = rng.uniform(-4.0, 4.0, (points, 4))
+    mates = rng.uniform(-4.0, 4.0, (centres, 2))
+    gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
+                    columns[:, None, 1] - mates[None, :, 1])
+    expected = (gaps > radius).all(axis=1)
+    assert far_from_all(columns, mates, radius).tolist() == expected.tolist()

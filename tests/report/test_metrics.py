@@ -13,9 +13,11 @@ from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
 from dancebots.plan.planner import slot_velocities
 from dancebots.report.metrics import (
+    REVERSE_DISTANCE_MIN,
     against_desired,
     formation_error,
     heading_errors,
+    reverse_runs,
     run_metrics,
     sign_flips,
 )
@@ -72,16 +74,16 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
     # the new figures (issue 12) beside every earlier key, per robot and over all robots
     assert {"rms_slot_error_m", "max_slot_error_m", "max_final_error_m",
             "rms_heading_error_deg", "max_heading_error_deg", "max_final_heading_error_deg",
-            "facing_away_fraction", "reverse_fraction", "angular_sign_flips",
-            "rms_formation_error_m", "max_formation_error_m"} <= set(data)
+            "facing_away_fraction", "reverse_fraction", "max_reverse_distance_m",
+            "angular_sign_flips", "rms_formation_error_m", "max_formation_error_m"} <= set(data)
     per_robot = data["per_robot"]
     assert isinstance(per_robot, dict)
     assert set(per_robot["R1"]) == {
         "rms_error_m", "max_error_m", "rms_leader_distance_deviation_m",
         "max_leader_distance_deviation_m", "stops", "stopped_s", "error", "final_error_m",
         "rms_heading_error_deg", "max_heading_error_deg", "facing_away_fraction",
-        "reverse_fraction", "angular_sign_flips", "rms_formation_error_m",
-        "max_formation_error_m", "final_heading_error_deg"}
+        "reverse_fraction", "max_reverse_distance_m", "angular_sign_flips",
+        "rms_formation_error_m", "max_formation_error_m", "final_heading_error_deg"}
     # two robots: the formation error is their one pair's, the rows' spacing change its max
     assert data["max_formation_error_m"] == per_robot["R1"]["max_formation_error_m"]
     assert data["max_formation_error_m"] == pytest.approx(data["max_spacing_change_m"],
@@ -147,6 +149,10 @@ def test_a_robot_driving_backwards_along_a_straight_path() -> None:
     r1, r2 = metrics.robots
     assert r1.reverse_fraction == 0.0
     assert r2.reverse_fraction == 1.0
+    assert r1.max_reverse_distance == 0.0  # R2: its whole way (about 2 m) in one go
+    way = float(speeds[1].sum() * np.median(np.diff(result.times)))
+    assert way == pytest.approx(2.0, abs=0.1)
+    assert r2.max_reverse_distance == metrics.max_reverse_distance == pytest.approx(way)
     assert r2.facing_away_fraction == 1.0
     assert r2.rms_heading_error == r2.max_heading_error == r2.final_heading_error == 180.0
     # on its slot all the time: the position error cannot see it
@@ -223,3 +229,20 @@ def test_the_pure_helpers() -> None:
     assert sign_flips(np.array([0.03, -0.03])) == sign_flips(np.array([])) == 0
     assert heading_errors(np.array([3.0, math.pi]), np.array([-3.0, -math.pi])) == (
         pytest.approx([2 * math.pi - 6.0, 0.0]))
+
+
+def test_a_few_centimetres_of_coasting_do_not_count_as_driving_against() -> None:
+    """With the sample period, a run against the reference counts only when the robot drives
+    at least REVERSE_DISTANCE_MIN in it: 2 samples at 0.06 m/s (1.2 cm: braking while the
+    reference turns from reverse to forwards) do not, 3 at 0.3 m/s (9 cm) do; the
+    longest way is reported either way (reverse_runs)."""
+    speed = np.array([-0.3, -0.06, -0.06, 0.2, 0.3, -0.3, -0.3, -0.3, 0.3])
+    desired = np.array([-0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3])
+    raw = against_desired(speed, desired)
+    assert raw.tolist() == [False, False, True, False, False, True, True, True, False]
+    kept = against_desired(speed, desired, sample_period=0.1)
+    assert kept.tolist() == [False, False, False, False, False, True, True, True, False]
+    assert REVERSE_DISTANCE_MIN == 0.05
+    ways = reverse_runs(speed, raw, 0.1)
+    assert [(a, b) for a, b, _ in ways] == [(2, 3), (5, 8)]
+    assert [way for _, _, way in ways] == pytest.approx([0.006, 0.09])

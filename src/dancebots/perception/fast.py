@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["perceive_columns", "perceive_moved", "turn_fraction_columns"]
+__all__ = ["far_from_all", "perceive_columns", "perceive_moved", "turn_fraction_columns"]
 
 
 @njit(cache=True)
@@ -154,3 +154,19 @@ def perceive_moved(points: NDArray[np.float64], seen_from: NDArray[np.float64],
             fx += ax * weight
             fy += ay * weight
     return front, rear, nearest, fx, fy
+
+
+@njit(cache=True)
+def far_from_all(points: NDArray[np.float64], centres: NDArray[np.float64],
+                 radius: float) -> NDArray[np.bool_]:
+    """(K,) True where a point of ``points`` (K, >= 2) (x, y first) is more than ``radius`` m
+    from every centre of ``centres`` (M, 2), same frame; all True for no centre. The mask of
+    ``RobotBrain._without_mates`` (NumPy: ``hypot(points[:, None] - centres[None]).min(1) >
+    radius``)."""
+    keep = np.ones(points.shape[0], dtype=np.bool_)
+    for i in range(points.shape[0]):
+        for j in range(centres.shape[0]):
+            if math.hypot(points[i, 0] - centres[j, 0], points[i, 1] - centres[j, 1]) <= radius:
+                keep[i] = False
+                break
+    return keep

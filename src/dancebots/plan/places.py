@@ -346,19 +346,37 @@ def _settle(end: tuple[FloatArray, FloatArray, FloatArray], leader_end: FloatArr
     return points, heading, motion, np.where(arrived, 0.0, speed)
 
 
+_PLACES_END: weakref.WeakKeyDictionary[Plan, float] = weakref.WeakKeyDictionary()
+""":func:`places_end` per plan (by identity; every brain of a plan asks), let go with it."""
+
+
 def places_end(plan: Plan) -> float:
     """The show time (s) by which every place has reached its rigid slot after its leader's
     last instruction (:func:`path_places`): the plan's duration plus the longest such way
-    at :func:`catch_up_speed` (the straight distance times pi / 2 bounds the curve's)."""
+    at :func:`catch_up_speed` (the straight distance times pi / 2 bounds the curve's).
+    Computed once per plan."""
+    if plan not in _PLACES_END:
+        _PLACES_END[plan] = _compute_places_end(plan)
+    return _PLACES_END[plan]
+
+
+def _compute_places_end(plan: Plan) -> float:
+    """See :func:`places_end`: per formation, every robot's place at the leader's end and
+    its rigid slot, in one array pass."""
     longest = 0.0
     for formation in plan.formations:
         leader = formation.leader
         table = _file_table(plan, formation.index)
-        for robot, abeam in table.items():
+        if not table:
+            continue
+        ends = np.empty((len(table), 2))
+        offsets = np.empty((len(table), 2))
+        for row, (robot, abeam) in enumerate(table.items()):
             ox, oy = formation.offsets[robot]
-            end = _offset_path(formation, oy).at(abeam[-1:])[0][0]
-            slot = compose_points(leader.poses[-1], np.array([ox, oy]))
-            ready = leader.times[-1] + 0.5 * np.pi * float(np.hypot(*(slot - end))) / (
-                catch_up_speed(plan))
-            longest = max(longest, ready - plan.duration)
+            ends[row] = _offset_path(formation, oy).at(abeam[-1:])[0][0]
+            offsets[row] = ox, oy
+        slots = compose_points(leader.poses[-1], offsets)  # (R, 2)
+        way = float(np.hypot(*(slots - ends).T).max())
+        ready = leader.times[-1] + 0.5 * np.pi * way / catch_up_speed(plan)
+        longest = max(longest, ready - plan.duration)
     return plan.duration + longest

@@ -196,7 +196,7 @@ class PlannedFormation:
     waits_for: tuple[str, ...] = ()
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@dataclass(frozen=True, slots=True, eq=False, weakref_slot=True)
 class Plan:
     """The compiled choreography: formations over time and each robot's assignments.
 

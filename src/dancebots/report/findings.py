@@ -83,7 +83,8 @@ def simulated_findings(result: RunResult, what_ran: str,
     for i, name in enumerate(result.robots):
         against = during & against_desired(result.velocities[i, :, 0],
                                            result.reference[i, :, 3],
-                                           tick=samples_per_tick(result))
+                                           tick=samples_per_tick(result),
+                                           sample_period=step or None)
         for a, b in true_runs(against):
             if b - a >= shortest:
                 add(reversing, i, a, f"{name} drives against its slot's direction from t = "

@@ -27,12 +27,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.geometry import wrap_angles
+from dancebots.plan.placement import true_runs
 from dancebots.shows.formation import STATUS, RunResult
 
-__all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_SPEED_MIN",
-           "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics", "against_desired",
-           "formation_error", "heading_errors", "run_metrics",
-           "samples_per_tick", "sign_flips", "spacing_change"]
+__all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_DISTANCE_MIN",
+           "REVERSE_SPEED_MIN", "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics",
+           "against_desired", "formation_error", "heading_errors", "reverse_runs",
+           "run_metrics", "samples_per_tick", "sign_flips", "spacing_change"]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -44,6 +45,13 @@ REVERSE_SPEED_MIN = 0.05
 """m/s: a robot drives against its desired direction only when it drives at least this fast the
 other way (above the realistic profile's velocity noise, 0.01 m/s per step, about 0.014 m/s
 with its lag; a robot turning on the spot does not count)."""
+REVERSE_DISTANCE_MIN = 0.05
+"""m: a robot drives against its desired direction only where it drives at least this far the
+other way in one go. Where its reference turns from one direction to the other, a robot
+whose speed follows its commands with a lag goes on a little the old way (the realistic
+profile's 0.25 s: from 0.35 m/s it coasts about 3 cm before it turns back), and a spectator
+sees it brake and reverse, not drive the wrong way; ``max_reverse_distance`` still reports
+the longest such way."""
 ANGULAR_DEADBAND = 0.05
 """rad/s: commanded angular speeds smaller than this are ignored when counting sign flips
 (chatter): 0.3 -> 0.01 -> -0.3 is one flip, 0.03 -> -0.03 none."""
@@ -65,12 +73,14 @@ class RobotMetrics:
     facing_away_fraction: the fraction of the ticks with a heading error above
     :data:`FACING_AWAY_ANGLE`; reverse_fraction: of the ticks in which its slot moves (at
     least :data:`DESIRED_SPEED_MIN`), the
-    fraction in which the robot drives the other way (:func:`against_desired`), 0 when its
-    slot never moves; angular_sign_flips: sign changes of its commanded angular speed
-    (:func:`sign_flips`); rms_formation_error, max_formation_error: the formation error
-    (:func:`formation_error`) over every pair it belongs to, m (None when it never shares a
-    formation). final_heading_error: |wrap(yaw - slot heading)| at the end of the run, deg
-    (the slot stands then: its heading is the leader's).
+    fraction in which the robot drives the other way (:func:`against_desired`: at least
+    :data:`REVERSE_DISTANCE_MIN` in one go), 0 when its slot never moves;
+    max_reverse_distance: the longest way it drove against its slot's direction in one go,
+    m (shorter ones too, :func:`reverse_runs`); angular_sign_flips: sign changes of its
+    commanded angular speed (:func:`sign_flips`); rms_formation_error, max_formation_error:
+    the formation error (:func:`formation_error`) over every pair it belongs to, m (None when
+    it never shares a formation). final_heading_error: |wrap(yaw - slot heading)| at the end
+    of the run, deg (the slot stands then: its heading is the leader's).
     """
 
     robot: str
@@ -90,6 +100,7 @@ class RobotMetrics:
     rms_formation_error: float | None = None
     max_formation_error: float | None = None
     final_heading_error: float = 0.0
+    max_reverse_distance: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,6 +160,11 @@ class RunMetrics:
         return max((r.max_heading_error for r in self.robots), default=0.0)
 
     @property
+    def max_reverse_distance(self) -> float:
+        """m: the longest way any robot drove against its slot's direction in one go."""
+        return max((r.max_reverse_distance for r in self.robots), default=0.0)
+
+    @property
     def angular_sign_flips(self) -> int:
         """Sign flips of the commanded angular speeds of all robots."""
         return sum(r.angular_sign_flips for r in self.robots)
@@ -187,6 +203,7 @@ class RunMetrics:
             "max_final_heading_error_deg": r3(self.max_final_heading_error),
             "facing_away_fraction": r3(self.facing_away_fraction),
             "reverse_fraction": r3(self.reverse_fraction),
+            "max_reverse_distance_m": r3(self.max_reverse_distance),
             "angular_sign_flips": self.angular_sign_flips,
             "rms_formation_error_m": r3(self.rms_formation_error),
             "max_formation_error_m": r3(self.max_formation_error),
@@ -204,6 +221,7 @@ class RunMetrics:
                     "max_heading_error_deg": r3(m.max_heading_error),
                     "facing_away_fraction": r3(m.facing_away_fraction),
                     "reverse_fraction": r3(m.reverse_fraction),
+                    "max_reverse_distance_m": r3(m.max_reverse_distance),
                     "angular_sign_flips": m.angular_sign_flips,
                     "rms_formation_error_m": r3(m.rms_formation_error),
                     "max_formation_error_m": r3(m.max_formation_error),
@@ -236,10 +254,15 @@ def run_metrics(result: RunResult) -> RunMetrics:
     tick = samples_per_tick(result)
     moving = np.empty(result.status.shape, dtype=bool)  # (R, T) the slot moves along its heading
     against = np.empty(result.status.shape, dtype=bool)  # (R, T) ... and the robot the other way
+    reversed_ways = []  # per robot, the longest way against its slot's direction, m
     for i in range(len(result.robots)):
         moving[i] = during & (np.abs(result.reference[i, :, 3]) >= DESIRED_SPEED_MIN)
-        against[i] = moving[i] & against_desired(result.velocities[i, :, 0],
-                                                 result.reference[i, :, 3], tick=tick)
+        speed, desired_speed = result.velocities[i, :, 0], result.reference[i, :, 3]
+        against[i] = moving[i] & against_desired(speed, desired_speed, tick=tick,
+                                                 sample_period=period)
+        ways = reverse_runs(speed, during & against_desired(speed, desired_speed, tick=tick),
+                            period)
+        reversed_ways.append(max((way for _, _, way in ways), default=0.0))
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
     flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
@@ -254,7 +277,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      _rms(heading[i, during]), float(heading[i, during].max()),
                      float(np.mean(heading[i, during] > FACING_AWAY_ANGLE)),
                      _fraction(against[i], moving[i]), flips[i],
-                     pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]))
+                     pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]),
+                     reversed_ways[i])
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
@@ -289,7 +313,9 @@ def heading_errors(yaw: FloatArray, desired_yaw: FloatArray) -> FloatArray:
 
 def against_desired(speed: FloatArray, desired_speed: FloatArray,
                     desired_min: float = DESIRED_SPEED_MIN,
-                    actual_min: float = REVERSE_SPEED_MIN, tick: int = 1) -> BoolArray:
+                    actual_min: float = REVERSE_SPEED_MIN, tick: int = 1,
+                    sample_period: float | None = None,
+                    distance_min: float = REVERSE_DISTANCE_MIN) -> BoolArray:
     """Where a robot drives against its desired direction, shape (T,); ``tick``: samples
     per control tick (:func:`samples_per_tick`).
 
@@ -302,7 +328,9 @@ def against_desired(speed: FloatArray, desired_speed: FloatArray,
     before counts because a robot's speed at a tick is its command of the tick before, made
     for the reference then: where the reference itself turns from forwards to reverse from
     one tick to the next (the inner place of a corner sharper than its offset, thesis ch.
-    4.1), a robot that follows it exactly is not against it.
+    4.1), a robot that follows it exactly is not against it. With ``sample_period`` (s
+    between samples): only where the robot drives at least ``distance_min`` m against it in
+    one go (:data:`REVERSE_DISTANCE_MIN`, :func:`reverse_runs`).
     """
     def against(desired: FloatArray) -> BoolArray:
         result: BoolArray = (np.abs(desired) >= desired_min) & (
@@ -312,7 +340,21 @@ def against_desired(speed: FloatArray, desired_speed: FloatArray,
     lag = min(max(tick, 1), len(desired_speed))
     before = np.concatenate([np.repeat(desired_speed[:1], lag),
                              desired_speed[:len(desired_speed) - lag]])
-    return against(desired_speed) & against(before)
+    mask = against(desired_speed) & against(before)
+    if sample_period is not None:
+        for a, b, way in reverse_runs(speed, mask, sample_period):
+            if way < distance_min:
+                mask[a:b] = False
+    return mask
+
+
+def reverse_runs(speed: FloatArray, against: BoolArray,
+                 sample_period: float) -> list[tuple[int, int, float]]:
+    """The runs [a, b) of consecutive samples of ``against`` (T,) (:func:`against_desired`)
+    with the way (m) the robot drove in each: the sum of |speed| (T,) m/s times
+    ``sample_period`` s."""
+    return [(a, b, float(np.abs(speed[a:b]).sum()) * sample_period)
+            for a, b in true_runs(against)]
 
 
 def samples_per_tick(result: RunResult) -> int:

@@ -225,12 +225,24 @@ def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> 
     if count < 2:
         return None
     reach = 0.5 * np.hypot(lengths, widths)
-    best = math.inf
-    for i, j in zip(*np.triu_indices(count, k=1), strict=True):
+    pairs = list(zip(*(a.tolist() for a in np.triu_indices(count, k=1)), strict=True))
+
+    def bound(i: int, j: int) -> FloatArray:
+        """A lower bound (T,) of the pair's gap at every tick: centre distance less both
+        reaches."""
         centre = np.hypot(poses[i, :, 0] - poses[j, :, 0], poses[i, :, 1] - poses[j, :, 1])
-        near = np.flatnonzero(centre < reach[i] + reach[j] + 1.0)
-        if near.size == 0:
-            continue
+        lower: FloatArray = centre - reach[i] - reach[j]
+        return lower
+
+    # the pairs are measured nearest first, each only at the ticks whose bound beats the
+    # smallest gap found so far: the same answer as measuring every near tick, in less time
+    nearest = [float(bound(i, j).min()) for i, j in pairs]
+    best = math.inf
+    for n in np.argsort(nearest, kind="stable"):
+        if nearest[n] >= min(best, 1.0):
+            break
+        i, j = pairs[n]
+        near = np.flatnonzero(bound(i, j) < min(best, 1.0))
         first = shapely.polygons(_corners(poses[i, near], lengths[i], widths[i]))
         second = shapely.polygons(_corners(poses[j, near], lengths[j], widths[j]))
         best = min(best, float(shapely.distance(first, second).min()))
