@@ -7,10 +7,17 @@ from pathlib import Path
 
 import pytest
 
-from dancebots.check import CheckOptions, CheckReport, check_plan
+from dancebots.check import (
+    CheckOptions,
+    CheckReport,
+    Widening,
+    check_plan,
+    widening_that_keeps_apart,
+)
 from dancebots.diagnostics import Severity
 from dancebots.geometry import Pose
 from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import places_followed
 from dancebots.plan.planner import PlanParameters
 from dancebots.world import World, load_world, parse_world
 from tests_support import plan_of
@@ -463,9 +470,30 @@ def test_a_meeting_no_departure_delay_removes_is_named_so(examples: Path) -> Non
     meeting = [d for d in report.diagnostics if d.message.startswith("R1 and R2 come within")]
     assert [(d.line, d.hint) for d in meeting] == [(15, (
         "no departure delay keeps them apart (the feasible timing tried 1, 3 and 8 s for "
-        "either formation): give the robots more room (a wider row or spacing) or change "
-        "one's path"))]
+        "either formation): make the formation at line 8 1.5 times as wide (R1 and R2 1.20 m "
+        "apart there instead of 0.80 m: every spacing and row distance times 1.5) and the "
+        "timing keeps them apart, or change one's path"))]
     crossing = feasible("crossing_groups.dance").diagnostics
     assert not any("come within" in d.message for d in crossing)
     assert any(d.severity is Severity.NOTE and d.message.startswith("B waits 8 s here")
                for d in crossing)
+
+
+def test_the_widening_check_suggests_is_enough(examples: Path) -> None:
+    """Listing 7.4 with SIM robots: widening the row the two robots shared (line 8) by 1.25
+    is not enough, by 1.5 (1.2 m between them) it is, and the widened show checks without a
+    meeting; a pair that never shared a formation gets no widening."""
+    text = (examples / "thesis_7_4.dance").read_text()
+    _, plan, _ = compile_scenario(text, "7_4.dance", PlanParameters(timing="feasible"))
+    assert plan is not None
+    assert plan.apart_by_no_delay == (("R1", "R2"),)
+    widening = widening_that_keeps_apart(plan, ("R1", "R2"), 15)
+    assert widening == Widening(8, 1.5, pytest.approx(0.8), pytest.approx(1.2))
+    assert widening_that_keeps_apart(plan, ("R1", "R2"), 8) is None  # nothing before line 8
+    wider = text.replace("row R1,R2 0 0.8", "row R1,R2 0 1.2")
+    _, plan, _ = compile_scenario(wider, "7_4.dance", PlanParameters(timing="feasible"))
+    assert plan is not None
+    assert plan.apart_by_no_delay == ()
+    options = CheckOptions(places=places_followed("path"))  # as check judges the defaults
+    diagnostics = check_plan(plan, None, options).diagnostics
+    assert not any("come within" in d.message for d in diagnostics)

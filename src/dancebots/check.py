@@ -13,7 +13,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.geometry import Pose, footprint_corners
 from dancebots.perception.obstacles import DetectorParams
+from dancebots.plan.formation import formation_offsets
 from dancebots.plan.placement import (
     PlacedShow,
     Places,
@@ -29,16 +30,19 @@ from dancebots.plan.placement import (
     instruction_position,
     place_show,
 )
-from dancebots.plan.planner import DEPARTURE_DELAYS, Plan
-from dancebots.scenario.model import Circle
+from dancebots.plan.planner import DEPARTURE_DELAYS, Plan, build_plan
+from dancebots.scenario.model import Circle, Formation
 from dancebots.world import DEFAULT_ROBOT_TYPE, RobotType, World
 
 __all__ = [
+    "ROOM_FACTORS",
     "CheckOptions",
     "CheckReport",
     "RobotSummary",
+    "Widening",
     "check_plan",
     "check_show",
+    "widening_that_keeps_apart",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -343,6 +347,7 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         return min(gaps)
     ends = np.append(starts[1:], len(close))
     nearest = np.minimum.reduceat(distance, starts)
+    widenings: dict[tuple[tuple[str, str], int], Widening | None] = {}
     for n, (a, b) in enumerate(zip(starts.tolist(), ends.tolist(), strict=True)):
         if n == _CROSS_WARNINGS:
             _warn(plan, (plan.scenario.robots_span.line, plan.scenario.robots_span.col),
@@ -355,16 +360,87 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         formation = plan.formations[int(which[i[a], first])]
         pair = (robots[i[a]], robots[j[a]])
         stuck = pair in plan.apart_by_no_delay or pair[::-1] in plan.apart_by_no_delay
-        _warn(plan, instruction_position(formation, float(times[first])),
+        place = instruction_position(formation, float(times[first]))
+        _warn(plan, place,
               f"{pair[0]} and {pair[1]} come within {nearest[n]:.2f} m of each "
               f"other (clearance {options.clearance:g} m) from t = {times[first]:.1f} s to "
               f"{times[last]:.1f} s",
               "no departure delay keeps them apart (the feasible timing tried "
-              f"{_delays_text()} s for either formation): give the robots more room (a wider "
-              "row or spacing) or change one's path" if stuck else
+              f"{_delays_text()} s for either formation): "
+              + _room_text(plan, pair, place[0], widenings) if stuck else
               "their paths cross: move the formations further apart or let one wait",
               diagnostics)
     return min(gaps) if gaps else None
+
+
+ROOM_FACTORS = (1.25, 1.5, 2.0)
+"""How much wider check tries the formation two robots last shared, when no departure delay
+keeps them apart at a later formation change (:func:`widening_that_keeps_apart`)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Widening:
+    """A formation two robots shared (``line``), widened by ``factor`` (every spacing and row
+    distance), after which the feasible timing keeps them apart: their distance there
+    before and after, m."""
+
+    line: int
+    factor: float
+    before: float
+    after: float
+
+
+def widening_that_keeps_apart(plan: Plan, pair: tuple[str, str],
+                              line: int) -> Widening | None:
+    """The least of :data:`ROOM_FACTORS` by which widening the last formation instruction
+    before ``line`` that holds both robots of ``pair`` (every spacing and row distance of it)
+    lets the plan's ordered departures keep them apart (the pair is no longer among
+    ``Plan.apart_by_no_delay``), the plan rebuilt with its own parameters for each; None
+    when there is no such formation or none of the factors is enough."""
+    scenario = plan.scenario
+    shared = [index for index, instruction in enumerate(scenario.instructions)
+              if isinstance(instruction, Formation) and instruction.span.line < line
+              and all(any(robot in row for row in instruction.rows) for robot in pair)]
+    if not shared:
+        return None
+    index = shared[-1]
+    formation = scenario.instructions[index]
+    assert isinstance(formation, Formation)
+
+    def apart(shape: Formation) -> float:
+        offsets = formation_offsets(shape)
+        (x1, y1), (x2, y2) = offsets[pair[0]], offsets[pair[1]]
+        return math.hypot(x1 - x2, y1 - y2)
+
+    for factor in ROOM_FACTORS:
+        wider = replace(formation,
+                        row_distances=tuple(d * factor for d in formation.row_distances),
+                        spacings=tuple(tuple(g * factor for g in row)
+                                       for row in formation.spacings))
+        instructions = (*scenario.instructions[:index], wider,
+                        *scenario.instructions[index + 1:])
+        trial, _ = build_plan(replace(scenario, instructions=instructions), plan.parameters)
+        if trial is not None and pair not in trial.apart_by_no_delay and (
+                pair[::-1] not in trial.apart_by_no_delay):
+            return Widening(formation.span.line, factor, apart(formation), apart(wider))
+    return None
+
+
+def _room_text(plan: Plan, pair: tuple[str, str], line: int,
+               widenings: dict[tuple[tuple[str, str], int], Widening | None]) -> str:
+    """The hint for two robots that no departure delay keeps apart: how much wider the
+    formation they last shared must be (:func:`widening_that_keeps_apart`, once per pair and
+    line in ``widenings``), or to give them more room."""
+    key = (pair, line)
+    if key not in widenings:
+        widenings[key] = widening_that_keeps_apart(plan, pair, line)
+    widening = widenings[key]
+    if widening is None:
+        return "give the robots more room (a wider row or spacing) or change one's path"
+    return (f"make the formation at line {widening.line} {widening.factor:g} times as wide "
+            f"({pair[0]} and {pair[1]} {widening.after:.2f} m apart there instead of "
+            f"{widening.before:.2f} m: every spacing and row distance times "
+            f"{widening.factor:g}) and the timing keeps them apart, or change one's path")
 
 
 def _delays_text() -> str:
