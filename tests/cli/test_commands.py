@@ -271,7 +271,13 @@ def test_check_does_not_simulate_a_show_too_large_for_it(
     assert status == 0
     assert ("thesis_7_1.dance:1:1: warning: not simulated: 2 robots for 23 s is 47 "
             "robot-seconds, more than check simulates (40)") in err
+    assert "  hint: `--simulation-limit 47` simulates it too (about 1 s here)" in err
     assert "simulated (" not in err
+    # the option raises the limit: the show is simulated (its findings, none here)
+    status, _, err = run(capsys, "check", *THESIS, "--simulation-limit", "47",
+                         str(examples / "thesis_7_1.dance"))
+    assert status == 0
+    assert "not simulated" not in err
 
 
 def test_notes_are_counted_apart_and_do_not_fail_strict(capsys: Capture, examples: Path) -> None:

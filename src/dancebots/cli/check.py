@@ -41,6 +41,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rigid-only", action="store_true",
                         help="skip the simulation pass: only the checks on the rigid desired "
                         "poses (fast)")
+    parser.add_argument("--simulation-limit", type=positive, default=SIMULATION_LIMIT,
+                        metavar="ROBOT_S",
+                        help="simulate shows up to this many robot-seconds (robots times show "
+                        f"duration; default {SIMULATION_LIMIT:,}: about 16 s here); a larger "
+                        "show gets a warning instead")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
     parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
@@ -105,9 +110,13 @@ def summary_text(report: CheckReport, plan: Plan | None) -> str:
 
 
 SIMULATION_LIMIT = 10_000
-"""Robots times show duration (s) up to which check simulates a show: 20 robots for about
-8 minutes, about 5 s here (the simulator runs about 2,000 robot-seconds per second with
-LIDAR); a larger show gets a warning that it was not simulated."""
+"""Robots times show duration (s) up to which check simulates a show by default: 20 robots
+for about 8 minutes, about 16 s here; a larger show gets a warning that it was not simulated
+(``--simulation-limit`` raises it)."""
+SIMULATION_RATE = 600
+"""Robot-seconds check simulates per second of wall time with LIDAR, about, on a 2-core
+machine (the 20-robot, 1,000-line show of ``benchmarks/bench_compile.py``, 46,080
+robot-seconds: 74 s in all): for the hint."""
 
 
 def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:
@@ -121,13 +130,16 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     assert report.placement is not None  # a valid show is placed
     plan = report.placement.plan
     size = len(plan.robots) * plan.duration
-    if size > SIMULATION_LIMIT:
+    limit = args.simulation_limit
+    if size > limit:
         where = plan.scenario.robots_span
         return [Diagnostic(
             plan.scenario.path, where.line, where.col, Severity.WARNING,
             f"not simulated: {len(plan.robots)} robots for {plan.duration:.0f} s is "
-            f"{size:,.0f} robot-seconds, more than check simulates ({SIMULATION_LIMIT:,})",
-            "`dancebots run` simulates it; check's rigid pass above still applies")]
+            f"{size:,.0f} robot-seconds, more than check simulates ({limit:,.0f})",
+            f"`--simulation-limit {math.ceil(size)}` simulates it too (about "
+            f"{math.ceil(size / SIMULATION_RATE):,} s here), as `dancebots run` does; "
+            "check's rigid pass above still applies")]
 
     from dancebots.cli.common import progress
     from dancebots.report.findings import simulated_findings
