@@ -397,13 +397,22 @@ def widening_that_keeps_apart(plan: Plan, pair: tuple[str, str],
     lets the plan's ordered departures keep them apart (the pair is no longer among
     ``Plan.apart_by_no_delay``), the plan rebuilt with its own parameters for each; None
     when there is no such formation or none of the factors is enough."""
-    scenario = plan.scenario
-    shared = [index for index, instruction in enumerate(scenario.instructions)
+    index = _last_shared(plan, pair, line)
+    return None if index is None else _widening(plan, pair, index)
+
+
+def _last_shared(plan: Plan, pair: tuple[str, str], line: int) -> int | None:
+    """The index in the scenario's instructions of the last formation before ``line`` that
+    holds both robots of ``pair``, or None."""
+    shared = [index for index, instruction in enumerate(plan.scenario.instructions)
               if isinstance(instruction, Formation) and instruction.span.line < line
               and all(any(robot in row for row in instruction.rows) for robot in pair)]
-    if not shared:
-        return None
-    index = shared[-1]
+    return shared[-1] if shared else None
+
+
+def _widening(plan: Plan, pair: tuple[str, str], index: int) -> Widening | None:
+    """:func:`widening_that_keeps_apart` of the formation instruction at ``index``."""
+    scenario = plan.scenario
     formation = scenario.instructions[index]
     assert isinstance(formation, Formation)
 
@@ -430,10 +439,11 @@ def _room_text(plan: Plan, pair: tuple[str, str], line: int,
                widenings: dict[tuple[tuple[str, str], int], Widening | None]) -> str:
     """The hint for two robots that no departure delay keeps apart: how much wider the
     formation they last shared must be (:func:`widening_that_keeps_apart`, once per pair and
-    line in ``widenings``), or to give them more room."""
-    key = (pair, line)
-    if key not in widenings:
-        widenings[key] = widening_that_keeps_apart(plan, pair, line)
+    formation in ``widenings``), or to give them more room."""
+    index = _last_shared(plan, pair, line)
+    key = (pair, -1 if index is None else index)
+    if key not in widenings:  # one search per pair and formation they shared
+        widenings[key] = None if index is None else _widening(plan, pair, index)
     widening = widenings[key]
     if widening is None:
         return "give the robots more room (a wider row or spacing) or change one's path"
