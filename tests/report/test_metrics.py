@@ -234,8 +234,8 @@ def test_the_pure_helpers() -> None:
 def test_a_few_centimetres_of_coasting_do_not_count_as_driving_against() -> None:
     """With the sample period, a run against the reference counts only when the robot drives
     at least REVERSE_DISTANCE_MIN in it: 2 samples at 0.06 m/s (1.2 cm: braking while the
-    reference turns from reverse to forwards) do not, 3 at 0.3 m/s (9 cm) do; the
-    longest way is reported either way (reverse_runs)."""
+    reference turns from reverse to forwards) do not, 3 at 0.3 m/s (9 cm) do; every way is
+    reported either way (reverse_runs)."""
     speed = np.array([-0.3, -0.06, -0.06, 0.2, 0.3, -0.3, -0.3, -0.3, 0.3])
     desired = np.array([-0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.3])
     raw = against_desired(speed, desired)
@@ -243,6 +243,18 @@ def test_a_few_centimetres_of_coasting_do_not_count_as_driving_against() -> None
     kept = against_desired(speed, desired, sample_period=0.1)
     assert kept.tolist() == [False, False, False, False, False, True, True, True, False]
     assert REVERSE_DISTANCE_MIN == 0.05
-    ways = reverse_runs(speed, raw, 0.1)
-    assert [(a, b) for a, b, _ in ways] == [(2, 3), (5, 8)]
-    assert [way for _, _, way in ways] == pytest.approx([0.006, 0.09])
+    ways = reverse_runs(speed, desired, raw, 0.1)  # the first way starts at sample 1
+    assert [(a, b) for a, b, _ in ways] == [(1, 3), (5, 8)]
+    assert [way for _, _, way in ways] == pytest.approx([0.012, 0.09])
+
+
+def test_a_slow_way_against_is_not_cut_in_pieces_by_noise() -> None:
+    """A robot reversing at about the speed floor for 3 s (noise takes it under 0.05 m/s
+    every third sample) drives 15 cm against its reference in one go: every sample at the
+    floor or over counts, although no three of them follow each other."""
+    speed = np.tile([-0.06, -0.06, -0.03], 10)
+    desired = np.full(30, 0.3)
+    kept = against_desired(speed, desired, sample_period=0.1)
+    assert kept.tolist() == against_desired(speed, desired).tolist()
+    assert kept.sum() == 20  # the samples at 0.06 m/s
+    assert reverse_runs(speed, desired, kept, 0.1) == [(0, 30, pytest.approx(0.15))]

@@ -260,8 +260,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
         speed, desired_speed = result.velocities[i, :, 0], result.reference[i, :, 3]
         against[i] = moving[i] & against_desired(speed, desired_speed, tick=tick,
                                                  sample_period=period)
-        ways = reverse_runs(speed, during & against_desired(speed, desired_speed, tick=tick),
-                            period)
+        ways = reverse_runs(speed, desired_speed,
+                            during & against_desired(speed, desired_speed, tick=tick), period)
         reversed_ways.append(max((way for _, _, way in ways), default=0.0))
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
@@ -342,19 +342,23 @@ def against_desired(speed: FloatArray, desired_speed: FloatArray,
                              desired_speed[:len(desired_speed) - lag]])
     mask = against(desired_speed) & against(before)
     if sample_period is not None:
-        for a, b, way in reverse_runs(speed, mask, sample_period):
+        for a, b, way in reverse_runs(speed, desired_speed, mask, sample_period):
             if way < distance_min:
                 mask[a:b] = False
     return mask
 
 
-def reverse_runs(speed: FloatArray, against: BoolArray,
+def reverse_runs(speed: FloatArray, desired_speed: FloatArray, against: BoolArray,
                  sample_period: float) -> list[tuple[int, int, float]]:
-    """The runs [a, b) of consecutive samples of ``against`` (T,) (:func:`against_desired`)
-    with the way (m) the robot drove in each: the sum of |speed| (T,) m/s times
-    ``sample_period`` s."""
+    """The ways a robot drove against its reference in one go: each maximal run [a, b) of
+    samples in which its speed (T,) m/s has the other sign than its reference's signed speed
+    desired_speed (T,) m/s (however slow, so that noise that dips under
+    :data:`REVERSE_SPEED_MIN` does not cut one way in pieces) and that holds a sample of
+    ``against`` (T,) (:func:`against_desired`), with the way (m) driven in it: the sum of
+    |speed| times ``sample_period`` s."""
+    opposite = speed * np.sign(desired_speed) < 0.0
     return [(a, b, float(np.abs(speed[a:b]).sum()) * sample_period)
-            for a, b in true_runs(against)]
+            for a, b in true_runs(opposite) if against[a:b].any()]
 
 
 def samples_per_tick(result: RunResult) -> int:
