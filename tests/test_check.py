@@ -482,7 +482,7 @@ def test_a_meeting_no_departure_delay_removes_is_named_so(examples: Path) -> Non
 def test_the_widening_check_suggests_is_enough(examples: Path) -> None:
     """Listing 7.4 with SIM robots: widening the row the two robots shared (line 8) by 1.25
     is not enough, by 1.5 (1.2 m between them) it is, and the widened show checks without a
-    meeting; a pair that never shared a formation gets no widening."""
+    meeting; before any formation they shared (line 8 itself) there is nothing to widen."""
     text = (examples / "thesis_7_4.dance").read_text()
     _, plan, _ = compile_scenario(text, "7_4.dance", PlanParameters(timing="feasible"))
     assert plan is not None

@@ -347,7 +347,7 @@ def _check_clearance(plan: Plan, types: Sequence[RobotType], times: FloatArray,
         return min(gaps)
     ends = np.append(starts[1:], len(close))
     nearest = np.minimum.reduceat(distance, starts)
-    widenings: dict[tuple[tuple[str, str], int], Widening | None] = {}
+    widenings = _Widenings()
     for n, (a, b) in enumerate(zip(starts.tolist(), ends.tolist(), strict=True)):
         if n == _CROSS_WARNINGS:
             _warn(plan, (plan.scenario.robots_span.line, plan.scenario.robots_span.col),
@@ -410,11 +410,16 @@ def _last_shared(plan: Plan, pair: tuple[str, str], line: int) -> int | None:
     return shared[-1] if shared else None
 
 
-def _widening(plan: Plan, pair: tuple[str, str], index: int) -> Widening | None:
-    """:func:`widening_that_keeps_apart` of the formation instruction at ``index``."""
+def _widening(plan: Plan, pair: tuple[str, str], index: int,
+              trials: dict[tuple[int, float], tuple[tuple[str, str], ...] | None] | None = None,
+              ) -> Widening | None:
+    """:func:`widening_that_keeps_apart` of the formation instruction at ``index``;
+    ``trials`` keeps each rebuilt plan's ``apart_by_no_delay`` (None: it did not build) by
+    (index, factor), so that one rebuild answers for every pair of that formation."""
     scenario = plan.scenario
     formation = scenario.instructions[index]
     assert isinstance(formation, Formation)
+    trials = {} if trials is None else trials
 
     def apart(shape: Formation) -> float:
         offsets = formation_offsets(shape)
@@ -426,25 +431,49 @@ def _widening(plan: Plan, pair: tuple[str, str], index: int) -> Widening | None:
                         row_distances=tuple(d * factor for d in formation.row_distances),
                         spacings=tuple(tuple(g * factor for g in row)
                                        for row in formation.spacings))
-        instructions = (*scenario.instructions[:index], wider,
-                        *scenario.instructions[index + 1:])
-        trial, _ = build_plan(replace(scenario, instructions=instructions), plan.parameters)
-        if trial is not None and pair not in trial.apart_by_no_delay and (
-                pair[::-1] not in trial.apart_by_no_delay):
+        if (index, factor) not in trials:
+            instructions = (*scenario.instructions[:index], wider,
+                            *scenario.instructions[index + 1:])
+            trial, _ = build_plan(replace(scenario, instructions=instructions),
+                                  plan.parameters)
+            trials[index, factor] = None if trial is None else trial.apart_by_no_delay
+        stuck = trials[index, factor]
+        if stuck is not None and pair not in stuck and pair[::-1] not in stuck:
             return Widening(formation.span.line, factor, apart(formation), apart(wider))
     return None
 
 
-def _room_text(plan: Plan, pair: tuple[str, str], line: int,
-               widenings: dict[tuple[tuple[str, str], int], Widening | None]) -> str:
+WIDENING_SEARCHES = 4
+"""At most this many formations check widens per show for its hints (each costs up to
+``len(ROOM_FACTORS)`` plans); the meetings after them get the general hint."""
+
+
+@dataclass
+class _Widenings:
+    """What the hints' widening searches found in one check: per (pair, formation index)
+    the widening, the rebuilt plans' meetings by (index, factor)."""
+
+    found: dict[tuple[tuple[str, str], int], Widening | None] = field(default_factory=dict)
+    trials: dict[tuple[int, float], tuple[tuple[str, str], ...] | None] = field(
+        default_factory=dict)
+    searched: set[int] = field(default_factory=set)
+
+
+def _room_text(plan: Plan, pair: tuple[str, str], line: int, widenings: _Widenings) -> str:
     """The hint for two robots that no departure delay keeps apart: how much wider the
     formation they last shared must be (:func:`widening_that_keeps_apart`, once per pair and
-    formation in ``widenings``), or to give them more room."""
+    formation, for at most :data:`WIDENING_SEARCHES` formations), or to give them more
+    room."""
     index = _last_shared(plan, pair, line)
     key = (pair, -1 if index is None else index)
-    if key not in widenings:  # one search per pair and formation they shared
-        widenings[key] = None if index is None else _widening(plan, pair, index)
-    widening = widenings[key]
+    if key not in widenings.found:
+        widening = None
+        if index is not None and (index in widenings.searched
+                                  or len(widenings.searched) < WIDENING_SEARCHES):
+            widenings.searched.add(index)
+            widening = _widening(plan, pair, index, widenings.trials)
+        widenings.found[key] = widening
+    widening = widenings.found[key]
     if widening is None:
         return "give the robots more room (a wider row or spacing) or change one's path"
     return (f"make the formation at line {widening.line} {widening.factor:g} times as wide "

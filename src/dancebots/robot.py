@@ -198,6 +198,7 @@ class RobotBrain:
             mates = np.delete(places, plan.robots.index(robot), axis=0)  # (M, T, 2)
             self._mates = compose_points(
                 np.array([self._to_own.x, self._to_own.y, self._to_own.theta]), mates)
+            self._mates.flags.writeable = False  # mates_at hands out views of it
         self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
 
     def _grid_index(self, show_time: float, length: int) -> int | None:

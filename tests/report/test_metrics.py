@@ -75,15 +75,17 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
     assert {"rms_slot_error_m", "max_slot_error_m", "max_final_error_m",
             "rms_heading_error_deg", "max_heading_error_deg", "max_final_heading_error_deg",
             "facing_away_fraction", "reverse_fraction", "max_reverse_distance_m",
-            "angular_sign_flips", "rms_formation_error_m", "max_formation_error_m"} <= set(data)
+            "reverse_distance_m", "angular_sign_flips", "rms_formation_error_m",
+            "max_formation_error_m"} <= set(data)
     per_robot = data["per_robot"]
     assert isinstance(per_robot, dict)
     assert set(per_robot["R1"]) == {
         "rms_error_m", "max_error_m", "rms_leader_distance_deviation_m",
         "max_leader_distance_deviation_m", "stops", "stopped_s", "error", "final_error_m",
         "rms_heading_error_deg", "max_heading_error_deg", "facing_away_fraction",
-        "reverse_fraction", "max_reverse_distance_m", "angular_sign_flips",
-        "rms_formation_error_m", "max_formation_error_m", "final_heading_error_deg"}
+        "reverse_fraction", "max_reverse_distance_m", "reverse_distance_m",
+        "angular_sign_flips", "rms_formation_error_m", "max_formation_error_m",
+        "final_heading_error_deg"}
     # two robots: the formation error is their one pair's, the rows' spacing change its max
     assert data["max_formation_error_m"] == per_robot["R1"]["max_formation_error_m"]
     assert data["max_formation_error_m"] == pytest.approx(data["max_spacing_change_m"],
@@ -153,6 +155,7 @@ def test_a_robot_driving_backwards_along_a_straight_path() -> None:
     way = float(speeds[1].sum() * np.median(np.diff(result.times)))
     assert way == pytest.approx(2.0, abs=0.1)
     assert r2.max_reverse_distance == metrics.max_reverse_distance == pytest.approx(way)
+    assert r2.reverse_distance == pytest.approx(way)
     assert r2.facing_away_fraction == 1.0
     assert r2.rms_heading_error == r2.max_heading_error == r2.final_heading_error == 180.0
     # on its slot all the time: the position error cannot see it
@@ -243,9 +246,14 @@ def test_a_few_centimetres_of_coasting_do_not_count_as_driving_against() -> None
     kept = against_desired(speed, desired, sample_period=0.1)
     assert kept.tolist() == [False, False, False, False, False, True, True, True, False]
     assert REVERSE_DISTANCE_MIN == 0.05
-    ways = reverse_runs(speed, desired, raw, 0.1)  # the first way starts at sample 1
-    assert [(a, b) for a, b, _ in ways] == [(1, 3), (5, 8)]
-    assert [way for _, _, way in ways] == pytest.approx([0.012, 0.09])
+    # sample 1 drives against the reference then, but with the reference a tick before
+    ways = reverse_runs(speed, desired, 0.1)
+    assert [(a, b) for a, b, _ in ways] == [(2, 3), (5, 8)]
+    assert [way for _, _, way in ways] == pytest.approx([0.006, 0.09])
+    # a robot that follows a reference reversing between two ticks, a tick late, drives no
+    # way against it
+    assert reverse_runs(np.array([0.3, 0.3, -0.3, -0.3]), np.array([0.3, -0.3, -0.3, -0.3]),
+                        0.1) == []
 
 
 def test_a_slow_way_against_is_not_cut_in_pieces_by_noise() -> None:
@@ -257,4 +265,12 @@ def test_a_slow_way_against_is_not_cut_in_pieces_by_noise() -> None:
     kept = against_desired(speed, desired, sample_period=0.1)
     assert kept.tolist() == against_desired(speed, desired).tolist()
     assert kept.sum() == 20  # the samples at 0.06 m/s
-    assert reverse_runs(speed, desired, kept, 0.1) == [(0, 30, pytest.approx(0.15))]
+    assert reverse_runs(speed, desired, 0.1) == [(0, 30, pytest.approx(0.15))]
+    # creeping backwards under the speed floor for 10 s: no tick counts against it, but the
+    # way (45 cm) is there; back and forth 4 cm at a time: every way is short, all add up
+    creep = np.full(100, -0.045)
+    assert not against_desired(creep, np.full(100, 0.3), sample_period=0.1).any()
+    assert reverse_runs(creep, np.full(100, 0.3), 0.1) == [(0, 100, pytest.approx(0.45))]
+    shuttle = np.tile([-0.2, -0.2, 0.2, 0.2], 10)
+    ways = [way for _, _, way in reverse_runs(shuttle, np.full(40, 0.3), 0.1)]
+    assert ways == pytest.approx([0.04] * 10)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 from pathlib import Path
 
 import numpy as np
@@ -136,3 +137,15 @@ def test_smallest_gap_equals_every_pair_at_every_near_tick(seed: int, robots: in
                 shapely.polygons(footprint_corners(*poses[j, near].T, lengths[j], widths[j])))
             expected = min(expected, float(gaps.min()))
     assert smallest_gap(poses, lengths, widths) == expected
+
+
+def test_smallest_gap_of_no_ticks_or_poses_that_are_not_numbers() -> None:
+    """No ticks: no pair ever comes near (inf), as for robots far apart; a robot whose poses
+    are not numbers is never near anything."""
+    sizes = np.array([1.2, 1.2]), np.array([0.6, 0.6])
+    assert smallest_gap(np.zeros((2, 0, 3)), *sizes) == math.inf
+    poses = np.zeros((2, 3, 3))
+    poses[1, :, 0] = np.nan
+    assert smallest_gap(poses, *sizes) == math.inf
+    poses[1, 2, 0] = 2.0  # one tick with a number: 0.8 m apart
+    assert smallest_gap(poses, *sizes) == pytest.approx(0.8)

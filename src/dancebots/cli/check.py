@@ -44,8 +44,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--simulation-limit", type=positive, default=SIMULATION_LIMIT,
                         metavar="ROBOT_S",
                         help="simulate shows up to this many robot-seconds (robots times show "
-                        f"duration; default {SIMULATION_LIMIT:,}: about 16 s here); a larger "
-                        "show gets a warning instead")
+                        f"duration; default {SIMULATION_LIMIT:,}); a larger show gets a "
+                        "warning instead")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
     parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
@@ -114,9 +114,9 @@ SIMULATION_LIMIT = 10_000
 for about 8 minutes, about 16 s here; a larger show gets a warning that it was not simulated
 (``--simulation-limit`` raises it)."""
 SIMULATION_RATE = 600
-"""Robot-seconds check simulates per second of wall time with LIDAR, about, on a 2-core
-machine (the 20-robot, 1,000-line show of ``benchmarks/bench_compile.py``, 46,080
-robot-seconds: 74 s in all): for the hint."""
+"""Robot-seconds check simulates per second of wall time, about, on a 2-core machine (the
+20-robot, 1,000-line show of ``benchmarks/bench_compile.py`` with the defaults and LIDAR,
+46,080 robot-seconds: 74 s in all): the hint's rough estimate, for any strategy."""
 
 
 def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:

@@ -166,7 +166,8 @@ def far_from_all(points: NDArray[np.float64], centres: NDArray[np.float64],
     keep = np.ones(points.shape[0], dtype=np.bool_)
     for i in range(points.shape[0]):
         for j in range(centres.shape[0]):
-            if math.hypot(points[i, 0] - centres[j, 0], points[i, 1] - centres[j, 1]) <= radius:
+            distance = math.hypot(points[i, 0] - centres[j, 0], points[i, 1] - centres[j, 1])
+            if not distance > radius:  # NaN too, as NumPy's min(...) > radius
                 keep[i] = False
                 break
     return keep

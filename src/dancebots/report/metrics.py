@@ -75,8 +75,10 @@ class RobotMetrics:
     least :data:`DESIRED_SPEED_MIN`), the
     fraction in which the robot drives the other way (:func:`against_desired`: at least
     :data:`REVERSE_DISTANCE_MIN` in one go), 0 when its slot never moves;
-    max_reverse_distance: the longest way it drove against its slot's direction in one go,
-    m (shorter ones too, :func:`reverse_runs`); angular_sign_flips: sign changes of its
+    max_reverse_distance, reverse_distance: the longest way it drove against its slot's
+    direction in one go and all of them together, m (:func:`reverse_runs`: every way, however
+    short or slow; a robot that goes back and forth a few centimetres at a time shows in the
+    total); angular_sign_flips: sign changes of its
     commanded angular speed (:func:`sign_flips`); rms_formation_error, max_formation_error:
     the formation error (:func:`formation_error`) over every pair it belongs to, m (None when
     it never shares a formation). final_heading_error: |wrap(yaw - slot heading)| at the end
@@ -101,6 +103,7 @@ class RobotMetrics:
     max_formation_error: float | None = None
     final_heading_error: float = 0.0
     max_reverse_distance: float = 0.0
+    reverse_distance: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -165,6 +168,11 @@ class RunMetrics:
         return max((r.max_reverse_distance for r in self.robots), default=0.0)
 
     @property
+    def reverse_distance(self) -> float:
+        """m: the ways all robots drove against their slots' directions, together."""
+        return sum(r.reverse_distance for r in self.robots)
+
+    @property
     def angular_sign_flips(self) -> int:
         """Sign flips of the commanded angular speeds of all robots."""
         return sum(r.angular_sign_flips for r in self.robots)
@@ -204,6 +212,7 @@ class RunMetrics:
             "facing_away_fraction": r3(self.facing_away_fraction),
             "reverse_fraction": r3(self.reverse_fraction),
             "max_reverse_distance_m": r3(self.max_reverse_distance),
+            "reverse_distance_m": r3(self.reverse_distance),
             "angular_sign_flips": self.angular_sign_flips,
             "rms_formation_error_m": r3(self.rms_formation_error),
             "max_formation_error_m": r3(self.max_formation_error),
@@ -222,6 +231,7 @@ class RunMetrics:
                     "facing_away_fraction": r3(m.facing_away_fraction),
                     "reverse_fraction": r3(m.reverse_fraction),
                     "max_reverse_distance_m": r3(m.max_reverse_distance),
+                    "reverse_distance_m": r3(m.reverse_distance),
                     "angular_sign_flips": m.angular_sign_flips,
                     "rms_formation_error_m": r3(m.rms_formation_error),
                     "max_formation_error_m": r3(m.max_formation_error),
@@ -254,15 +264,16 @@ def run_metrics(result: RunResult) -> RunMetrics:
     tick = samples_per_tick(result)
     moving = np.empty(result.status.shape, dtype=bool)  # (R, T) the slot moves along its heading
     against = np.empty(result.status.shape, dtype=bool)  # (R, T) ... and the robot the other way
-    reversed_ways = []  # per robot, the longest way against its slot's direction, m
+    longest, total = [], []  # per robot, the ways against its slot's direction, m
     for i in range(len(result.robots)):
         moving[i] = during & (np.abs(result.reference[i, :, 3]) >= DESIRED_SPEED_MIN)
-        speed, desired_speed = result.velocities[i, :, 0], result.reference[i, :, 3]
+        speed = np.where(during, result.velocities[i, :, 0], 0.0)  # while the show runs
+        desired_speed = result.reference[i, :, 3]
         against[i] = moving[i] & against_desired(speed, desired_speed, tick=tick,
-                                                 sample_period=period)
-        ways = reverse_runs(speed, desired_speed,
-                            during & against_desired(speed, desired_speed, tick=tick), period)
-        reversed_ways.append(max((way for _, _, way in ways), default=0.0))
+                                                 sample_period=period or None)
+        ways = [way for _, _, way in reverse_runs(speed, desired_speed, period, tick=tick)]
+        longest.append(max(ways, default=0.0))
+        total.append(sum(ways))
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
     flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
@@ -278,7 +289,7 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      float(np.mean(heading[i, during] > FACING_AWAY_ANGLE)),
                      _fraction(against[i], moving[i]), flips[i],
                      pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]),
-                     reversed_ways[i])
+                     longest[i], total[i])
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
@@ -337,28 +348,36 @@ def against_desired(speed: FloatArray, desired_speed: FloatArray,
             speed * np.sign(desired) <= -actual_min)
         return result
 
-    lag = min(max(tick, 1), len(desired_speed))
-    before = np.concatenate([np.repeat(desired_speed[:1], lag),
-                             desired_speed[:len(desired_speed) - lag]])
-    mask = against(desired_speed) & against(before)
+    mask = against(desired_speed) & against(_before(desired_speed, tick))
     if sample_period is not None:
-        for a, b, way in reverse_runs(speed, desired_speed, mask, sample_period):
+        for a, b, way in reverse_runs(speed, desired_speed, sample_period, desired_min, tick):
             if way < distance_min:
                 mask[a:b] = False
     return mask
 
 
-def reverse_runs(speed: FloatArray, desired_speed: FloatArray, against: BoolArray,
-                 sample_period: float) -> list[tuple[int, int, float]]:
-    """The ways a robot drove against its reference in one go: each maximal run [a, b) of
-    samples in which its speed (T,) m/s has the other sign than its reference's signed speed
-    desired_speed (T,) m/s (however slow, so that noise that dips under
-    :data:`REVERSE_SPEED_MIN` does not cut one way in pieces) and that holds a sample of
-    ``against`` (T,) (:func:`against_desired`), with the way (m) driven in it: the sum of
-    |speed| times ``sample_period`` s."""
-    opposite = speed * np.sign(desired_speed) < 0.0
+def reverse_runs(speed: FloatArray, desired_speed: FloatArray, sample_period: float,
+                 desired_min: float = DESIRED_SPEED_MIN,
+                 tick: int = 1) -> list[tuple[int, int, float]]:
+    """The ways a robot drove against its reference, each in one go: every maximal run
+    [a, b) of samples in which its speed (T,) m/s has the other sign than its reference's
+    signed speed desired_speed (T,) m/s, now and ``tick`` samples before (a robot's speed is
+    its command for the reference of the tick before: :func:`against_desired`), while the
+    reference moves at least ``desired_min`` (however slow the robot: noise that dips under
+    :data:`REVERSE_SPEED_MIN` does not cut one way in pieces, and a robot creeping backwards
+    under it still drives a way), with the way (m) driven in it: the sum of |speed| times
+    ``sample_period`` s."""
+    opposite = ((speed * np.sign(desired_speed) < 0.0)
+                & (speed * np.sign(_before(desired_speed, tick)) < 0.0)
+                & (np.abs(desired_speed) >= desired_min))
     return [(a, b, float(np.abs(speed[a:b]).sum()) * sample_period)
-            for a, b in true_runs(opposite) if against[a:b].any()]
+            for a, b in true_runs(opposite)]
+
+
+def _before(values: FloatArray, tick: int) -> FloatArray:
+    """``values`` (T,) ``tick`` samples earlier (the first ones repeated at the start)."""
+    lag = min(max(tick, 1), len(values))
+    return np.concatenate([np.repeat(values[:1], lag), values[:len(values) - lag]])
 
 
 def samples_per_tick(result: RunResult) -> int:

@@ -224,6 +224,8 @@ def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> 
     count = poses.shape[0]
     if count < 2:
         return None
+    if poses.shape[1] == 0:
+        return math.inf
     reach = 0.5 * np.hypot(lengths, widths)
     pairs = list(zip(*(a.tolist() for a in np.triu_indices(count, k=1)), strict=True))
 
@@ -236,13 +238,15 @@ def smallest_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray) -> 
 
     # the pairs are measured nearest first, each only at the ticks whose bound beats the
     # smallest gap found so far: the same answer as measuring every near tick, in less time
-    nearest = [float(bound(i, j).min()) for i, j in pairs]
+    nearest = [float(np.nanmin(bound(i, j), initial=math.inf)) for i, j in pairs]
     best = math.inf
     for n in np.argsort(nearest, kind="stable"):
         if nearest[n] >= min(best, 1.0):
             break
         i, j = pairs[n]
         near = np.flatnonzero(bound(i, j) < min(best, 1.0))
+        if near.size == 0:
+            continue
         first = shapely.polygons(_corners(poses[i, near], lengths[i], widths[i]))
         second = shapely.polygons(_corners(poses[j, near], lengths[j], widths[j]))
         best = min(best, float(shapely.distance(first, second).min()))
