@@ -12,7 +12,8 @@ with and without LIDAR, and prints per run:
 * ``rev%``: the share of the time a slot moves that a robot drives against it (at least
   5 cm in one go: ``report.metrics.REVERSE_DISTANCE_MIN``);
 * ``rev cm``: the longest way a robot drove against its slot's direction in one go, cm
-  (shorter ones too: a robot braking while its reference turns round);
+  (``max_reverse_distance_m``: shorter and slower ones too, e.g. a robot braking while its
+  reference turns round);
 * ``flips``: sign flips of the commanded angular speeds (chatter);
 * ``slot rms`` / ``slot max``: the distance from the slot, m (over robots and ticks);
 * ``spacing``: the largest change of the distance between two robots of one formation, m;
