@@ -37,6 +37,8 @@ def test_run_writes_every_output(capsys: Capture, examples: Path, tmp_path: Path
         assert column in stdout
     assert "formation error (every two robots of a formation" in stdout
     assert "angular speed sign flips (chatter): R1 " in stdout
+    assert ("driven against the slot's direction, longest way / all ways: R1 0.00 / 0.00 m, "
+            "R2 ") in stdout
     for key in ("reverse_fraction", "max_heading_error_deg", "max_formation_error_m"):
         assert key in metrics
         assert key in metrics["per_robot"]["R1"]

@@ -240,6 +240,9 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     out.print("angular speed sign flips (chatter): " + ", ".join(
         f"{robot.robot} {robot.angular_sign_flips}" for robot in metrics.robots),
         highlight=False)
+    out.print("driven against the slot's direction, longest way / all ways: " + ", ".join(
+        f"{robot.robot} {robot.max_reverse_distance:.2f} / {robot.reverse_distance:.2f} m"
+        for robot in metrics.robots), highlight=False)
     out.print(f"show {metrics.show_duration:.1f} s, simulated {metrics.run_duration:.1f} s in "
               f"{wall:.2f} s ({metrics.run_duration / max(wall, 1e-9):.0f}x real time)",
               highlight=False)
