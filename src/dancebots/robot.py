@@ -39,7 +39,6 @@ from dancebots.control.tracking import (
 )
 from dancebots.geometry import Pose, compose_points, points_to_local, points_to_world, wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.perception.fast import far_from_all, perceive_columns, turn_fraction_columns
 from dancebots.perception.obstacles import (
     CLEAR,
     DetectorParams,
@@ -361,6 +360,8 @@ class RobotBrain:
 
         def fraction_of(leading: bool) -> float:
             if sensing.compiled:
+                from dancebots.perception.fast import turn_fraction_columns  # imports numba
+
                 return float(turn_fraction_columns(
                     columns, height_step, detection.crop_half, detection.z_min,
                     detection.z_max, np.array(seen_from), np.array(pose), length, width,
@@ -414,6 +415,8 @@ class RobotBrain:
         every point)."""
         mates = points_to_local(self.mates_at(show_time), seen_from)  # (M, 2) base_link
         if self.sensing.compiled:
+            from dancebots.perception.fast import far_from_all  # imports numba
+
             keep = far_from_all(columns, mates, self.mate_radius)
         else:
             gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
@@ -431,6 +434,8 @@ class RobotBrain:
         ``SensingConfig.compiled`` is off; the NumPy functions are the tested reference)."""
         sensing, detection = self.sensing, self.sensing.detection
         if sensing.compiled:
+            from dancebots.perception.fast import perceive_columns  # imports numba
+
             front, rear, nearest, fx, fy = perceive_columns(
                 columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
                 np.array(seen_from), np.array(pose), sensing.length, sensing.width,
@@ -497,7 +502,8 @@ class BrainOptions:
     follower (``FollowerParams.force_steering``); actuator_lag: the first-order time
     constant (s) with which the robot's speeds follow its commands, by which the tracking and
     path followers lead their feedforward speeds (None: the simulator's profile's; 0 on ROS
-    unless ``~actuator_lag`` says).
+    unless ``~actuator_lag`` says); compiled: the perception as numba-compiled loops, else
+    the NumPy reference (``SensingConfig.compiled``).
     """
 
     follower: Follower = "thesis"
@@ -506,6 +512,7 @@ class BrainOptions:
     force_radius: float = 1.0
     force_steering: ForceSteering = "blend"
     actuator_lag: float | None = None
+    compiled: bool = True
 
 
 def brain_for(plan: Plan, robot: str, robot_type: RobotType,
@@ -518,5 +525,6 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
         max_angular=robot_type.max_angular_speed, force_steering=options.force_steering),
         sensing=SensingConfig(
             robot_type.length, robot_type.width, lidar=options.lidar,
-            detector=options.detector, force_radius=options.force_radius),
+            detector=options.detector, force_radius=options.force_radius,
+            compiled=options.compiled),
         follower=options.follower, feedforward_lead=options.actuator_lag or 0.0)

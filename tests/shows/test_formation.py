@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -149,3 +150,28 @@ def test_smallest_gap_of_no_ticks_or_poses_that_are_not_numbers() -> None:
     assert smallest_gap(poses, *sizes) == math.inf
     poses[1, 2, 0] = 2.0  # one tick with a number: 0.8 m apart
     assert smallest_gap(poses, *sizes) == pytest.approx(0.8)
+
+
+@pytest.mark.parametrize("name", ["thesis_7_1", "thesis_7_4"])
+def test_the_numpy_references_simulate_the_same_show(examples: Path, name: str) -> None:
+    """SimConfig(compiled=False) runs the LIDAR, the perception and the collision tests on
+    their NumPy references (check does, for a short show): the same run, poses to the last
+    bit and commands to rounding (the compiled and NumPy kernels round in other places),
+    here with the turn guard busy (7.4's robots side by side) and without."""
+    from dancebots.check import CheckOptions
+    from dancebots.loading import load_show
+    from dancebots.robot import BrainOptions
+
+    show = load_show(str(examples / f"{name}.dance"), None, None, check=CheckOptions(),
+                     timing="feasible")
+    assert show.report is not None
+    assert show.report.placement is not None
+    arena, placement = prepare_show(show.report.placement)
+    config = SimConfig(brain=BrainOptions(follower="path"))
+    compiled = simulate(show.plan, arena, placement, config)
+    numpy_only = simulate(show.plan, arena, placement, replace(config, compiled=False))
+    assert np.array_equal(compiled.times, numpy_only.times)
+    assert np.array_equal(compiled.poses, numpy_only.poses)
+    assert np.allclose(compiled.commands, numpy_only.commands, rtol=0.0, atol=1e-12)
+    assert compiled.collisions == numpy_only.collisions
+    assert compiled.events == numpy_only.events

@@ -37,6 +37,7 @@ def test_overlapping_pairs_agree_with_shapely(seed: int, count: int) -> None:
         assert shapely.intersection(shapes[i], shapes[j]).area <= 1e-6
     for i, j in found:  # and with the NumPy separating-axis test
         assert rectangles_overlap(corners[i:i + 1], corners[j:j + 1])[0]
+    assert overlapping_pairs(corners, reach, compiled=False) == found  # the NumPy path
 
 
 def test_touching_rectangles_do_not_overlap() -> None:
@@ -61,6 +62,8 @@ def test_boundary_contacts_agree_with_shapely(seed: int) -> None:
         if pillar_shape.intersects(outline):
             expected.append((robot, 0))
     assert sorted(boundaries.contacts(corners, reach)) == expected
+    numpy_only = Boundaries(room, [pillar], compiled=False)
+    assert sorted(numpy_only.contacts(corners, reach)) == expected
 
 
 def test_walls_and_obstacles_are_contacts() -> None:
@@ -73,3 +76,5 @@ def test_walls_and_obstacles_are_contacts() -> None:
                                 np.full(5, 0.6))
     contacts = boundaries.contacts(corners, np.full(5, 0.67))
     assert sorted(contacts) == [(1, -1), (2, 0), (3, 0), (4, -1)]
+    numpy_only = Boundaries(room, [pillar], compiled=False)
+    assert sorted(numpy_only.contacts(corners, np.full(5, 0.67))) == sorted(contacts)

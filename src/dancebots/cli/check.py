@@ -113,6 +113,11 @@ SIMULATION_LIMIT = 10_000
 """Robots times show duration (s) up to which check simulates a show by default: 20 robots
 for about 8 minutes, about 16 s here; a larger show gets a warning that it was not simulated
 (``--simulation-limit`` raises it)."""
+COMPILED_FROM = 100
+"""Robot-seconds from which check simulates with the numba-compiled kernels; a shorter show
+runs on their NumPy references (``SimConfig.compiled``), which simulate 3-4 times slower
+but need no numba, whose import and start take about 0.75 s (listing 7.1, 66
+robot-seconds: 0.45 s against 0.15 s plus 0.75 s)."""
 SIMULATION_RATE = 600
 """Robot-seconds check simulates per second of wall time, about, on a 2-core machine (the
 20-robot, 1,000-line show of ``benchmarks/bench_compile.py`` with the defaults and LIDAR,
@@ -150,11 +155,12 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
 
     arena, placement = prepare_show(report.placement)
     console = Console(stderr=True, soft_wrap=True)
-    compile_first = kernels_to_compile()
+    compiled = size > COMPILED_FROM
+    compile_first = kernels_to_compile() if compiled else ()
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
-    config = SimConfig(brain=BrainOptions(follower=args.follower))
+    config = SimConfig(brain=BrainOptions(follower=args.follower), compiled=compiled)
     with progress(console, "simulating  (show s)") as update:
         result = simulate(plan, arena, placement, config, update)
     sys.stderr.flush()

@@ -5,11 +5,8 @@ Vectorised over robots: corners have shape (R, 4, 2) (see ``geometry.footprint_c
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import shapely
-from numba import njit
 from numpy.typing import NDArray
 
 from dancebots.geometry import points_in_frames
@@ -34,69 +31,25 @@ def rectangles_overlap(first: FloatArray, second: FloatArray) -> NDArray[np.bool
     return result
 
 
-def overlapping_pairs(corners: FloatArray, reach: FloatArray) -> list[tuple[int, int]]:
+def overlapping_pairs(corners: FloatArray, reach: FloatArray,
+                      compiled: bool = True) -> list[tuple[int, int]]:
     """All pairs (i < j) of robots whose rectangles (R, 4, 2) overlap (a zero gap is no
     overlap); ``reach`` (R,) is each robot's half diagonal, used to skip pairs whose centres
-    are too far apart. Compiled loops: NumPy's per-call cost dominates for a few robots."""
-    pairs = _overlapping_pairs(np.ascontiguousarray(corners, dtype=np.float64),
-                               np.asarray(reach, dtype=np.float64))
-    return [(int(i), int(j)) for i, j in pairs]
+    are too far apart. ``compiled``: the numba loops (``sim.collision_jit``: NumPy's
+    per-call cost dominates for a few robots), else :func:`rectangles_overlap` on the pairs
+    near enough (same pairs)."""
+    corners = np.ascontiguousarray(corners, dtype=np.float64)
+    reach = np.asarray(reach, dtype=np.float64)
+    if compiled:
+        from dancebots.sim.collision_jit import overlapping_pairs as compiled_pairs
 
-
-@njit(cache=True)
-def _separated(first: FloatArray, second: FloatArray, along: FloatArray) -> bool:
-    """Do two rectangles (4, 2) lie apart along both edge directions of ``along`` (4, 2)?"""
-    for axis in range(2):
-        ax = along[axis + 1, 0] - along[axis, 0]
-        ay = along[axis + 1, 1] - along[axis, 1]
-        low_a = low_b = np.inf
-        high_a = high_b = -np.inf
-        for c in range(4):
-            pa = ax * first[c, 0] + ay * first[c, 1]
-            pb = ax * second[c, 0] + ay * second[c, 1]
-            low_a, high_a = min(low_a, pa), max(high_a, pa)
-            low_b, high_b = min(low_b, pb), max(high_b, pb)
-        if high_a <= low_b or high_b <= low_a:
-            return True
-    return False
-
-
-@njit(cache=True)
-def _overlapping_pairs(corners: FloatArray, reach: FloatArray) -> NDArray[np.int64]:
-    """(P, 2) index pairs of overlapping rectangles: the separating-axis test of
-    :func:`rectangles_overlap` on the pairs whose centres are nearer than their reaches."""
-    count = corners.shape[0]
-    result = np.empty((max(count * (count - 1) // 2, 0), 2), dtype=np.int64)
-    found = 0
-    for i in range(count):
-        xi = 0.5 * (corners[i, 0, 0] + corners[i, 2, 0])
-        yi = 0.5 * (corners[i, 0, 1] + corners[i, 2, 1])
-        for j in range(i + 1, count):
-            xj = 0.5 * (corners[j, 0, 0] + corners[j, 2, 0])
-            yj = 0.5 * (corners[j, 0, 1] + corners[j, 2, 1])
-            if math.hypot(xi - xj, yi - yj) >= reach[i] + reach[j]:
-                continue
-            if _separated(corners[i], corners[j], corners[i]) or _separated(
-                    corners[i], corners[j], corners[j]):
-                continue
-            result[found, 0], result[found, 1] = i, j
-            found += 1
-    return result[:found]
-
-
-@njit(cache=True)
-def _near_segments(centres: FloatArray, reach: FloatArray, start: FloatArray,
-                   direction: FloatArray, length2: FloatArray) -> NDArray[np.bool_]:
-    """(R, E): is each centre (R, 2) within its reach (R,) of each segment (start (E, 2),
-    direction (E, 2), squared length (E,))?"""
-    result = np.zeros((centres.shape[0], start.shape[0]), dtype=np.bool_)
-    for r in range(centres.shape[0]):
-        for e in range(start.shape[0]):
-            rx, ry = centres[r, 0] - start[e, 0], centres[r, 1] - start[e, 1]
-            u = min(max((rx * direction[e, 0] + ry * direction[e, 1]) / length2[e], 0.0), 1.0)
-            result[r, e] = math.hypot(rx - u * direction[e, 0],
-                                      ry - u * direction[e, 1]) < reach[r]
-    return result
+        return [(int(i), int(j)) for i, j in compiled_pairs(corners, reach)]
+    first, second = np.triu_indices(len(corners), k=1)
+    centres = _centres(corners)
+    near = np.hypot(*(centres[first] - centres[second]).T) < reach[first] + reach[second]
+    first, second = first[near], second[near]
+    hit = rectangles_overlap(corners[first], corners[second])
+    return list(zip(first[hit].tolist(), second[hit].tolist(), strict=True))
 
 
 def _centres(corners: FloatArray) -> FloatArray:
@@ -111,7 +64,9 @@ class Boundaries:
     room: polygon (N, 2); obstacles: polygons (M_k, 2), all in the world frame, m.
     """
 
-    def __init__(self, room: FloatArray, obstacles: list[FloatArray]) -> None:
+    def __init__(self, room: FloatArray, obstacles: list[FloatArray],
+                 compiled: bool = True) -> None:
+        self.compiled = compiled
         self.room = shapely.Polygon(room)
         shapely.prepare(self.room)
         self.obstacles = [shapely.Polygon(o) for o in obstacles]
@@ -130,8 +85,20 @@ class Boundaries:
 
     def _near(self, centres: FloatArray, reach: FloatArray) -> NDArray[np.bool_]:
         """(R, E): is each robot's centre within its reach of each boundary segment."""
-        return _near_segments(np.ascontiguousarray(centres), np.asarray(reach, dtype=float),
-                              self._start, self._direction, self._length2)
+        reach = np.asarray(reach, dtype=float)
+        if self.compiled:
+            from dancebots.sim.collision_jit import near_segments
+
+            result: NDArray[np.bool_] = near_segments(
+                np.ascontiguousarray(centres), reach, self._start, self._direction,
+                self._length2)
+            return result
+        relative = centres[:, None, :] - self._start[None]  # (R, E, 2)
+        along = np.clip((relative * self._direction[None]).sum(axis=2) / self._length2,
+                        0.0, 1.0)  # (R, E)
+        gap = relative - along[..., None] * self._direction[None]
+        near: NDArray[np.bool_] = np.hypot(gap[..., 0], gap[..., 1]) < reach[:, None]
+        return near
 
     def contacts(self, corners: FloatArray, reach: FloatArray) -> list[tuple[int, int]]:
         """(robot, what) for every robot touching a wall (what = -1) or inside or touching

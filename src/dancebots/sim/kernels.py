@@ -17,9 +17,9 @@ __all__ = ["kernel_modules", "kernels_to_compile"]
 def kernel_modules() -> tuple[ModuleType, ...]:
     """The modules that hold numba kernels (importing them imports numba)."""
     from dancebots.perception import fast
-    from dancebots.sim import collision, raycast_jit
+    from dancebots.sim import collision_jit, raycast_jit
 
-    return (raycast_jit, collision, fast)
+    return (raycast_jit, collision_jit, fast)
 
 
 def kernels_to_compile() -> tuple[str, ...]:

@@ -25,7 +25,6 @@ from dancebots.sim.raycast import (
     rays_to_segments,
     rays_to_segments_culled,
 )
-from dancebots.sim.raycast_jit import build_columns, cast_scene
 
 __all__ = ["LidarConfig", "LidarScene", "PointCloud", "scan_clouds", "scan_ranges"]
 
@@ -116,6 +115,8 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
     if len(discs) == 0:
         discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
     if config.compiled:
+        from dancebots.sim.raycast_jit import build_columns, cast_scene  # imports numba
+
         solid, solid_height, wall = cast_scene(
             origins, headings, angles, corners, config.robot_height, scene.obstacle_segments,
             scene.obstacle_heights, discs, disc_heights.astype(float), scene.walls,
@@ -157,6 +158,8 @@ def scan_ranges(config: LidarConfig, poses: FloatArray, corners: FloatArray,
     inf where that is nearer than ``min_range`` or beyond ``max_range`` (an invalid
     reading). poses (R, 3), corners (R, 4, 2), discs (C, 3). Returns (R, N), rays at
     ``config.angles()`` from the robot's heading."""
+    from dancebots.sim.raycast_jit import cast_scene  # imports numba
+
     if len(discs) == 0:
         discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
     solid, _, wall = cast_scene(poses[:, :2], poses[:, 2], config.angles(), corners,

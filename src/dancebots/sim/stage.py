@@ -77,7 +77,8 @@ class Stage:
 
     def __init__(self, arena: Arena, placement: Placement, profile: Profile, dt: float,
                  lidar: LidarConfig | None, command_timeout: float = 0.1, seed: int = 0,
-                 record_lidar: bool = False) -> None:
+                 record_lidar: bool = False, compiled: bool = True) -> None:
+        self.compiled = compiled  # collision tests compiled with numba, else NumPy
         self.arena, self.placement, self.profile, self.dt = arena, placement, profile, dt
         self.lidar, self.command_timeout, self.record_lidar = lidar, command_timeout, record_lidar
         self.rng = np.random.default_rng(seed)
@@ -89,7 +90,8 @@ class Stage:
         self.widths = np.array([t.width for t in placement.types])
         self.reach = 0.5 * np.hypot(self.lengths, self.widths)
         self.limits = np.array([[t.max_speed, t.max_angular_speed] for t in placement.types])
-        self.boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles])
+        self.boundaries = Boundaries(arena.room, [o.polygon for o in arena.obstacles],
+                                     compiled)
         self.names = {-1: "wall", **{k: o.name for k, o in enumerate(arena.obstacles)}}
         self.scene = LidarScene.build(arena.room, arena.wall_height,
                                       [(o.polygon, o.height) for o in arena.obstacles])
@@ -163,7 +165,7 @@ class Stage:
         corners = self._footprints(proposed)
         blocked = np.zeros(count, dtype=bool)
         contacts: list[tuple[int, int | str, ContactKind]] = []
-        pairs = overlapping_pairs(corners, self.reach)
+        pairs = overlapping_pairs(corners, self.reach, self.compiled)
         if pairs:
             # a robot is stopped when its move runs into where the other one stands now;
             # one that moves away from a contact goes on (else touching robots lock up)
