@@ -1,7 +1,9 @@
 """Time to parse, plan and check a 1,000-instruction, 20-robot choreography (target < 1 s),
 and crowds of 1,000 robots (target: check under 1 s).
 
-Run: ``.venv/bin/python benchmarks/bench_compile.py [--repeat N]``. Prints the median and the
+Run: ``.venv/bin/python benchmarks/bench_compile.py [--repeat N] [--write FILE]``
+(``--write``: also save the 1,000-instruction choreography, e.g. to time ``dancebots check
+FILE --simulation-limit 50000``, which simulates it). Prints the median and the
 spread of N runs of each stage (one core, wall clock: the machine is shared, so compare
 medians and ratios, not single runs).
 """
@@ -78,8 +80,13 @@ def bench_crowds(repeat: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--write", metavar="FILE", help="also write the choreography to FILE "
+                        "(refused if FILE exists)")
     args = parser.parse_args()
     text = big_scenario()
+    if args.write:
+        with open(args.write, "x", encoding="utf-8") as out:  # never overwrites a file
+            out.write(text)
     stages: dict[str, list[float]] = {"parse": [], "plan": [], "check": [], "total": []}
     for _ in range(args.repeat):
         t0 = time.perf_counter()

@@ -14,6 +14,7 @@ with and without LIDAR, and prints per run:
 * ``rev cm``: the longest way a robot drove against its slot's direction in one go, cm
   (``max_reverse_distance_m``: shorter and slower ones too, e.g. a robot braking while its
   reference turns round);
+* ``rev sum``: all such ways of all robots together, cm (``reverse_distance_m``);
 * ``flips``: sign flips of the commanded angular speeds (chatter);
 * ``slot rms`` / ``slot max``: the distance from the slot, m (over robots and ticks);
 * ``spacing``: the largest change of the distance between two robots of one formation, m;
@@ -57,6 +58,7 @@ def spectator_figures(result: RunResult) -> dict[str, float]:
     metrics = run_metrics(result)
     return {"head°": metrics.max_heading_error, "rev%": 100.0 * metrics.reverse_fraction,
             "rev cm": 100.0 * metrics.max_reverse_distance,
+            "rev sum": 100.0 * metrics.reverse_distance,
             "flips": metrics.angular_sign_flips, "slot rms": metrics.rms_slot_error,
             "slot max": metrics.max_slot_error, "spacing": metrics.max_formation_error or 0.0,
             "final": metrics.max_final_error, "contacts": metrics.collisions,
@@ -81,7 +83,8 @@ def main() -> None:
     args = parser.parse_args()
     shows = SHOWS[3:5] if args.quick else SHOWS
     profiles = ("ideal",) if args.quick else ("ideal", "realistic")
-    columns = ("head°", "rev%", "rev cm", "flips", "slot rms", "slot max", "spacing", "final",
+    columns = ("head°", "rev%", "rev cm", "rev sum", "flips", "slot rms", "slot max",
+               "spacing", "final",
                "contacts", "clean")
     print(f"{'show':<16} {'profile':<9} {'lidar':<5} {'follower':<8} {'timing':<8} "
           + " ".join(f"{c:>8}" for c in columns))
@@ -92,7 +95,7 @@ def main() -> None:
             print(f"{name:<16} {profile:<9} {'on' if lidar else 'off':<5} "
                   f"{follower:<8} {timing:<8} " + " ".join(
                       f"{figures[c]:>8.0f}" if c in ("head°", "flips", "contacts", "clean")
-                      else f"{figures[c]:>8.1f}" if c in ("rev%", "rev cm")
+                      else f"{figures[c]:>8.1f}" if c in ("rev%", "rev cm", "rev sum")
                       else f"{figures[c]:>8.3f}"
                       for c in columns), flush=True)
 

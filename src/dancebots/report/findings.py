@@ -81,8 +81,8 @@ def simulated_findings(result: RunResult, what_ran: str,
     step = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     shortest = max(1, round(limits.min_duration / step)) if step > 0 else 1
     for i, name in enumerate(result.robots):
-        against = during & against_desired(result.velocities[i, :, 0],
-                                           result.reference[i, :, 3],
+        speed = np.where(during, result.velocities[i, :, 0], 0.0)  # as run_metrics
+        against = during & against_desired(speed, result.reference[i, :, 3],
                                            tick=samples_per_tick(result),
                                            sample_period=step or None)
         for a, b in true_runs(against):
