@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from dancebots.diagnostics import Diagnostic
 from dancebots.geometry import Pose
 from dancebots.plan.placement import PlacedShow
-from dancebots.world import Obstacle, RobotType, Spectator, World
+from dancebots.world import Crowd, Obstacle, RobotType, Spectator, World
 
 __all__ = ["Arena", "Placement", "SetupError", "prepare_show"]
 
@@ -44,19 +44,21 @@ class SetupError(Exception):
 class Arena:
     """The room polygon (N, 2) in the world frame, its wall height (m), the obstacles,
     ``source``: the world file, or None for an open arena sized to the show, and the
-    spectators."""
+    spectators and crowds."""
 
     room: FloatArray
     wall_height: float
     obstacles: tuple[Obstacle, ...]
     source: str | None
     spectators: tuple[Spectator, ...] = ()
+    crowds: tuple[Crowd, ...] = ()
 
     @classmethod
     def of_world(cls, world: World, spectators: Sequence[Spectator] | None = None) -> Arena:
         """The world's room, walls, obstacles and (unless given) spectators."""
         return cls(world.room, world.wall_height, tuple(world.obstacles), world.path,
-                   tuple(world.spectators if spectators is None else spectators))
+                   tuple(world.spectators if spectators is None else spectators),
+                   tuple(world.crowds))
 
 
 @dataclass(frozen=True, slots=True, eq=False)

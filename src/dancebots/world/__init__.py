@@ -6,8 +6,11 @@ from dancebots.world.loader import MISSING_WORLD_HINT, load_world, parse_world
 from dancebots.world.model import (
     BUILTIN_ROBOT_TYPES,
     CONTACT_MARGIN,
+    CROWD_KINDS,
     DEFAULT_ROBOT_TYPE,
     THESIS_ROOM_SIZE,
+    Crowd,
+    CrowdKind,
     Obstacle,
     RobotType,
     Spectator,
@@ -22,6 +25,9 @@ from dancebots.world.model import (
 __all__ = [
     "BUILTIN_ROBOT_TYPES",
     "CONTACT_MARGIN",
+    "CROWD_KINDS",
+    "Crowd",
+    "CrowdKind",
     "DEFAULT_ROBOT_TYPE",
     "MISSING_WORLD_HINT",
     "THESIS_ROOM_SIZE",

@@ -23,7 +23,11 @@ __all__ = [
     "CONTACT_MARGIN",
     "DEFAULT_ROBOT_TYPE",
     "THESIS_ROOM_SIZE",
+    "CROWD_KINDS",
     "ConflictKind",
+    "Crowd",
+    "CrowdKind",
+    "CrowdKindDefaults",
     "Obstacle",
     "RobotType",
     "Spectator",
@@ -99,10 +103,55 @@ class Spectator:
     line: int
 
 
+CrowdKind = Literal["adult", "child"]
+"""Who a crowd is: adults, or children (smaller, faster, unpredictable: ``sim.crowd``)."""
+
+
+@dataclass(frozen=True, slots=True)
+class CrowdKindDefaults:
+    """A kind's defaults: preferred walking speed, mean and standard deviation (m/s), disc
+    radius (m) and height (m)."""
+
+    speed: float
+    speed_sd: float
+    radius: float
+    height: float
+
+
+CROWD_KINDS: Mapping[str, CrowdKindDefaults] = {
+    # walking adults: about 1.3 m/s free walking (Helbing and Molnar 1995 take 1.34 m/s,
+    # s.d. 0.26); visitors at a show stroll slower
+    "adult": CrowdKindDefaults(1.0, 0.25, 0.25, 1.7),
+    # children: smaller, faster, less predictable
+    "child": CrowdKindDefaults(1.3, 0.4, 0.18, 1.1),
+}
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Crowd:
+    """Random visitors: ``count`` pedestrians of ``kind`` who start at random places in
+    ``area`` (a polygon (N, 2), world frame, m) and walk to random goals in it (some near a
+    robot, to watch it) with the social force model (``sim.crowd``). Preferred speeds are
+    drawn from a normal distribution (``speed`` mean, ``speed_sd`` standard deviation, m/s,
+    clipped to [0.3, 2.5]); discs of ``radius`` m, ``height`` m tall. ``seed`` and the run's
+    seed together pick everything, so a run is repeatable and every run seed a new crowd."""
+
+    name: str
+    count: int
+    area: NDArray[np.float64]
+    kind: CrowdKind
+    speed: float
+    speed_sd: float
+    radius: float
+    height: float
+    seed: int
+    line: int
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class World:
-    """The room (polygon (N, 2), world frame), its wall height, obstacles, robots and
-    spectators."""
+    """The room (polygon (N, 2), world frame), its wall height, obstacles, robots,
+    spectators (scripted walks) and crowds (random, reacting pedestrians)."""
 
     path: str
     room: NDArray[np.float64]
@@ -110,6 +159,7 @@ class World:
     obstacles: tuple[Obstacle, ...]
     robots: tuple[WorldRobot, ...]
     spectators: tuple[Spectator, ...] = ()
+    crowds: tuple[Crowd, ...] = ()
 
     def robot(self, name: str) -> WorldRobot | None:
         return next((r for r in self.robots if r.name == name), None)
