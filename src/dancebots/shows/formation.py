@@ -178,7 +178,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                   max(1, round(config.control_period / config.dt)), settle_from=plan.duration)
     recorder = run_show(stage, crew.step, clock, progress)
     return _result(plan, arena, placement, config, recorder, brains, tuple(stage.collisions),
-                   tuple(crew.events), tuple(stage.scans))
+                   tuple(crew.events), tuple(stage.scans), stage.discs[:, 2].copy())
 
 
 class _Crew:
@@ -265,7 +265,8 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
             recorder: Recorder,
             brains: list[RobotBrain], collisions: tuple[CollisionEvent, ...],
             events: tuple[RobotEvent, ...],
-            scans: tuple[tuple[float, tuple[FloatArray, ...]], ...]) -> RunResult:
+            scans: tuple[tuple[float, tuple[FloatArray, ...]], ...],
+            spectator_radii: FloatArray) -> RunResult:
     times = recorder.times
     poses = recorder.series("poses")
     velocities = recorder.series("velocities")
@@ -291,5 +292,5 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                      smallest_gap(poses, np.array([t.length for t in placement.types]),
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
-                     np.array([p.radius for p in arena.spectators]), np.stack(reference),
+                     spectator_radii, np.stack(reference),
                      scans)

@@ -13,10 +13,11 @@ counted and reported, never passed through). Noise comes from a seeded generator
 from __future__ import annotations
 
 import math
-from dataclasses import astuple, dataclass
+from dataclasses import astuple, dataclass, replace
 from typing import Literal
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 
 from dancebots.geometry import (
@@ -24,6 +25,7 @@ from dancebots.geometry import (
     compose_poses,
     footprint_corners,
     integrate_unicycle,
+    points_in_frames,
     points_to_world,
     wrap_angles,
 )
@@ -34,6 +36,7 @@ from dancebots.sim.collision import (
     overlapping_pairs,
     rectangles_overlap,
 )
+from dancebots.sim.crowd import CrowdState, crowd_start, crowd_step, wall_segments
 from dancebots.sim.kinematics import Profile, actuate, fresh_commands
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds, scan_ranges
 from dancebots.sim.setup import Arena, Placement
@@ -98,8 +101,19 @@ class Stage:
         self.spectators = arena.spectators
         self.walked = np.zeros(len(self.spectators))
         self.waiting = np.zeros(len(self.spectators))
-        self.disc_heights = np.array([p.height for p in self.spectators])
-        self.discs = spectator_discs(self.spectators, self.walked)
+        self.crowd: CrowdState | None = None
+        if arena.crowds:  # its own generator: a crowd leaves the robots' noise as it was
+            self.crowd_rng = np.random.default_rng([seed, *(c.seed for c in arena.crowds)])
+            self.walls = wall_segments(arena.room, arena.obstacles)
+            keep_clear = shapely.union_all([shapely.Polygon(o.polygon)
+                                            for o in arena.obstacles]) if arena.obstacles else None
+            self.crowd = crowd_start(arena.crowds, starts, self.reach, keep_clear,
+                                     self.walls, self.crowd_rng)
+        self.disc_names = (*(p.name for p in self.spectators),
+                           *(self.crowd.names if self.crowd is not None else ()))
+        self.disc_heights = np.array([p.height for p in self.spectators] + (
+            self.crowd.height.tolist() if self.crowd is not None else []))
+        self.discs = self._discs(spectator_discs(self.spectators, self.walked))
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
@@ -181,10 +195,10 @@ class Stage:
         for i, what in self.boundaries.contacts(corners, self.reach):
             blocked[i] = True
             contacts.append((i, self.names[what], "wall" if what == -1 else "obstacle"))
-        if len(self.spectators):
+        if len(self.discs):
             for i, k in disc_contacts(proposed, self.lengths, self.widths, self.discs):
                 blocked[i] = True
-                contacts.append((i, self.spectators[k].name, "spectator"))
+                contacts.append((i, self.disc_names[k], "spectator"))
         for i, other, kind in contacts:
             key = (i, other)
             if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact
@@ -196,7 +210,7 @@ class Stage:
         corners[blocked] = corners_now[blocked]
         velocity[blocked] = 0.0
         self.pose, self.corners, self.velocity = proposed, corners, velocity
-        if len(self.spectators):
+        if len(self.discs):
             self._walk_spectators()
 
     def _walk_spectators(self) -> None:
@@ -217,11 +231,47 @@ class Stage:
                 walked = back
             self.waiting[k] = 0.0
         self.walked = walked
-        self.discs = spectator_discs(spectators, walked)
+        scripted = spectator_discs(spectators, walked)
+        crowd = self.crowd
+        if crowd is not None:
+            moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
+                               self.pose, self.lengths, self.widths, self.crowd_rng)
+            # people do not walk into robots: a step that would reach into a footprint
+            # deeper than before stands (one a robot has reached may step out)
+            before = _footprint_gaps(self.pose, self.lengths, self.widths, crowd.position)
+            after = _footprint_gaps(self.pose, self.lengths, self.widths, moved.position)
+            stands = (after < moved.radius) & (after < before)
+            if stands.any():
+                position, velocity = moved.position.copy(), moved.velocity.copy()
+                position[stands], velocity[stands] = crowd.position[stands], 0.0
+                moved = replace(moved, position=position, velocity=velocity)
+            self.crowd = moved
+        self.discs = self._discs(scripted)
+
+    def _discs(self, scripted: FloatArray) -> FloatArray:
+        """All people as discs (C, 3) = x, y, radius: the scripted spectators, then the
+        crowds' pedestrians."""
+        if self.crowd is None:
+            return scripted
+        return np.concatenate([scripted.reshape(-1, 3), np.column_stack(
+            [self.crowd.position, self.crowd.radius])])
 
     def _footprints(self, poses: FloatArray) -> FloatArray:
         return footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], self.lengths,
                                  self.widths)
+
+
+def _footprint_gaps(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
+                    points: FloatArray) -> FloatArray:
+    """The distance (P,) from each point (P, 2) to the nearest robot footprint (poses (R, 3),
+    sizes (R,)), m; 0 inside one, inf without robots."""
+    if len(poses) == 0:
+        return np.full(len(points), math.inf)
+    local = points_in_frames(points[None, :, :], poses[:, None, :])  # (R, P, 2)
+    ex = np.maximum(np.abs(local[..., 0]) - 0.5 * lengths[:, None], 0.0)
+    ey = np.maximum(np.abs(local[..., 1]) - 0.5 * widths[:, None], 0.0)
+    result: FloatArray = np.hypot(ex, ey).min(axis=0)
+    return result
 
 
 def _world_points(clouds: list[PointCloud], poses: FloatArray) -> tuple[FloatArray, ...]:

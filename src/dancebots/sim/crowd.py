@@ -1,0 +1,371 @@
+"""Crowds that react: pedestrians walking with the social force model of Helbing and Molnár,
+"Social force model for pedestrian dynamics", Phys. Rev. E 51 (1995) 4282 (H&M below).
+
+Each pedestrian a (position r_a, velocity v_a, preferred speed v0_a) accelerates as
+
+    dv_a/dt = (v0_a e_a - v_a) / tau                     (H&M eq. 2: towards its goal)
+              + sum_b w(e_a, -f_ab) f_ab                  (eq. 3-5: other pedestrians)
+              + sum_B f_aB                                (eq. 6: walls, obstacles, robots)
+
+with f_ab = -grad V0 exp(-b/sigma), b the semi-minor axis of the ellipse around b's next
+step (eq. 4), f_aB = -grad U0 exp(-|r_aB|/R) from the nearest point of each border, and
+w = 1 for what lies within the field of view (2 phi) of the walking direction e_a, c
+outside it. Its speed is capped at 1.3 v0_a (eq. 7). The parameters are the paper's (tau
+0.5 s, V0 2.1 m²/s², sigma 0.3 m, U0 10 m²/s², R 0.2 m, step 2 s, phi 100 deg, c 0.5).
+Robots are borders too: their footprints' nearest points, with a range of their own per
+kind of pedestrian (adults keep further from a machine than children do).
+
+What a pedestrian wants is this module's own (H&M's pedestrians walk to fixed destinations):
+a goal drawn at random in its crowd's area, or, with a kind's probability, a point near a
+robot to watch it from; on arrival it stands a random while, then picks the next goal.
+Children change their mind at random too. A standing pedestrian still feels the forces: one
+a robot comes close to steps aside.
+
+Pure functions on a frozen :class:`CrowdState` (arrays of P pedestrians, world frame, m,
+m/s); randomness only from the ``numpy.random.Generator`` passed in. The simulator
+(``sim.stage``) keeps a pedestrian whose step would overlap a robot where it stands: people
+do not walk into robots, so a contact is a robot's doing.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from dancebots.world.model import Crowd, Obstacle
+
+__all__ = ["KIND_BEHAVIOUR", "CrowdState", "KindBehaviour", "SocialForceParams",
+           "crowd_start", "crowd_step", "social_acceleration", "wall_segments"]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+@dataclass(frozen=True, slots=True)
+class SocialForceParams:
+    """H&M's parameters: relaxation time tau (s); pedestrian repulsion V0 (m²/s²) and range
+    sigma (m); border repulsion U0 (m²/s²) and range R (m); the step time (s) of eq. 4;
+    half the field of view phi (rad) and the weight c outside it; the speed cap as a
+    multiple of the preferred speed; ``substep``: the integration step (s)."""
+
+    relaxation: float = 0.5
+    pedestrian_strength: float = 2.1
+    pedestrian_range: float = 0.3
+    border_strength: float = 10.0
+    border_range: float = 0.2
+    step_time: float = 2.0
+    sight: float = math.radians(100.0)
+    out_of_sight: float = 0.5
+    max_speed_factor: float = 1.3
+    substep: float = 0.05
+
+
+@dataclass(frozen=True, slots=True)
+class KindBehaviour:
+    """What a kind of pedestrian wants: the probability that a new goal is a place to watch a
+    robot from, at ``watch_near`` to ``watch_far`` m beyond the robot's half diagonal; the
+    pause at a goal (``pause_min`` to ``pause_max`` s); the rate (1/s) of changing its mind
+    on the way; the range (m) of a robot's repulsion (H&M's R for robots) and the distance
+    (m) at which a goal counts as reached."""
+
+    watch: float
+    watch_near: float
+    watch_far: float
+    pause_min: float
+    pause_max: float
+    change_rate: float
+    robot_range: float
+    arrive: float = 0.3
+
+
+KIND_BEHAVIOUR = {
+    "adult": KindBehaviour(watch=0.4, watch_near=0.8, watch_far=2.0, pause_min=3.0,
+                           pause_max=12.0, change_rate=0.0, robot_range=0.35),
+    "child": KindBehaviour(watch=0.6, watch_near=0.3, watch_far=1.2, pause_min=0.5,
+                           pause_max=5.0, change_rate=0.15, robot_range=0.15),
+}
+"""Each kind's behaviour (``world.CROWD_KINDS`` holds its size and speed)."""
+
+_BEHAVIOUR_FIELDS = ("watch", "watch_near", "watch_far", "pause_min", "pause_max",
+                     "change_rate", "robot_range", "arrive")
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CrowdState:
+    """P pedestrians: position (P, 2) and velocity (P, 2) in the world frame (m, m/s), goal
+    (P, 2), pause (P,) s left to stand at the goal (0 while walking), preferred speed (P,)
+    m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
+    (P, 8) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
+
+    position: FloatArray
+    velocity: FloatArray
+    goal: FloatArray
+    pause: FloatArray
+    preferred: FloatArray
+    radius: FloatArray
+    height: FloatArray
+    crowd: IntArray
+    behaviour: FloatArray
+    names: tuple[str, ...]
+
+    def column(self, field: str) -> FloatArray:
+        """One :class:`KindBehaviour` field (P,) of every pedestrian."""
+        return self.behaviour[:, _BEHAVIOUR_FIELDS.index(field)]
+
+
+def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray:
+    """The borders as segments (S, 2, 2): the room's edges and every obstacle's edges."""
+    rings = [room, *(o.polygon for o in obstacles)]
+    return np.concatenate([np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
+                           for ring in rings])
+
+
+def _nearest_on_segments(points: FloatArray, segments: FloatArray) -> FloatArray:
+    """Vectors (P, S, 2) from the nearest point of each segment (S, 2, 2) to each point
+    (P, 2)."""
+    start, end = segments[:, 0], segments[:, 1]
+    along = end - start  # (S, 2)
+    length2 = np.maximum(np.einsum("sk,sk->s", along, along), 1e-12)
+    rel = points[:, None, :] - start[None]  # (P, S, 2)
+    t = np.clip(np.einsum("psk,sk->ps", rel, along) / length2, 0.0, 1.0)
+    result: FloatArray = rel - t[..., None] * along[None]
+    return result
+
+
+def _from_footprints(points: FloatArray, poses: FloatArray, lengths: FloatArray,
+                     widths: FloatArray) -> FloatArray:
+    """Vectors (P, R, 2), world frame, from each robot's footprint (poses (R, 3), sizes (R,))
+    nearest point to each point (P, 2); a point inside a footprint gets the vector from the
+    robot's centre instead (it is pushed out the way it lies)."""
+    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])  # (R,)
+    dx = points[:, None, 0] - poses[None, :, 0]  # (P, R)
+    dy = points[:, None, 1] - poses[None, :, 1]
+    lx, ly = c * dx + s * dy, -s * dx + c * dy  # in each robot's frame
+    ex = lx - np.clip(lx, -0.5 * lengths, 0.5 * lengths)
+    ey = ly - np.clip(ly, -0.5 * widths, 0.5 * widths)
+    inside = (ex == 0.0) & (ey == 0.0)
+    ex, ey = np.where(inside, lx, ex), np.where(inside, ly, ey)
+    return np.stack([c * ex - s * ey, s * ex + c * ey], axis=-1)
+
+
+def _border_force(vectors: FloatArray, strength: float, reach: FloatArray | float,
+                  ) -> FloatArray:
+    """H&M eq. 6 summed over borders: vectors (P, B, 2) from each border's nearest point;
+    -grad U0 exp(-d/R) = (U0/R) exp(-d/R) d_hat. Returns (P, 2)."""
+    distance = np.hypot(vectors[..., 0], vectors[..., 1])
+    safe = np.maximum(distance, 1e-9)
+    magnitude = strength / reach * np.exp(-distance / reach) / safe  # (P, B)
+    result: FloatArray = (magnitude[..., None] * vectors).sum(axis=1)
+    return result
+
+
+def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: FloatArray,
+                        robot_lengths: FloatArray, robot_widths: FloatArray,
+                        params: SocialForceParams = SocialForceParams()) -> FloatArray:
+    """dv/dt (P, 2) of every pedestrian (H&M eq. 2-6, module docstring): towards its goal
+    (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2))
+    and the robots (poses (R, 3), lengths and widths (R,))."""
+    position, velocity = state.position, state.velocity
+    count = len(position)
+    to_goal = state.goal - position
+    distance = np.hypot(to_goal[:, 0], to_goal[:, 1])
+    direction = to_goal / np.maximum(distance, 1e-9)[:, None]  # e_a
+    walking = state.pause <= 0.0
+    desired = np.where(walking[:, None], state.preferred[:, None] * direction, 0.0)
+    accel = (desired - velocity) / params.relaxation  # eq. 2
+    if count > 1:  # eq. 3-5: the ellipse b spanned by r_ab and r_ab - v_b step e_b
+        r = position[:, None, :] - position[None, :, :]  # r_ab (P, P, 2)
+        step = params.step_time * velocity[None, :, :]  # v_b step e_b
+        r_next = r - step
+        n_r = np.hypot(r[..., 0], r[..., 1])
+        n_next = np.hypot(r_next[..., 0], r_next[..., 1])
+        n_step = np.hypot(step[..., 0], step[..., 1])
+        b = 0.5 * np.sqrt(np.maximum((n_r + n_next) ** 2 - n_step ** 2, 1e-12))
+        grad_b = ((n_r + n_next) / (4.0 * b))[..., None] * (
+            r / np.maximum(n_r, 1e-9)[..., None] + r_next / np.maximum(n_next, 1e-9)[..., None])
+        force = (params.pedestrian_strength / params.pedestrian_range
+                 * np.exp(-b / params.pedestrian_range))[..., None] * grad_b  # f_ab
+        np.einsum("aak->ak", force)[...] = 0.0  # no force of one on itself
+        heading = np.where(walking[:, None], direction, velocity / np.maximum(
+            np.hypot(velocity[:, 0], velocity[:, 1]), 1e-9)[:, None])
+        seen = np.einsum("ak,abk->ab", heading, -force) >= np.hypot(
+            force[..., 0], force[..., 1]) * math.cos(params.sight)  # eq. 5
+        accel += (np.where(seen, 1.0, params.out_of_sight)[..., None] * force).sum(axis=1)
+    if len(walls):
+        accel += _border_force(_nearest_on_segments(position, walls), params.border_strength,
+                               params.border_range)
+    if len(robot_poses):
+        accel += _border_force(
+            _from_footprints(position, robot_poses, robot_lengths, robot_widths),
+            params.border_strength, state.column("robot_range")[:, None])
+    return accel
+
+
+def _inside(area: FloatArray, points: FloatArray) -> NDArray[np.bool_]:
+    result: NDArray[np.bool_] = shapely.contains_xy(shapely.Polygon(area), points[:, 0],
+                                                    points[:, 1])
+    return result
+
+
+WALL_CLEARANCE = 0.15
+"""m: goals and start places keep a disc this far from every wall and obstacle edge."""
+
+
+def _random_in(area: FloatArray, count: int, rng: np.random.Generator, walls: FloatArray,
+               radius: float) -> FloatArray:
+    """``count`` points (count, 2) uniform in the polygon ``area`` (rejection from its box),
+    each at least ``radius`` + :data:`WALL_CLEARANCE` from the walls (S, 2, 2); fewer when
+    2,000 draws found no more (an area hardly wider than a disc)."""
+    low, high = area.min(axis=0), area.max(axis=0)
+    found = np.zeros((0, 2))
+    for _ in range(50):
+        if len(found) >= count:
+            break
+        tries = rng.uniform(low, high, size=(4 * (count - len(found)) + 40, 2))
+        tries = tries[_inside(area, tries)]
+        if len(walls) and len(tries):
+            tries = tries[_wall_distance(tries, walls) > radius + WALL_CLEARANCE]
+        found = np.concatenate([found, tries])
+    return found[:count]
+
+
+def _new_goals(state: CrowdState, which: NDArray[np.int64], areas: Sequence[FloatArray],
+               walls: FloatArray, robot_poses: FloatArray, robot_reach: FloatArray,
+               rng: np.random.Generator) -> FloatArray:
+    """New goals (len(which), 2) for pedestrians ``which``: a place to watch a robot from
+    (with the kind's probability; inside the crowd's area), else a random place in the area;
+    either clear of the walls (S, 2, 2) (else the pedestrian keeps its goal)."""
+    goals = np.empty((len(which), 2))
+    watch = state.column("watch")[which]
+    near, far = state.column("watch_near")[which], state.column("watch_far")[which]
+    for n, a in enumerate(which.tolist()):
+        area = areas[int(state.crowd[a])]
+        goal = None
+        if len(robot_poses) and rng.random() < watch[n]:
+            robot = int(rng.integers(len(robot_poses)))
+            angle = rng.uniform(-math.pi, math.pi)
+            gap = robot_reach[robot] + state.radius[a] + rng.uniform(near[n], far[n])
+            spot = robot_poses[robot, :2] + gap * np.array([math.cos(angle), math.sin(angle)])
+            clear = not len(walls) or _wall_distance(spot[None], walls)[0] > (
+                state.radius[a] + WALL_CLEARANCE)
+            if clear and _inside(area, spot[None])[0]:
+                goal = spot
+        if goal is None:
+            drawn = _random_in(area, 1, rng, walls, float(state.radius[a]))
+            goal = drawn[0] if len(drawn) else state.goal[a]
+        goals[n] = goal
+    return goals
+
+
+def crowd_start(crowds: Sequence[Crowd], robot_poses: FloatArray, robot_reach: FloatArray,
+                keep_clear: shapely.Geometry | None, walls: FloatArray,
+                rng: np.random.Generator) -> CrowdState:
+    """Every crowd's pedestrians at random places in its area, standing, clear of the robots
+    (poses (R, 3), each a disc of ``robot_reach`` (R,) m around its centre), of
+    ``keep_clear`` (the obstacles), of the walls (segments (S, 2, 2)) and of each other;
+    each with a preferred speed, a first goal and no pause. Raises ValueError when a crowd
+    does not fit (the world loader keeps crowds to half of their free area, so this takes a
+    pathological draw)."""
+    names: list[str] = []
+    rows: list[tuple[float, float, float, float, int]] = []  # x, y, speed, radius, crowd
+    heights: list[float] = []
+    behaviour: list[list[float]] = []
+    for index, crowd in enumerate(crowds):
+        kind = KIND_BEHAVIOUR[crowd.kind]
+        placed = 0
+        for _ in range(200):
+            if placed == crowd.count:
+                break
+            for x, y in _random_in(crowd.area, crowd.count - placed, rng, walls,
+                                   crowd.radius).tolist():
+                if not _clear(x, y, crowd.radius, rows, robot_poses, robot_reach, keep_clear):
+                    continue
+                speed = float(np.clip(rng.normal(crowd.speed, crowd.speed_sd), 0.3, 2.5))
+                rows.append((x, y, speed, crowd.radius, index))
+                heights.append(crowd.height)
+                behaviour.append([float(getattr(kind, f)) for f in _BEHAVIOUR_FIELDS])
+                placed += 1
+                names.append(f"{crowd.name} {placed}")
+        if placed < crowd.count:
+            raise ValueError(f"crowd '{crowd.name}' does not fit in its area: {placed} of "
+                             f"{crowd.count} placed clear of the robots, obstacles and others")
+    table = np.array(rows, dtype=float).reshape(-1, 5)
+    count = len(table)
+    state = CrowdState(table[:, :2].copy(), np.zeros((count, 2)), table[:, :2].copy(),
+                       np.zeros(count), table[:, 2].copy(), table[:, 3].copy(),
+                       np.array(heights, dtype=float), table[:, 4].astype(np.int64),
+                       np.array(behaviour, dtype=float).reshape(count, len(_BEHAVIOUR_FIELDS)),
+                       tuple(names))
+    areas = [c.area for c in crowds]
+    return replace(state, goal=_new_goals(state, np.arange(count), areas, walls, robot_poses,
+                                          robot_reach, rng))
+
+
+def _clear(x: float, y: float, radius: float, rows: list[tuple[float, float, float, float, int]],
+           robot_poses: FloatArray, robot_reach: FloatArray,
+           keep_clear: shapely.Geometry | None) -> bool:
+    if len(robot_poses) and np.any(np.hypot(robot_poses[:, 0] - x, robot_poses[:, 1] - y)
+                                   < robot_reach + radius + 0.3):
+        return False
+    if any(math.hypot(px - x, py - y) < pr + radius + 0.1 for px, py, _, pr, _ in rows):
+        return False
+    return keep_clear is None or shapely.distance(keep_clear, shapely.Point(x, y)) > radius + 0.1
+
+
+def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls: FloatArray,
+               robot_poses: FloatArray, robot_lengths: FloatArray, robot_widths: FloatArray,
+               rng: np.random.Generator,
+               params: SocialForceParams = SocialForceParams()) -> CrowdState:
+    """The crowd ``dt`` s later: goals reached start a pause, pauses that end and children
+    who change their mind pick new goals (``areas``: each crowd's polygon), then the social
+    forces (:func:`social_acceleration`) move everyone in substeps of ``params.substep``,
+    speeds capped at ``max_speed_factor`` times the preferred speed (H&M eq. 7)."""
+    count = len(state.position)
+    if count == 0:
+        return state
+    reach = 0.5 * np.hypot(robot_lengths, robot_widths)
+    arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
+                                      < state.column("arrive"))
+    low, high = state.column("pause_min"), state.column("pause_max")
+    pause = np.where(arrived, rng.uniform(low, high), state.pause)
+    was_pausing = pause > 0.0
+    pause = np.maximum(pause - dt, 0.0)
+    rethink = (was_pausing & (pause <= 0.0)) | (
+        (pause <= 0.0) & (rng.random(count) < state.column("change_rate") * dt))
+    goal = state.goal
+    if rethink.any():
+        goal = goal.copy()
+        which = np.flatnonzero(rethink)
+        goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng)
+    moving = replace(state, goal=goal, pause=pause)
+    steps = max(1, math.ceil(dt / params.substep - 1e-9))
+    h = dt / steps
+    position, velocity = moving.position, moving.velocity
+    cap = params.max_speed_factor * moving.preferred
+    for _ in range(steps):
+        accel = social_acceleration(replace(moving, position=position, velocity=velocity),
+                                    walls, robot_poses, robot_lengths, robot_widths, params)
+        velocity = velocity + h * accel
+        speed = np.hypot(velocity[:, 0], velocity[:, 1])
+        velocity = velocity * np.minimum(1.0, cap / np.maximum(speed, 1e-12))[:, None]
+        ahead = position + h * velocity
+        if len(walls):  # no step through a wall: a disc that would touch one stands
+            before = _wall_distance(position, walls)
+            touch = (_wall_distance(ahead, walls) < moving.radius) & (
+                _wall_distance(ahead, walls) < before)
+            ahead[touch] = position[touch]
+            velocity[touch] = 0.0
+        position = ahead
+    return replace(moving, position=position, velocity=velocity)
+
+
+def _wall_distance(points: FloatArray, walls: FloatArray) -> FloatArray:
+    """The distance (P,) from each point (P, 2) to the nearest wall segment (S, 2, 2)."""
+    vectors = _nearest_on_segments(points, walls)
+    result: FloatArray = np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1)
+    return result

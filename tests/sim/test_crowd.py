@@ -1,0 +1,165 @@
+"""The social force crowd (sim/crowd.py): H&M's forces, goals and pauses, walls, robots."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dancebots.sim.crowd import (
+    CrowdState,
+    SocialForceParams,
+    crowd_start,
+    crowd_step,
+    social_acceleration,
+    wall_segments,
+)
+from dancebots.world.model import Crowd, square_room
+
+ROOM = square_room(10.0)
+WALLS = wall_segments(ROOM, ())
+NO_ROBOTS = np.zeros((0, 3))
+NONE = np.zeros(0)
+
+
+def _crowd(count: int = 5, kind: str = "adult", seed: int = 0) -> Crowd:
+    area = np.array([[1.0, 1.0], [9.0, 1.0], [9.0, 9.0], [1.0, 9.0]])
+    return Crowd("visitors", count, area, kind, 1.0, 0.2, 0.25, 1.7, seed, 1)  # type: ignore[arg-type]
+
+
+def _state(positions: list[list[float]], goals: list[list[float]],
+           velocities: list[list[float]] | None = None) -> CrowdState:
+    start = crowd_start([_crowd(len(positions))], NO_ROBOTS, NONE, None, WALLS,
+                        np.random.default_rng(0))
+    count = len(positions)
+    return dataclasses.replace(
+        start, position=np.array(positions, float), goal=np.array(goals, float),
+        velocity=np.zeros((count, 2)) if velocities is None else np.array(velocities, float),
+        preferred=np.full(count, 1.0), pause=np.zeros(count))
+
+
+def test_a_lone_pedestrian_accelerates_towards_its_goal_with_the_relaxation_time() -> None:
+    state = _state([[5.0, 5.0]], [[8.0, 5.0]])
+    accel = social_acceleration(state, np.zeros((0, 2, 2)), NO_ROBOTS, NONE, NONE)
+    # H&M eq. 2: (v0 e - v) / tau = (1, 0) / 0.5
+    np.testing.assert_allclose(accel, [[2.0, 0.0]], atol=1e-12)
+
+
+def _potential(params: SocialForceParams, r: np.ndarray, step: np.ndarray) -> float:
+    """H&M eq. 4: V0 exp(-b / sigma), 2b = sqrt((|r| + |r - s|)^2 - |s|^2)."""
+    n_r, n_next, n_s = (float(np.hypot(*v)) for v in (r, r - step, step))
+    b = 0.5 * math.sqrt((n_r + n_next) ** 2 - n_s ** 2)
+    return params.pedestrian_strength * math.exp(-b / params.pedestrian_range)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0), st.floats(-1.2, 1.2), st.floats(-1.2, 1.2))
+def test_the_pedestrian_force_is_minus_the_gradient_of_the_ellipse_potential(
+        dx: float, dy: float, vx: float, vy: float) -> None:
+    """The analytic gradient of eq. 4 against central differences of the potential, with b
+    in sight (weight 1) and standing still (no goal force)."""
+    if math.hypot(dx, dy) < 0.3:
+        return
+    params = SocialForceParams()
+    state = _state([[5.0, 5.0], [5.0 - dx, 5.0 - dy]], [[5.0, 5.0], [5.0 - dx, 5.0 - dy]],
+                   [[0.0, 0.0], [vx, vy]])
+    state = dataclasses.replace(state, pause=np.array([1.0, 1.0]))  # standing: no eq. 2 pull
+    accel = social_acceleration(state, np.zeros((0, 2, 2)), NO_ROBOTS, NONE, NONE, params)
+    r, step = np.array([dx, dy]), params.step_time * np.array([vx, vy])
+    h = 1e-6
+    gradient = np.array([
+        (_potential(params, r + e, step) - _potential(params, r - e, step)) / (2 * h)
+        for e in (np.array([h, 0.0]), np.array([0.0, h]))])
+    # a standing a has no walking direction (its heading is its zero velocity's), and eq. 5
+    # with phi = 100 deg > 90 deg then weighs every force 1
+    np.testing.assert_allclose(accel[0], -gradient, atol=1e-5)
+
+
+def test_a_pedestrian_walks_to_its_goal_and_stands_there_a_while() -> None:
+    rng = np.random.default_rng(3)
+    state = _state([[2.0, 5.0]], [[6.0, 5.0]])
+    reached = None
+    for k in range(100):
+        state = crowd_step(state, 0.1, [ROOM], WALLS, NO_ROBOTS, NONE, NONE, rng)
+        if state.pause[0] > 0.0:
+            reached = k * 0.1
+            break
+    assert reached is not None
+    assert 3.0 < reached < 6.0
+    where = state.position.copy()
+    assert np.hypot(*(where[0] - [6.0, 5.0])) < 0.5
+    for _ in range(10):  # it stands (the shortest adult pause is 3 s)
+        state = crowd_step(state, 0.1, [ROOM], WALLS, NO_ROBOTS, NONE, NONE, rng)
+    assert float(np.hypot(*state.velocity[0])) < 0.2
+
+
+def test_two_pedestrians_walking_at_each_other_pass_without_touching() -> None:
+    rng = np.random.default_rng(0)
+    state = _state([[2.0, 5.0], [8.0, 5.02]], [[9.0, 5.0], [1.0, 5.0]])
+    closest = math.inf
+    for _ in range(80):
+        state = crowd_step(state, 0.1, [ROOM], WALLS, NO_ROBOTS, NONE, NONE, rng)
+        closest = min(closest, float(np.hypot(*(state.position[0] - state.position[1]))))
+    assert closest > 2 * 0.25  # their discs never overlap
+    assert state.position[0, 0] > 6.0
+    assert state.position[1, 0] < 4.0
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_a_crowd_stays_in_the_room(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    crowd = dataclasses.replace(_crowd(12, "child"), area=ROOM.copy())
+    state = crowd_start([crowd], NO_ROBOTS, NONE, None, WALLS, rng)
+    for _ in range(150):
+        state = crowd_step(state, 0.1, [ROOM], WALLS, NO_ROBOTS, NONE, NONE, rng)
+        inside = (state.position >= state.radius[:, None] - 1e-9) & (
+            state.position <= 10.0 - state.radius[:, None] + 1e-9)
+        assert inside.all()
+
+
+def test_a_standing_pedestrian_steps_aside_from_a_robot_that_comes_close() -> None:
+    rng = np.random.default_rng(0)
+    state = _state([[5.0, 5.0]], [[5.0, 5.0]])
+    state = dataclasses.replace(state, pause=np.array([100.0]))
+    robot = np.array([[4.1, 5.1, 0.0]])  # its front 0.3 m from the person's centre
+    size = np.array([1.2]), np.array([0.6])
+    for _ in range(20):
+        state = crowd_step(state, 0.1, [ROOM], WALLS, robot, *size, rng)
+    assert state.position[0, 0] > 5.15  # moved away from the robot's front
+
+
+def test_the_same_seed_gives_the_same_crowd_and_another_seed_another() -> None:
+    def run(seed: int) -> np.ndarray:
+        rng = np.random.default_rng(seed)
+        robots = np.array([[5.0, 5.0, 0.3]])
+        size = np.array([1.2]), np.array([0.6])
+        state = crowd_start([_crowd(8)], robots, np.array([0.7]), None, WALLS, rng)
+        for _ in range(50):
+            state = crowd_step(state, 0.1, [_crowd().area], WALLS, robots, *size, rng)
+        return state.position
+
+    np.testing.assert_array_equal(run(4), run(4))
+    assert not np.allclose(run(4), run(5))
+
+
+def test_crowd_start_keeps_clear_of_robots_and_each_other() -> None:
+    robots = np.array([[5.0, 5.0, 0.0], [3.0, 3.0, 1.0]])
+    reach = np.array([0.7, 0.7])
+    state = crowd_start([_crowd(30)], robots, reach, None, WALLS, np.random.default_rng(1))
+    gaps = np.hypot(*(state.position[:, None] - robots[None, :, :2]).transpose(2, 0, 1))
+    assert (gaps > reach + 0.25).all()
+    apart = np.hypot(*(state.position[:, None] - state.position[None]).transpose(2, 0, 1))
+    assert (apart[~np.eye(30, dtype=bool)] > 0.5).all()
+    assert state.names[0] == "visitors 1"
+    assert len(set(state.names)) == 30
+
+
+def test_a_crowd_that_cannot_fit_is_a_clear_error() -> None:
+    tiny = dataclasses.replace(_crowd(50), area=np.array([[1.0, 1.0], [2.0, 1.0], [2.0, 2.0]]))
+    with pytest.raises(ValueError, match="crowd 'visitors' does not fit in its area"):
+        crowd_start([tiny], NO_ROBOTS, NONE, None, WALLS, np.random.default_rng(0))
