@@ -13,7 +13,7 @@ import math
 import re
 import tomllib
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import shapely
@@ -29,8 +29,11 @@ from dancebots.diagnostics import (
 from dancebots.geometry import Pose
 from dancebots.world.model import (
     BUILTIN_ROBOT_TYPES,
+    CROWD_KINDS,
     DEFAULT_ROBOT_TYPE,
     THESIS_ROOM_SIZE,
+    Crowd,
+    CrowdKind,
     Obstacle,
     RobotType,
     Spectator,
@@ -53,6 +56,12 @@ MIN_SPECTATOR_SPEED = 0.01
 """Slowest accepted walking speed of a spectator, m/s."""
 MAX_WALK = 3600.0
 """Longest accepted spectator walk (start delay, walking and pauses; one round of a loop), s."""
+MAX_CROWD = 1000
+"""Most pedestrians accepted in one crowd."""
+MAX_SEED = 2**63 - 1
+"""Largest accepted crowd seed."""
+CROWD_FILL = 0.5
+"""Most of a crowd's free area (its area less the obstacles) its discs may cover."""
 
 
 MISSING_WORLD_HINT = ("check the path; docs/worlds.md describes world files, and "
@@ -76,8 +85,12 @@ class _Locator:
     def __init__(self, text: str) -> None:
         self.lines = source_lines(text)
         self.headers: list[tuple[int, str]] = []
+        # a table header: keys (bare or quoted, dotted) in brackets, alone on its line, so
+        # that the rows of an array written over several lines ("  [1, 1],") are not one
+        part = r"""(?:[A-Za-z0-9_-]+|"[^"\n]*"|'[^'\n]*')"""
+        table = re.compile(rf"\s*(\[\[?)\s*({part}(?:\s*\.\s*{part})*)\s*\]\]?\s*(?:#.*)?$")
         for number, line in enumerate(self.lines, start=1):
-            match = re.match(r"\s*(\[\[?)\s*([^\]]+?)\s*\]", line)
+            match = table.match(line)
             if match:
                 self.headers.append((number, match.group(2).replace(" ", "")))
         # indexes, so that finding a key costs the length of its table, not of the file
@@ -119,6 +132,15 @@ def parse_world(text: str, path: str = "<world>") -> tuple[World | None, list[Di
         return None, [Diagnostic(path, line, col, Severity.ERROR,
                                  f"invalid TOML: {message[:1].lower()}{message[1:]}",
                                  "see docs/worlds.md for the world-file format")]
+    except ValueError:
+        # tomllib reads integers with int(), which refuses more than 4300 digits
+        # (sys.int_info.str_digits_check_threshold) with a ValueError of its own
+        lines = source_lines(text)
+        line = next((n for n, t in enumerate(lines, start=1)
+                     if re.search(r"\d(?:_?\d){4300}", t)), 1)
+        return None, [Diagnostic(path, line, 1, Severity.ERROR,
+                                 "invalid TOML: an integer of more than 4300 digits",
+                                 "is a digit too many?")]
     return _World(path, text, data).build()
 
 
@@ -174,7 +196,7 @@ class _World:
                 isinstance(c, int | float) and not isinstance(c, bool) for c in p) for p in value)
         if not ok:
             self.error(position, f"'{key}' of {what} must be a list of at least 3 [x, y] "
-                       "points", "e.g. polygon = [[0, 0], [1, 0], [1, 1]]")
+                       "points", f"e.g. {key} = [[0, 0], [1, 0], [1, 1]]")
             return None
         points = _float_array(value)
         if points is None or not np.all(np.isfinite(points)) \
@@ -189,25 +211,49 @@ class _World:
             return None
         return points
 
+    def integer(self, table: Mapping[str, Any], key: str, where: tuple[str, int], *,
+                default: int | None, low: int, high: int) -> int | None:
+        """A whole number from ``low`` to ``high``; None (and an error at the key) otherwise,
+        or when it is missing without a default."""
+        if key not in table:
+            return default
+        position = self.where.key(where[0], key, where[1])
+        value = table[key]
+        if isinstance(value, bool) or not isinstance(value, int):
+            what = "a decimal number" if isinstance(value, float) else _describe(value)
+            self.error(position, f"'{key}' must be a whole number, not {what}",
+                       "write it without a decimal point; nan and inf are not accepted")
+            return None
+        if not low <= value <= high:
+            digits = value > high and len(str(value)) > len(str(high))
+            self.error(position, f"'{key}' must be between {low} and {high}",
+                       "is a digit too many?" if digits else
+                       "see the range of each key in docs/worlds.md")
+            return None
+        return value
+
     def build(self) -> tuple[World | None, list[Diagnostic]]:
-        known = {"room", "obstacles", "robots", "robot_types", "spectators"}
+        known = {"room", "obstacles", "robots", "robot_types", "spectators", "crowds"}
         for key in self.data:
             if key not in known:
                 self.error(self.where.key(None, key) if not isinstance(self.data[key], dict)
                            else (self.where.table(key), 1),
                            f"unknown key '{key}'", "the top-level tables are [room], "
-                           "[[obstacles]], [[robots]], [[spectators]] and [robot_types.NAME]")
+                           "[[obstacles]], [[robots]], [[spectators]], [[crowds]] and "
+                           "[robot_types.NAME]")
         room, wall_height = self.room()
         types = self.robot_types()
         obstacles = self.obstacles()
         robots = self.robots(types)
         spectators = self.spectators()
+        crowds = self.crowds()
         if room is not None:
             self.layout(room, obstacles, robots, spectators)
+            self.crowd_layout(shapely.Polygon(room), obstacles, spectators, crowds)
         if self.diagnostics or room is None:
             return None, sorted(self.diagnostics, key=lambda d: (d.line, d.col))
         return World(self.path, room, wall_height, tuple(obstacles), tuple(robots),
-                     tuple(spectators)), []
+                     tuple(spectators), tuple(crowds)), []
 
     def at(self, table: str, line: int, key: str) -> tuple[int, int]:
         """The position of ``key`` in the [[table]] entry whose header is on ``line``."""
@@ -280,6 +326,45 @@ class _World:
                     self.error(where, f"the path of spectator '{spectator.name}' crosses "
                                f"obstacle '{obstacle.name}'", "route the path around the "
                                "obstacle: the spectator's disc must not touch it")
+
+    def crowd_layout(self, room: shapely.Polygon, obstacles: list[Obstacle],
+                     spectators: list[Spectator], crowds: list[Crowd]) -> None:
+        """Each crowd's name must be its own (contacts are reported by name: a crowd's
+        members are "NAME 1" to "NAME count"), its area inside the room, and room enough in
+        the area less the obstacles for its discs."""
+        seen: set[str] = set()
+        spectator_names = {s.name for s in spectators}
+        blocked = shapely.union_all([shapely.Polygon(o.polygon) for o in obstacles])
+        for crowd in crowds:
+            name = self.at("crowds", crowd.line, "name")
+            if crowd.name in seen:
+                self.error(name, f"crowd '{crowd.name}' is defined twice",
+                           "give each crowd its own name")
+            seen.add(crowd.name)
+            if crowd.name in spectator_names:
+                self.error(name, f"crowd '{crowd.name}' has the name of a spectator",
+                           "contacts are reported by name: give the crowd and the spectator "
+                           "different names")
+            prefix = crowd.name + " "
+            members = sorted(s for s in spectator_names if s.startswith(prefix)
+                             and _member(s[len(prefix):], crowd.count))
+            if members:
+                self.error(name, f"spectator '{members[0]}' has the name of a member of crowd "
+                           f"'{crowd.name}'", f"the crowd's members are '{prefix}1' to "
+                           f"'{prefix}{crowd.count}': rename the crowd or the spectator")
+            area = shapely.Polygon(crowd.area)
+            if not room.covers(area):
+                self.error(self.at("crowds", crowd.line, "area"), f"the area of crowd "
+                           f"'{crowd.name}' is not inside the room",
+                           "move its corners inside the room, or make the room larger")
+                continue
+            free = float(area.difference(blocked).area) if obstacles else float(area.area)
+            taken = crowd.count * math.pi * crowd.radius**2
+            if taken > CROWD_FILL * free:
+                self.error(self.at("crowds", crowd.line, "count"), f"crowd '{crowd.name}' "
+                           f"has no room: {crowd.count} discs of radius {crowd.radius:g} m "
+                           f"cover {taken:.3g} m², more than half of the {free:.3g} m² of its "
+                           "area free of obstacles", "enlarge the area or lower count")
 
     def room(self) -> tuple[NDArray[np.float64] | None, float]:
         table = self.data.get("room", {})
@@ -481,6 +566,73 @@ class _World:
             result.append(Spectator(name, radius, height, speed, table[:, :2].copy(),
                                     table[:, 2].copy(), loop, start, line))
         return result
+
+    def crowds(self) -> list[Crowd]:
+        entries = self.data.get("crowds", [])
+        if not isinstance(entries, list):
+            self.error(self.where.key(None, "crowds"), "'crowds' must be an array of tables: "
+                       "[[crowds]]")
+            return []
+        result = []
+        allowed = ("name", "count", "area", "kind", "speed", "speed_sd", "radius", "height",
+                   "seed")
+        kinds = " or ".join(f'"{kind}"' for kind in CROWD_KINDS)
+        for index, entry in enumerate(entries):
+            line = self.where.table("crowds", index)
+            if not isinstance(entry, dict):
+                self.error((line, 1), "each crowd must be a table: [[crowds]]")
+                continue
+            for key in entry:
+                if key not in allowed:
+                    self.error(self.where.key("crowds", key, index),
+                               f"unknown key '{key}' in a crowd",
+                               "a crowd has " + ", ".join(allowed))
+            name = entry.get("name", f"crowd {index + 1}")
+            if not isinstance(name, str):
+                self.error(self.where.key("crowds", "name", index),
+                           "a crowd's 'name' must be a string")
+                name = f"crowd {index + 1}"
+            where = ("crowds", index)
+            kind = entry.get("kind", "adult")
+            if not isinstance(kind, str) or kind not in CROWD_KINDS:
+                self.error(self.where.key("crowds", "kind", index),
+                           f"'kind' must be {kinds}, not {_describe(kind)}",
+                           f"the crowd kinds are {' '.join(CROWD_KINDS)}")
+                kind = None
+            base = CROWD_KINDS[kind or "adult"]
+            speed = self.number(entry, "speed", where, default=base.speed, positive=True,
+                                low=0.1, high=3.0)
+            speed_sd = self.number(entry, "speed_sd", where, default=base.speed_sd, low=0.0,
+                                   high=2.0)
+            radius = self.number(entry, "radius", where, default=base.radius, positive=True,
+                                 low=MIN_ROBOT_VALUE, high=1.0)
+            height = self.number(entry, "height", where, default=base.height, positive=True,
+                                 high=5.0)
+            seed = self.integer(entry, "seed", where, default=0, low=0, high=MAX_SEED)
+            count = self.integer(entry, "count", where, default=None, low=1, high=MAX_CROWD)
+            if "count" not in entry:
+                self.error((line, 1), f"crowd '{name}' has no 'count'",
+                           f"add count = N: how many pedestrians walk (1 to {MAX_CROWD})")
+            if "area" not in entry:
+                self.error((line, 1), f"crowd '{name}' has no 'area'",
+                           "add area = [[x, y], ...] with the corners, in order, of where "
+                           "the crowd walks")
+                continue
+            area = self.polygon(entry["area"], "area", self.where.key("crowds", "area", index),
+                                f"crowd '{name}'")
+            if area is None or kind is None or count is None or seed is None or speed is None \
+                    or speed_sd is None or radius is None or height is None:
+                continue
+            result.append(Crowd(name, count, area, cast(CrowdKind, kind), speed, speed_sd,
+                                radius, height, seed, line))
+        return result
+
+
+def _member(number: str, count: int) -> bool:
+    """Whether ``number`` is how a crowd of ``count`` numbers one of its members (1 to
+    count, written without a sign or leading zeros)."""
+    return number.isascii() and number.isdigit() and not number.startswith("0") \
+        and len(number) <= len(str(count)) and int(number) <= count
 
 
 def _float(value: int | float) -> float | None:

@@ -21,9 +21,9 @@ from dancebots.geometry import Pose, footprint_corners
 __all__ = [
     "BUILTIN_ROBOT_TYPES",
     "CONTACT_MARGIN",
+    "CROWD_KINDS",
     "DEFAULT_ROBOT_TYPE",
     "THESIS_ROOM_SIZE",
-    "CROWD_KINDS",
     "ConflictKind",
     "Crowd",
     "CrowdKind",
