@@ -249,7 +249,9 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     out.print("max change of the distance between row neighbours: "
               + ("n/a" if change is None else f"{change:.3f} m")
               + "; smallest gap between robots: "
-              + ("n/a" if clearance is None else f"{clearance:.3f} m"), highlight=False)
+              + ("n/a" if clearance is None else f"{clearance:.3f} m")
+              + ("" if metrics.min_person_gap is None else
+                 f"; smallest gap to a person: {metrics.min_person_gap:.3f} m"), highlight=False)
     style = "bold red" if metrics.collisions else "green"
     out.print(f"collisions: {metrics.collisions}", style=style, highlight=False)
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)

@@ -33,7 +33,8 @@ from dancebots.shows.formation import STATUS, RunResult
 __all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_DISTANCE_MIN",
            "REVERSE_SPEED_MIN", "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics",
            "against_desired", "formation_error", "heading_errors", "reverse_runs",
-           "run_metrics", "samples_per_tick", "sign_flips", "spacing_change"]
+           "run_metrics", "samples_per_tick", "sign_flips", "smallest_person_gap",
+           "spacing_change"]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -147,6 +148,7 @@ class RunMetrics:
     max_formation_error: float | None = None
     follower: str = "thesis"
     timing: str = "thesis"
+    min_person_gap: float | None = None
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -202,6 +204,7 @@ class RunMetrics:
             "collisions": self.collisions,
             "collision_events": list(self.collision_events),
             "min_clearance_m": r3(self.min_clearance),
+            "min_person_gap_m": r3(self.min_person_gap),
             "max_spacing_change_m": r3(self.max_spacing_change),
             "rms_slot_error_m": r3(self.rms_slot_error),
             "max_slot_error_m": r3(self.max_slot_error),
@@ -295,14 +298,38 @@ def run_metrics(result: RunResult) -> RunMetrics:
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
         float(result.times[-1]), robots, tuple(_rows(result)), len(result.collisions),
         tuple({"t_s": c.time, "robot": c.robot, "with": c.other, "kind": c.kind,
-               "x_m": round(c.x, 3), "y_m": round(c.y, 3)} for c in result.collisions),
+               "x_m": round(c.x, 3), "y_m": round(c.y, 3), "robot_moving": c.moving}
+              for c in result.collisions),
         result.min_clearance,
         tuple({"t_s": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
               for e in result.events),
         _rms(error), _rms(heading[:, during]),
         float(np.mean(heading[:, during] > FACING_AWAY_ANGLE)), _fraction(against, moving),
         pairs.rms, pairs.max,
-        follower=result.config.brain.follower, timing=plan.parameters.timing)
+        follower=result.config.brain.follower, timing=plan.parameters.timing,
+        min_person_gap=smallest_person_gap(
+            result.poses, np.array([t.length for t in result.placement.types]),
+            np.array([t.width for t in result.placement.types]), result.spectators,
+            result.spectator_radii))
+
+
+def smallest_person_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
+                        people: FloatArray, radii: FloatArray) -> float | None:
+    """The smallest gap (m) between a robot's footprint and a person's disc over the run:
+    poses (R, T, 3), sizes (R,), people's centres (C, T, 2) and radii (C,), world frame;
+    0 at a contact (negative gaps count as 0), None without people."""
+    if people.shape[0] == 0 or poses.shape[0] == 0 or poses.shape[1] == 0:
+        return None
+    best = math.inf
+    for r in range(poses.shape[0]):  # (C, T) per robot: memory stays C x T
+        c, s = np.cos(poses[r, :, 2]), np.sin(poses[r, :, 2])  # (T,)
+        dx = people[..., 0] - poses[r, :, 0]
+        dy = people[..., 1] - poses[r, :, 1]
+        ex = np.maximum(np.abs(c * dx + s * dy) - 0.5 * lengths[r], 0.0)
+        ey = np.maximum(np.abs(-s * dx + c * dy) - 0.5 * widths[r], 0.0)
+        best = min(best, float(np.nanmin(np.hypot(ex, ey) - radii[:, None],
+                                         initial=math.inf)))
+    return max(best, 0.0)
 
 
 def _rms(values: FloatArray) -> float:

@@ -62,7 +62,7 @@ class SocialForceParams:
     sight: float = math.radians(100.0)
     out_of_sight: float = 0.5
     max_speed_factor: float = 1.3
-    substep: float = 0.05
+    substep: float = 0.1
 
 
 @dataclass(frozen=True, slots=True)

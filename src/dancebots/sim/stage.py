@@ -59,7 +59,10 @@ STEP_BACK = 1.5
 @dataclass(frozen=True, slots=True)
 class CollisionEvent:
     """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
-    obstacle's name, or a spectator's); ``kind`` says which; (x, y) the robot's centre."""
+    obstacle's name, or a spectator's); ``kind`` says which; (x, y) the robot's centre;
+    ``moving``: whether the robot was moving (its velocity not zero) when it began: a robot
+    that stood still was walked into (people in the simulator never step into a robot, so
+    that happens only to a robot a person already overlaps)."""
 
     time: float
     robot: str
@@ -67,6 +70,7 @@ class CollisionEvent:
     kind: ContactKind
     x: float
     y: float
+    moving: bool = True
 
 
 class Stage:
@@ -204,7 +208,7 @@ class Stage:
             if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact
                 self.collisions.append(CollisionEvent(
                     round(now + dt, 6), self.placement.robots[i], str(other), kind,
-                    float(pose[i, 0]), float(pose[i, 1])))
+                    float(pose[i, 0]), float(pose[i, 1]), bool(np.any(velocity[i] != 0.0))))
             self._active[key] = now + dt
         proposed[blocked] = pose[blocked]
         corners[blocked] = corners_now[blocked]

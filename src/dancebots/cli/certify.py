@@ -1,0 +1,218 @@
+"""``dancebots certify``: run a show over many seeds among people and write a certificate.
+
+A thin shell: it checks the show once, runs the seeds on a pool of local processes
+(``shows.certify.run_seed`` in each), gathers the summaries into a certificate, writes
+certificate.json and certificate.png through the output writer of ``cli.common`` and exits 0
+when no moving robot touched a person and no robot touched a robot, wall or obstacle in any
+run, 1 otherwise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from dancebots.cli.common import (
+    ShowOutcome,
+    add_follower_argument,
+    add_show_arguments,
+    add_timing_argument,
+    bundled,
+    in_range,
+    positive,
+    progress,
+    refuse,
+    run_show_into,
+    short_path,
+)
+
+if TYPE_CHECKING:
+    from dancebots.shows.certify import Certificate, CertifyJob, RunSummary
+
+NAME = "certify"
+HELP = "run a show over many seeds among people and write a safety certificate"
+DESCRIPTION = ("Run a show over N seeds (each a new draw of the world's crowds and of the "
+               "realistic profile's noise) on local processes, and write certificate.json and "
+               "certificate.png: contacts of a moving robot with a person (the robot's doing), "
+               "contacts of a robot standing still, the smallest robot-person gap, the time "
+               "robots were held and how much longer the show took. Exit 0 when no moving "
+               "robot touched a person and no robot touched a robot, wall or obstacle in any "
+               "run; 1 otherwise; 2 when the input is invalid.")
+OUTPUT_NAMES = ("certificate.json", "certificate.png")
+MAX_RUNS = 100_000
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_show_arguments(parser, scenario_help="choreography file (default: the bundled "
+                       "open-day show in its hall with a crowd of adults and children)",
+                       world_help="world file (TOML, docs/worlds.md) with the people: "
+                       "[[crowds]] and [[spectators]]")
+    parser.add_argument("--runs", type=in_range(1, MAX_RUNS, integer=True), default=100,
+                        metavar="N", help="how many seeds to run (default 100)")
+    parser.add_argument("--first-seed", type=in_range(0, 2**32 - 1 - MAX_RUNS, integer=True),
+                        default=0, metavar="S", help="the seeds are S, S+1, ... (default 0)")
+    parser.add_argument("--jobs", type=in_range(1, 1024, integer=True), default=None,
+                        metavar="J", help="local processes (default: one per core)")
+    parser.add_argument("--profile", choices=("ideal", "realistic"), default="realistic",
+                        help="the simulator's profile (default: realistic)")
+    parser.add_argument("--no-lidar", action="store_true",
+                        help="robots without LIDAR (they cannot see people: for comparison)")
+    add_follower_argument(parser)
+    add_timing_argument(parser)
+    parser.add_argument("--final-tolerance", type=positive, default=0.5, metavar="M",
+                        help="a run whose robot ends further than this from its final slot "
+                        "is not clean, m (default 0.5; reported, does not fail the "
+                        "certificate)")
+    parser.add_argument("--out", metavar="DIR", help="output directory (default: "
+                        "out/NAME-certificate); a new or empty directory, or one of an "
+                        "earlier certification, whose files dancebots replaces")
+    parser.add_argument("--json", action="store_true",
+                        help="print the certificate as JSON on stdout")
+
+
+def run(args: argparse.Namespace) -> int:
+    from dancebots.shows.certify import CertifyJob, _loaded
+
+    if args.scenario is None:
+        args.scenario = short_path(bundled("open_day.dance"))
+        if args.world is None:
+            args.world = short_path(bundled("open_day_crowd.toml"))
+    if args.world is None:
+        return refuse(NAME, args.json, "certify needs --world W: a world with the people "
+                      "([[crowds]] or [[spectators]], docs/worlds.md)")
+    job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
+                     args.timing, not args.no_lidar, args.final_tolerance)
+    from dancebots.loading import load_show
+
+    show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)
+    if not show.valid:
+        return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
+    try:
+        _loaded(job)  # the check and placement every worker repeats, once here first
+    except ValueError as exc:
+        return refuse(NAME, args.json, str(exc))
+    target = Path(args.out) if args.out else Path("out") / f"{Path(args.scenario).stem}-certificate"
+    return run_show_into(NAME, target, OUTPUT_NAMES, args.json,
+                         lambda staging: _certify(args, job, staging, target))
+
+
+def _ignore_interrupts() -> None:
+    """Workers leave Ctrl-C to the parent, which stops the pool."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
+             target: Path) -> ShowOutcome:
+    from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+
+    from rich.console import Console
+
+    from dancebots.report.verdict import Verdict
+    from dancebots.shows.certify import certificate, run_seed
+    from dancebots.sim.kernels import kernels_to_compile
+
+    console = Console(stderr=True, soft_wrap=True)
+    if kernels_to_compile():
+        console.print("compiling the simulator's kernels (numba; first run on this machine "
+                      "only, 10-20 s)", style="yellow", highlight=False)
+        run_seed(job, args.first_seed)  # compiled once here, cached on disk for the workers
+    seeds = list(range(args.first_seed, args.first_seed + args.runs))
+    processes = min(args.jobs or os.cpu_count() or 1, len(seeds))
+    summaries: list[RunSummary] = []
+    started = time.perf_counter()
+    pool = ProcessPoolExecutor(processes, initializer=_ignore_interrupts)
+    try:
+        with progress(console, f"certifying  ({processes} processes, runs)") as update:
+            pending: set[Future[RunSummary]] = {pool.submit(run_seed, job, s) for s in seeds}
+            while pending:
+                done, pending = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
+                summaries.extend(f.result() for f in done)
+                update(len(summaries), len(seeds))
+    except BaseException:
+        workers = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in workers:  # a run in progress is not waited for
+            process.terminate()
+        raise
+    pool.shutdown()
+    cert = certificate(job, summaries, time.perf_counter() - started, processes)
+    written = _write(cert, staging)
+    failures = _failures(cert)
+    return ShowOutcome(written, cert.wall, Verdict(failures), cert.to_json(),
+                       lambda: _summary(cert, target, written))
+
+
+def _failures(cert: Certificate) -> tuple[str, ...]:
+    lines = []
+    if cert.contacts_moving:
+        runs = [r.seed for r in cert.runs if r.contacts_moving]
+        lines.append(f"{cert.contacts_moving} contacts of a moving robot with a person in "
+                     f"{len(runs)} of {len(cert.runs)} runs (seeds {_seeds(runs)})")
+    if cert.robot_contacts:
+        runs = [r.seed for r in cert.runs if r.robot_contacts]
+        lines.append(f"{cert.robot_contacts} contacts of robots with robots, walls or "
+                     f"obstacles in {len(runs)} runs (seeds {_seeds(runs)})")
+    return tuple(lines)
+
+
+def _seeds(seeds: list[int]) -> str:
+    shown = ", ".join(str(s) for s in seeds[:8])
+    return shown + (", ..." if len(seeds) > 8 else "")
+
+
+def _write(cert: Certificate, directory: Path) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from dancebots.report.certificate_plot import plot_certificate
+
+    (directory / "certificate.json").write_text(json.dumps(cert.to_json(), indent=2) + "\n",
+                                                encoding="utf-8")
+    plot_certificate(cert).savefig(directory / "certificate.png", dpi=110)
+    return list(OUTPUT_NAMES)
+
+
+def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
+    from rich.console import Console
+
+    out = Console(soft_wrap=True, width=None if sys.stdout.isatty() else 120)
+    data = cert.to_json()
+    gap = data["min_person_gap_m"]
+    held = data["held_robot_s"]
+    overrun = data["overrun_s"]
+    assert isinstance(gap, dict)
+    assert isinstance(held, dict)
+    assert isinstance(overrun, dict)
+    out.print(f"{cert.job.scenario} in {cert.job.world}: {len(cert.runs)} runs "
+              f"({cert.job.profile} profile, seeds {cert.runs[0].seed}-{cert.runs[-1].seed}) "
+              f"in {cert.wall:.0f} s on {cert.processes} processes", highlight=False)
+    out.print(f"contacts with people: {cert.contacts_moving} by a moving robot, "
+              f"{cert.contacts_standing} with a robot standing still; robots with robots, "
+              f"walls or obstacles: {cert.robot_contacts}", highlight=False,
+              style="bold red" if cert.contacts_moving or cert.robot_contacts else "green")
+    if gap["min"] is not None:
+        out.print(f"smallest robot-person gap per run, m: min {gap['min']:.3f}, 1 % "
+                  f"{gap['p1']:.3f}, 5 % {gap['p5']:.3f}, median {gap['median']:.3f}",
+                  highlight=False)
+    out.print(f"held by the stop rule, robot-s per run: median {held['median']:.1f}, max "
+              f"{held['max']:.1f}; rest after the planned end, s: median "
+              f"{overrun['median']:.1f}, max {overrun['max']:.1f}", highlight=False)
+    not_clean = sum(1 for r in cert.runs if not r.clean)
+    if not_clean:
+        out.print(f"{not_clean} runs were not clean for other reasons (see per_run in "
+                  "certificate.json)", highlight=False)
+    out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
+    if cert.passed:
+        out.print("verdict: PASSED (no moving robot touched a person, no robot touched a "
+                  "robot, wall or obstacle)", style="bold green", highlight=False)
+        return
+    out.print("verdict: FAILED", style="bold red", highlight=False)
+    for failure in _failures(cert):
+        out.print(f"  - {failure}", style="red", highlight=False)

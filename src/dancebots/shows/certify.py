@@ -1,0 +1,186 @@
+"""Certifying a show among people: the same show run over many seeds (new crowds, new noise),
+each run summarised by what matters to the people around it, the summaries gathered into a
+certificate.
+
+:func:`run_seed` is what one worker does (a process of a local pool, or a Ray task): it
+loads the show once per process and simulates one seed. :func:`summarise` and
+:func:`certificate` are pure functions of the results.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from functools import cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from dancebots.report.metrics import RunMetrics
+
+__all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "run_seed", "summarise"]
+
+
+@dataclass(frozen=True, slots=True)
+class CertifyJob:
+    """What every run of a certification shares: the choreography and world files, the
+    slowest robot's speed (m/s, None: the world's), the profile's name, the follower, the
+    timing, the robots' LIDAR (False: blind robots) and the final-slot tolerance (m)."""
+
+    scenario: str
+    world: str
+    vmax: float | None = None
+    profile: str = "realistic"
+    follower: str = "path"
+    timing: str = "feasible"
+    lidar: bool = True
+    final_tolerance: float = 0.5
+
+
+@dataclass(frozen=True, slots=True)
+class RunSummary:
+    """One seed's run, as the people around it saw it.
+
+    contacts_moving: contacts of a robot that moved with a person (the robot's doing);
+    contacts_standing: contacts with a person of a robot that stood still; robot_contacts:
+    contacts of robots with robots, walls or obstacles; min_person_gap: the smallest gap
+    between a robot and a person, m (None without people); held: robot-seconds held by the
+    stop rule; stops: how often a robot was held; overrun: s from the planned end until the
+    last robot came to rest; max_final_error: m; clean: the run's verdict; failures: its lines;
+    wall: s the run took.
+    """
+
+    seed: int
+    contacts_moving: int
+    contacts_standing: int
+    robot_contacts: int
+    min_person_gap: float | None
+    held: float
+    stops: int
+    overrun: float
+    max_final_error: float
+    clean: bool
+    failures: tuple[str, ...]
+    wall: float
+
+
+@cache
+def _loaded(job: CertifyJob) -> tuple[object, object, object]:
+    """The job's plan, arena and placement, loaded once per process. Raises ValueError with
+    the diagnostics when the show cannot run (the shell checks it before any worker)."""
+    from dancebots.check import CheckOptions
+    from dancebots.loading import load_show
+    from dancebots.plan.placement import places_followed
+    from dancebots.sim.setup import prepare_show
+
+    show = load_show(job.scenario, job.world, job.vmax, check=CheckOptions(
+        places=places_followed(job.follower)), timing=job.timing)  # type: ignore[arg-type]
+    if not show.valid or show.report is None or show.report.placement is None:
+        raise ValueError("; ".join(d.message for d in show.diagnostics))
+    arena, placement = prepare_show(show.report.placement)
+    return show.plan, arena, placement
+
+
+def run_seed(job: CertifyJob, seed: int) -> RunSummary:
+    """Simulate ``job`` with ``seed`` (the profile's noise and every crowd's draw) and
+    summarise it (:func:`summarise`)."""
+    import time
+
+    from dancebots.report.metrics import run_metrics
+    from dancebots.report.verdict import run_verdict
+    from dancebots.robot import BrainOptions
+    from dancebots.shows.formation import SimConfig, simulate
+    from dancebots.sim.kinematics import PROFILES
+    from dancebots.sim.lidar import LidarConfig
+
+    plan, arena, placement = _loaded(job)
+    config = SimConfig(profile=PROFILES[job.profile], seed=seed,
+                       lidar=LidarConfig() if job.lidar else None,
+                       brain=BrainOptions(follower=job.follower))  # type: ignore[arg-type]
+    started = time.perf_counter()
+    result = simulate(plan, arena, placement, config)  # type: ignore[arg-type]
+    metrics = run_metrics(result)
+    verdict = run_verdict(metrics, job.final_tolerance)
+    return summarise(seed, metrics, verdict.failures, time.perf_counter() - started)
+
+
+def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
+              wall: float) -> RunSummary:
+    """A run's :class:`RunSummary` from its metrics and verdict lines."""
+    events = metrics.collision_events
+    people = [e for e in events if e["kind"] == "spectator"]
+    return RunSummary(
+        seed, sum(1 for e in people if e.get("robot_moving", True)),
+        sum(1 for e in people if not e.get("robot_moving", True)), len(events) - len(people),
+        metrics.min_person_gap, float(sum(r.stopped_time for r in metrics.robots)),
+        int(sum(r.stops for r in metrics.robots)),
+        max(metrics.run_duration - metrics.show_duration, 0.0), metrics.max_final_error,
+        not failures, tuple(failures), wall)
+
+
+@dataclass(frozen=True, slots=True)
+class Certificate:
+    """A certification's result: the job, the runs (one :class:`RunSummary` per seed, in seed
+    order), the wall time (s) and how many processes ran them. ``passed``: no contact of a
+    moving robot with a person and no contact of a robot with a robot, wall or obstacle in
+    any run."""
+
+    job: CertifyJob
+    runs: tuple[RunSummary, ...]
+    wall: float
+    processes: int
+
+    @property
+    def contacts_moving(self) -> int:
+        return sum(r.contacts_moving for r in self.runs)
+
+    @property
+    def contacts_standing(self) -> int:
+        return sum(r.contacts_standing for r in self.runs)
+
+    @property
+    def robot_contacts(self) -> int:
+        return sum(r.robot_contacts for r in self.runs)
+
+    @property
+    def passed(self) -> bool:
+        return self.contacts_moving == 0 and self.robot_contacts == 0
+
+    def gaps(self) -> np.ndarray:
+        """The smallest robot-person gap of every run that had people (m)."""
+        return np.array([r.min_person_gap for r in self.runs if r.min_person_gap is not None])
+
+    def to_json(self) -> dict[str, object]:
+        def stats(values: np.ndarray) -> dict[str, float | None]:
+            if values.size == 0:
+                return {"min": None, "p1": None, "p5": None, "median": None, "max": None}
+            return {"min": round(float(values.min()), 4),
+                    "p1": round(float(np.percentile(values, 1)), 4),
+                    "p5": round(float(np.percentile(values, 5)), 4),
+                    "median": round(float(np.median(values)), 4),
+                    "max": round(float(values.max()), 4)}
+
+        return {
+            "job": asdict(self.job),
+            "runs": len(self.runs),
+            "passed": self.passed,
+            "contacts_moving": self.contacts_moving,
+            "runs_with_contacts_moving": sum(1 for r in self.runs if r.contacts_moving),
+            "contacts_standing": self.contacts_standing,
+            "robot_contacts": self.robot_contacts,
+            "runs_not_clean": sum(1 for r in self.runs if not r.clean),
+            "min_person_gap_m": stats(self.gaps()),
+            "held_robot_s": stats(np.array([r.held for r in self.runs])),
+            "overrun_s": stats(np.array([r.overrun for r in self.runs])),
+            "wall_s": round(self.wall, 2),
+            "processes": self.processes,
+            "per_run": [{**asdict(r), "failures": list(r.failures),
+                         "wall": round(r.wall, 3)} for r in self.runs],
+        }
+
+
+def certificate(job: CertifyJob, runs: Sequence[RunSummary], wall: float,
+                processes: int) -> Certificate:
+    """The :class:`Certificate` of ``runs`` (any order: sorted by seed)."""
+    return Certificate(job, tuple(sorted(runs, key=lambda r: r.seed)), wall, processes)
