@@ -1,0 +1,128 @@
+"""dancebots certify: a show over many seeds among people, on real local processes."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from dancebots.cli import main
+from dancebots.shows.certify import CertifyJob, RunSummary, certificate
+
+Capture = pytest.CaptureFixture[str]
+
+
+def _session_members(session: int) -> list[int]:
+    """Processes (pids) of session ``session`` still alive (zombies included)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            stat = (entry / "stat").read_text()
+        except OSError:
+            continue
+        fields = stat[stat.rindex(")") + 2:].split()
+        if int(fields[3]) == session:  # field 6 of stat: the session id
+            found.append(int(entry.name))
+    return found
+
+
+def _certify(args: list[str]) -> subprocess.CompletedProcess[str]:
+    """``dancebots certify ARGS`` as a real process in a session of its own; fails the test
+    if any process of that session (the pool's workers) outlives it."""
+    process = subprocess.Popen([sys.executable, "-m", "dancebots.cli", "certify", *args],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    try:
+        stdout, stderr = process.communicate(timeout=600)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, 9)
+            process.wait()
+    left = _session_members(process.pid)
+    if left:
+        os.killpg(process.pid, 9)
+        pytest.fail(f"certify left processes running: {left}")
+    return subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
+
+
+def test_blind_robots_fail_the_certificate_on_the_bystander(examples: Path, data: Path,
+                                                            tmp_path: Path) -> None:
+    out = tmp_path / "blind"
+    done = _certify([str(examples / "thesis_7_1.dance"), "--world",
+                     str(data / "worlds" / "crowd_and_bystander.toml"), "--runs", "2",
+                     "--jobs", "2", "--no-lidar", "--out", str(out)])
+    assert done.returncode == 1, done.stderr
+    cert = json.loads((out / "certificate.json").read_text())
+    assert cert["passed"] is False
+    assert cert["runs"] == 2
+    assert cert["processes"] == 2
+    assert [r["seed"] for r in cert["per_run"]] == [0, 1]
+    assert cert["contacts_moving"] == 2  # R1 drives into the bystander in both runs
+    assert cert["runs_with_contacts_moving"] == 2
+    assert cert["contacts_standing"] == 0
+    assert "2 contacts of a moving robot with a person in 2 of 2 runs (seeds 0, 1)" in (
+        done.stdout)
+    assert "verdict: FAILED" in done.stdout
+    assert (out / "certificate.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp_path: Path,
+                                                 capsys: Capture) -> None:
+    """Each per-run line is what ``dancebots run`` with that seed measures."""
+    world = str(data / "worlds" / "crowd_and_bystander.toml")
+    out = tmp_path / "cert"
+    done = _certify([str(examples / "thesis_7_1.dance"), "--world", world, "--runs", "3",
+                     "--first-seed", "4", "--out", str(out)])
+    assert done.returncode == 0, done.stderr
+    cert = json.loads((out / "certificate.json").read_text())
+    assert cert["passed"] is True
+    assert [r["seed"] for r in cert["per_run"]] == [4, 5, 6]
+    assert "verdict: PASSED" in done.stdout
+    # the bystander stands on R1's last leg for good: safe, but R1 never gets there
+    assert main(["run", str(examples / "thesis_7_1.dance"), "--world", world, "--profile",
+                 "realistic", "--seed", "5", "--no-animation", "--out",
+                 str(tmp_path / "run")]) == 1
+    assert "a robot ends away from the final slot (more than 0.5 m): R1" in (
+        capsys.readouterr().out)
+    assert cert["runs_not_clean"] == 3
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    seed5 = cert["per_run"][1]
+    assert round(seed5["min_person_gap"], 4) == metrics["min_person_gap_m"]
+    assert seed5["stops"] == metrics["stops"]
+    assert seed5["contacts_moving"] == 0
+    assert metrics["collisions"] == 0
+    gaps = [r["min_person_gap"] for r in cert["per_run"]]
+    assert cert["min_person_gap_m"]["min"] == round(min(gaps), 4)
+    assert len(set(gaps)) == 3  # every seed drew its own crowd
+
+
+def test_certify_needs_a_world_with_people(examples: Path, capsys: Capture) -> None:
+    assert main(["certify", str(examples / "thesis_7_1.dance")]) == 2
+    assert ("certify needs --world W: a world with the people ([[crowds]] or "
+            "[[spectators]], docs/worlds.md)") in capsys.readouterr().err
+
+
+def test_the_certificate_counts_the_robots_doing_apart() -> None:
+    def run(seed: int, moving: int, standing: int, gap: float | None) -> RunSummary:
+        return RunSummary(seed, moving, standing, 0, gap, 2.0 * seed, seed, 1.0, 0.02,
+                          moving == 0, (), 1.0)
+
+    job = CertifyJob("show.dance", "world.toml")
+    cert = certificate(job, [run(2, 0, 1, 0.0), run(0, 0, 0, 0.3), run(1, 0, 0, None)],
+                       3.0, 2)
+    data = cert.to_json()
+    assert cert.passed  # a robot standing still that a person stood in is not its doing
+    assert data["contacts_standing"] == 1
+    assert [r["seed"] for r in data["per_run"]] == [0, 1, 2]
+    assert data["min_person_gap_m"] == {"min": 0.0, "p1": 0.003, "p5": 0.015, "median": 0.15,
+                                        "max": 0.3}
+    assert data["held_robot_s"]["max"] == 4.0
+    failing = certificate(job, [run(0, 1, 0, 0.0)], 1.0, 1)
+    assert not failing.passed
+    assert failing.to_json()["runs_with_contacts_moving"] == 1
