@@ -95,6 +95,7 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     seed5 = cert["per_run"][1]
     assert round(seed5["min_person_gap"], 4) == metrics["min_person_gap_m"]
     assert seed5["stops"] == metrics["stops"]
+    assert round(seed5["held_place_error"], 4) == metrics["held_place_error_m"]
     assert seed5["contacts_moving"] == 0
     assert metrics["collisions"] == 0
     gaps = [r["min_person_gap"] for r in cert["per_run"]]
@@ -110,8 +111,8 @@ def test_certify_needs_a_world_with_people(examples: Path, capsys: Capture) -> N
 
 def test_the_certificate_counts_the_robots_doing_apart() -> None:
     def run(seed: int, moving: int, standing: int, gap: float | None) -> RunSummary:
-        return RunSummary(seed, moving, standing, 0, gap, 2.0 * seed, seed, 1.0, 0.02,
-                          moving == 0, (), 1.0)
+        return RunSummary(seed, moving, standing, 0, gap, 2.0 * seed, seed, 0.1 * seed, 1.0,
+                          0.02, moving == 0, (), 1.0)
 
     job = CertifyJob("show.dance", "world.toml")
     cert = certificate(job, [run(2, 0, 1, 0.0), run(0, 0, 0, 0.3), run(1, 0, 0, None)],
@@ -123,6 +124,7 @@ def test_the_certificate_counts_the_robots_doing_apart() -> None:
     assert data["min_person_gap_m"] == {"min": 0.0, "p1": 0.003, "p5": 0.015, "median": 0.15,
                                         "max": 0.3}
     assert data["held_robot_s"]["max"] == 4.0
+    assert data["held_place_error_m"]["max"] == 0.2
     failing = certificate(job, [run(0, 1, 0, 0.0)], 1.0, 1)
     assert not failing.passed
     assert failing.to_json()["runs_with_contacts_moving"] == 1

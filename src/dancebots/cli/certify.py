@@ -204,6 +204,11 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
     out.print(f"held by the stop rule, robot-s per run: median {held['median']:.1f}, max "
               f"{held['max']:.1f}; rest after the planned end, s: median "
               f"{overrun['median']:.1f}, max {overrun['max']:.1f}", highlight=False)
+    apart = data["held_place_error_m"]
+    assert isinstance(apart, dict)
+    if apart["max"] is not None:
+        out.print(f"farthest a robot was from its place while one was held, m: median "
+                  f"{apart['median']:.2f}, max {apart['max']:.2f}", highlight=False)
     not_clean = sum(1 for r in cert.runs if not r.clean)
     if not_clean:
         out.print(f"{not_clean} runs were not clean for other reasons (see per_run in "

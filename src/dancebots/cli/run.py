@@ -252,6 +252,9 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
               + ("n/a" if clearance is None else f"{clearance:.3f} m")
               + ("" if metrics.min_person_gap is None else
                  f"; smallest gap to a person: {metrics.min_person_gap:.3f} m"), highlight=False)
+    if metrics.held_place_error is not None:
+        out.print(f"farthest a robot was from its place while a robot was held: "
+                  f"{metrics.held_place_error:.2f} m", highlight=False)
     style = "bold red" if metrics.collisions else "green"
     out.print(f"collisions: {metrics.collisions}", style=style, highlight=False)
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)

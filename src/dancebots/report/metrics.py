@@ -30,11 +30,27 @@ from dancebots.geometry import wrap_angles
 from dancebots.plan.placement import true_runs
 from dancebots.shows.formation import STATUS, RunResult
 
-__all__ = ["ANGULAR_DEADBAND", "DESIRED_SPEED_MIN", "FACING_AWAY_ANGLE", "REVERSE_DISTANCE_MIN",
-           "REVERSE_SPEED_MIN", "FormationError", "RobotMetrics", "RowMetrics", "RunMetrics",
-           "against_desired", "formation_error", "heading_errors", "reverse_runs",
-           "run_metrics", "samples_per_tick", "sign_flips", "smallest_person_gap",
-           "spacing_change"]
+__all__ = [
+    "ANGULAR_DEADBAND",
+    "DESIRED_SPEED_MIN",
+    "FACING_AWAY_ANGLE",
+    "REVERSE_DISTANCE_MIN",
+    "REVERSE_SPEED_MIN",
+    "FormationError",
+    "RobotMetrics",
+    "RowMetrics",
+    "RunMetrics",
+    "against_desired",
+    "formation_error",
+    "heading_errors",
+    "held_place_error",
+    "reverse_runs",
+    "run_metrics",
+    "samples_per_tick",
+    "sign_flips",
+    "smallest_person_gap",
+    "spacing_change",
+]
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
@@ -149,6 +165,7 @@ class RunMetrics:
     follower: str = "thesis"
     timing: str = "thesis"
     min_person_gap: float | None = None
+    held_place_error: float | None = None
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -205,6 +222,7 @@ class RunMetrics:
             "collision_events": list(self.collision_events),
             "min_clearance_m": r3(self.min_clearance),
             "min_person_gap_m": r3(self.min_person_gap),
+            "held_place_error_m": r3(self.held_place_error),
             "max_spacing_change_m": r3(self.max_spacing_change),
             "rms_slot_error_m": r3(self.rms_slot_error),
             "max_slot_error_m": r3(self.max_slot_error),
@@ -310,7 +328,23 @@ def run_metrics(result: RunResult) -> RunMetrics:
         min_person_gap=smallest_person_gap(
             result.poses, np.array([t.length for t in result.placement.types]),
             np.array([t.width for t in result.placement.types]), result.spectators,
-            result.spectator_radii))
+            result.spectator_radii),
+        held_place_error=held_place_error(result.poses, result.reference, stopped, during))
+
+
+def held_place_error(poses: FloatArray, reference: FloatArray, stopped: BoolArray,
+                     during: BoolArray) -> float | None:
+    """The largest distance (m) of any robot from its place (its follower's reference,
+    ``RunResult.reference``) at a tick of the show (``during`` (T,)) at which some robot of
+    the show is held by the stop rule (``stopped`` (R, T)): how far the formation drifts
+    apart while one robot waits for a person. poses (R, T, 3), reference (R, T, 5); None
+    when no robot was held."""
+    held = stopped.any(axis=0) & during
+    if not held.any():
+        return None
+    off = np.hypot(poses[:, held, 0] - reference[:, held, 0],
+                   poses[:, held, 1] - reference[:, held, 1])
+    return float(off.max())
 
 
 def smallest_person_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray,

@@ -46,9 +46,10 @@ class RunSummary:
     contacts_standing: contacts with a person of a robot that stood still; robot_contacts:
     contacts of robots with robots, walls or obstacles; min_person_gap: the smallest gap
     between a robot and a person, m (None without people); held: robot-seconds held by the
-    stop rule; stops: how often a robot was held; overrun: s from the planned end until the
-    last robot came to rest; max_final_error: m; clean: the run's verdict; failures: its lines;
-    wall: s the run took.
+    stop rule; stops: how often a robot was held; held_place_error: the largest distance of a
+    robot from its place while some robot was held, m (None: none was); overrun: s from the
+    planned end until the last robot came to rest; max_final_error: m; clean: the run's
+    verdict; failures: its lines; wall: s the run took.
     """
 
     seed: int
@@ -58,6 +59,7 @@ class RunSummary:
     min_person_gap: float | None
     held: float
     stops: int
+    held_place_error: float | None
     overrun: float
     max_final_error: float
     clean: bool
@@ -114,7 +116,7 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         seed, sum(1 for e in people if e.get("robot_moving", True)),
         sum(1 for e in people if not e.get("robot_moving", True)), len(events) - len(people),
         metrics.min_person_gap, float(sum(r.stopped_time for r in metrics.robots)),
-        int(sum(r.stops for r in metrics.robots)),
+        int(sum(r.stops for r in metrics.robots)), metrics.held_place_error,
         max(metrics.run_duration - metrics.show_duration, 0.0), metrics.max_final_error,
         not failures, tuple(failures), wall)
 
@@ -172,6 +174,8 @@ class Certificate:
             "runs_not_clean": sum(1 for r in self.runs if not r.clean),
             "min_person_gap_m": stats(self.gaps()),
             "held_robot_s": stats(np.array([r.held for r in self.runs])),
+            "held_place_error_m": stats(np.array([r.held_place_error for r in self.runs
+                                                  if r.held_place_error is not None])),
             "overrun_s": stats(np.array([r.overrun for r in self.runs])),
             "wall_s": round(self.wall, 2),
             "processes": self.processes,
