@@ -1,0 +1,118 @@
+"""The formation's shared show clock (an addition to thesis ch. 4.2, where every robot's
+virtual leader runs on its own from the agreed start, so a robot held by a visitor falls
+behind while the others drive on).
+
+Every robot publishes a :class:`HoldMessage` at every control tick: its role, its clock when
+sending (the robots' clocks are shared, NTP, as for the start agreement), its show time and
+whether it holds the show (held by something that is not a formation mate on its place, or
+in its error state). Each robot keeps a :class:`ShowClock`. Its show time advances with its
+clock only while
+
+* it does not hold the show itself,
+* no mate's latest message holds it, and
+* every mate's latest message is younger than ``heartbeat_timeout`` (a robot not heard from
+  counts as a hold: a lost robot stops the show; the show never runs on without it);
+
+and never beyond any mate's show time as extrapolated from its latest message (that show time
+plus the time since it was sent, if that mate's clock was running), nor backwards. So every
+robot's show time stops when one is held and all resume together; delayed or lost messages
+make a robot wait a little longer, never run ahead, and every clock catches the slowest up to
+within one message delay: the formation shares one show time. Pure functions; times in s.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from types import MappingProxyType
+from typing import Literal, get_args
+
+__all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "HoldMessage", "HoldParams", "HoldStrategy",
+           "ShowClock", "clock_receive", "clock_tick", "new_clock"]
+
+HoldStrategy = Literal["together", "alone"]
+HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
+"""``together`` (the default, an addition): the shared show clock of this module; ``alone``
+(thesis 4.2): every robot's show time is its clock since the start, whatever the others do."""
+
+
+ADVANCE_MIN = 1e-9
+"""s: a show time advances by more than this or not at all (no creep by rounding)."""
+
+
+@dataclass(frozen=True, slots=True)
+class HoldMessage:
+    """What a robot tells the formation at every tick: its ``role``, its clock when sending
+    (``stamp``, s), its ``show_time`` then (s) and whether it ``holds`` the show."""
+
+    role: str
+    stamp: float
+    show_time: float
+    holds: bool
+
+
+@dataclass(frozen=True, slots=True)
+class HoldParams:
+    """heartbeat_timeout: s without a message from a mate after which it counts as a hold
+    (10 ticks at 10 Hz: a few lost messages do not stop the show, a robot gone does)."""
+
+    heartbeat_timeout: float = 1.0
+
+
+@dataclass(frozen=True, slots=True)
+class ShowClock:
+    """One robot's view of the shared show clock: its ``role``, the ``mates`` it waits for,
+    its show time (s) at its clock ``updated`` (s), whether it ran at its last tick, and the
+    latest message heard from each mate."""
+
+    role: str
+    mates: tuple[str, ...]
+    show_time: float
+    updated: float
+    running: bool
+    heard: Mapping[str, HoldMessage]
+
+
+def new_clock(role: str, roles: tuple[str, ...], start: float) -> ShowClock:
+    """The clock of ``role`` in a formation of ``roles`` at the agreed start (its clock
+    ``start`` s, show time 0); it runs once it has heard every mate."""
+    return ShowClock(role, tuple(r for r in roles if r != role), 0.0, start, False,
+                     MappingProxyType({}))
+
+
+def clock_receive(clock: ShowClock, message: HoldMessage) -> ShowClock:
+    """``clock`` after hearing ``message`` (its own echo, unknown roles and messages older
+    than the latest of that role are ignored)."""
+    if message.role not in clock.mates or not (
+            math.isfinite(message.stamp) and math.isfinite(message.show_time)):
+        return clock
+    latest = clock.heard.get(message.role)
+    if latest is not None and latest.stamp >= message.stamp:
+        return clock
+    return replace(clock, heard=MappingProxyType({**clock.heard, message.role: message}))
+
+
+def clock_tick(clock: ShowClock, now: float, holds: bool,
+               params: HoldParams = HoldParams()) -> ShowClock:
+    """``clock`` at its clock ``now`` (s): its show time advanced by the time since its last
+    tick unless it ``holds`` the show itself, a mate's latest message holds it or a mate was
+    not heard from for ``heartbeat_timeout``; never beyond a mate's extrapolated show time,
+    never backwards (module docstring)."""
+    elapsed = max(now - clock.updated, 0.0)
+    waiting = holds
+    ceiling = math.inf
+    for mate in clock.mates:
+        message = clock.heard.get(mate)
+        if message is None or now - message.stamp > params.heartbeat_timeout:
+            waiting = True
+            continue
+        if message.holds:
+            waiting = True
+        ceiling = min(ceiling, message.show_time + (
+            0.0 if message.holds else max(now - message.stamp, 0.0)))
+    show_time = clock.show_time
+    if not waiting and min(show_time + elapsed, ceiling) > show_time + ADVANCE_MIN:
+        show_time = min(show_time + elapsed, ceiling)
+    return replace(clock, show_time=show_time, updated=now,
+                   running=show_time > clock.show_time)

@@ -1,0 +1,129 @@
+"""The shared show clock (sync/hold.py): one show time for the formation, whatever the
+network does."""
+
+from __future__ import annotations
+
+import itertools
+import random
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dancebots.sync.hold import (
+    HoldMessage,
+    HoldParams,
+    ShowClock,
+    clock_receive,
+    clock_tick,
+    new_clock,
+)
+
+ROLES = ("R1", "R2", "R3")
+TICK = 0.1
+
+
+def _network(ticks: int, holds: dict[str, tuple[float, float]], delay_ticks: int = 0,
+             loss: float = 0.0, seed: int = 0, cut: tuple[str, float] | None = None,
+             ) -> list[dict[str, float]]:
+    """Three robots ticking at 10 Hz from clock 0, each holding the show during its interval
+    of ``holds`` (clock times), their messages delivered ``delay_ticks`` ticks later, each
+    lost with probability ``loss``; ``cut``: a role whose messages stop from that clock on.
+    Returns every robot's show time at each tick."""
+    rng = random.Random(seed)
+    clocks = {r: new_clock(r, ROLES, 0.0) for r in ROLES}
+    in_flight: list[tuple[int, HoldMessage]] = []
+    history = []
+    for k in range(ticks):
+        now = k * TICK
+        for _due, message in [m for m in in_flight if m[0] <= k]:
+            for r in ROLES:
+                clocks[r] = clock_receive(clocks[r], message)
+        in_flight = [m for m in in_flight if m[0] > k]
+        for r in ROLES:
+            start, end = holds.get(r, (1e9, 1e9))
+            holding = start <= now < end
+            clocks[r] = clock_tick(clocks[r], now, holding)
+            if cut is not None and r == cut[0] and now >= cut[1]:
+                continue
+            if rng.random() >= loss:
+                in_flight.append((k + 1 + delay_ticks,
+                                  HoldMessage(r, now, clocks[r].show_time, holding)))
+        history.append({r: clocks[r].show_time for r in ROLES})
+    return history
+
+
+def test_the_clock_waits_to_hear_every_mate_then_runs_with_the_robots_clocks() -> None:
+    history = _network(30, {})
+    assert history[0] == {"R1": 0.0, "R2": 0.0, "R3": 0.0}  # nobody heard yet
+    final = history[-1]
+    # the first tick (nobody heard) covers no time: the show time is the clock from then on
+    assert abs(final["R1"] - 2.9) < 1e-9
+    assert final["R1"] == final["R2"] == final["R3"]
+
+
+def test_one_robot_held_stops_every_robots_show_time_and_all_resume_together() -> None:
+    history = _network(100, {"R2": (3.0, 5.0)})
+    during = [h for k, h in enumerate(history) if 3.2 <= k * TICK < 5.0]
+    assert all(h == during[0] for h in during)  # nobody's show time moves while R2 holds
+    final = history[-1]
+    assert final["R1"] == final["R2"] == final["R3"]
+    assert abs(final["R1"] - (9.9 - 0.1 - 2.0)) < 0.11  # the hold cost the show 2 s
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 5), st.floats(0.0, 0.3), st.integers(0, 2**31),
+       st.floats(1.0, 6.0), st.floats(0.1, 3.0))
+def test_delay_and_loss_never_split_the_formation(delay_ticks: int, loss: float, seed: int,
+                                                  start: float, length: float) -> None:
+    """With messages delayed by up to 0.5 s and up to 30 % lost, the robots' show times stay
+    within the delay plus the ticks a loss costs, the clocks never go backwards, and all end
+    equal."""
+    history = _network(150, {"R3": (start, start + length)}, delay_ticks, loss, seed)
+    for before, after in itertools.pairwise(history):
+        assert all(after[r] >= before[r] for r in ROLES)
+    for times in history:
+        spread = max(times.values()) - min(times.values())
+        assert spread <= (delay_ticks + 1) * TICK + 1.0 + 1e-9  # heartbeat timeout bounds it
+    assert len({round(t, 9) for t in history[-1].values()}) == 1
+
+
+def test_a_robot_whose_link_is_cut_while_it_holds_stops_the_show_for_good() -> None:
+    history = _network(100, {"R1": (2.0, 9.9)}, cut=("R1", 3.0))
+    stopped = history[40]
+    for times in history[40:]:  # nobody runs on without R1, even after it no longer holds
+        assert times["R2"] == stopped["R2"]
+        assert times["R3"] == stopped["R3"]
+        assert times["R1"] <= stopped["R2"] + 1e-9
+
+
+def test_a_lost_robot_stops_the_show_after_the_heartbeat_timeout() -> None:
+    history = _network(100, {}, cut=("R3", 4.0))
+    frozen = history[-1]
+    for role in ROLES:  # R3, which still hears the others, stays within one delay of them
+        assert abs(frozen[role] - history[60][role]) < 1e-9
+    # the others ran on until R3's last message was older than the timeout (1 s)
+    assert 4.5 <= frozen["R1"] <= 4.0 + HoldParams().heartbeat_timeout + 0.2
+    assert frozen["R3"] - frozen["R1"] <= TICK + 1e-9
+
+
+def test_old_own_unknown_and_non_finite_messages_are_ignored() -> None:
+    clock = new_clock("R1", ROLES, 0.0)
+    assert clock_receive(clock, HoldMessage("R1", 1.0, 1.0, True)) is clock
+    assert clock_receive(clock, HoldMessage("R9", 1.0, 1.0, True)) is clock
+    assert clock_receive(clock, HoldMessage("R2", float("nan"), 1.0, True)) is clock
+    assert clock_receive(clock, HoldMessage("R2", 1.0, float("inf"), True)) is clock
+    newer = clock_receive(clock, HoldMessage("R2", 2.0, 1.0, False))
+    assert clock_receive(newer, HoldMessage("R2", 1.5, 1.0, True)) is newer
+
+
+def test_the_clock_never_runs_ahead_of_a_mate_nor_backwards() -> None:
+    clock: ShowClock = new_clock("R1", ("R1", "R2"), 0.0)
+    clock = clock_receive(clock, HoldMessage("R2", 1.0, 0.5, False))
+    clock = clock_tick(clock, 1.0, False)
+    assert clock.show_time == 0.5  # R2's show time at 1.0 s, not R1's 1.0
+    clock = clock_tick(clock, 1.2, False)
+    assert abs(clock.show_time - 0.7) < 1e-12  # R2's extrapolated: 0.5 + 0.2
+    clock = clock_receive(clock, HoldMessage("R2", 1.3, 0.3, False))  # R2 behind: R1 waits
+    clock = clock_tick(clock, 1.4, False)
+    assert clock.show_time == 0.7
+    assert not clock.running
