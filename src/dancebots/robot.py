@@ -53,6 +53,7 @@ from dancebots.perception.obstacles import (
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
+from dancebots.sync.hold import ADVANCE_MIN
 from dancebots.world import RobotType
 
 __all__ = ["DETECTORS", "FOLLOWERS", "BrainOptions", "BrainState", "Command", "Detector",
@@ -77,6 +78,15 @@ keeping its reference's speed (:meth:`RobotBrain._approach_limit`)."""
 MATE_MARGIN = 0.3
 """m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
 should be are left out of the tracking and path followers' force field."""
+HOLD_LAG = 0.05
+"""m: a robot this far from its place that its perception slows (the approach limit, the turn
+guard) holds the formation's shared show clock, as a held robot does (``sync.hold``), when a
+stranger (a point that is no mate on its place) is within :data:`STRANGER_NEAR`: the
+formation waits instead of leaving it behind."""
+SLOWED = 0.02
+"""m/s or rad/s by which a command must be cut to count as slowed (:data:`HOLD_LAG`)."""
+STRANGER_NEAR = 1.5
+"""m from the footprint within which a stranger can be what slows a robot."""
 GIVE_WAY_SPEED = 0.05
 """m/s: the fastest a robot drives while no part of the turn it should make is allowed and
 what blocks it is beside its leading half (an addition; ``RobotBrain._guard_turn``): a robot
@@ -136,6 +146,14 @@ class BrainState:
     seen_from: tuple[float, float, float] | None = None
     history: tuple[tuple[float, float, float, float], ...] = ()
     held: bool = False
+    holds_show: bool = False
+    show_time: float | None = None
+
+    @property
+    def holding_the_show(self) -> bool:
+        """Whether this robot holds the formation's shared show clock (``sync.hold``): held
+        by something that is not a formation mate on its place, or in its error state."""
+        return self.holds_show or self.safety.error is not None
 
     @property
     def status(self) -> str:
@@ -277,23 +295,31 @@ class RobotBrain:
 
     def step(self, state: BrainState, show_time: float,
              pose: tuple[float, float, float] | None, cloud: PointCloud | None = None,
-             ) -> tuple[BrainState, Command, tuple[Event, ...]]:
+             clock: float | None = None) -> tuple[BrainState, Command, tuple[Event, ...]]:
         """One control tick: show time in s (negative before the start), pose (x, y, theta)
-        in the robot's own map frame or None (a failed look-up), the cloud that arrived.
-        Returns the new state, the command and the events of this tick."""
+        in the robot's own map frame or None (a failed look-up), the cloud that arrived, and
+        the robot's clock (s, the time base of the clouds' stamps; None: the show time, as
+        when every robot's show time is its clock since the start).
+        Returns the new state, the command and the events of this tick.
+
+        A show time that did not advance since the last tick (the formation's shared clock
+        paused: ``sync.hold``) stands the reference still: the robot stops on its place
+        instead of driving on with the speeds the plan has there."""
+        now = show_time if clock is None else clock
         sensing = self.sensing
         history = state.history
         obstacles, seen_from = state.obstacles, state.seen_from
         height_step = state.height_step
         if pose is not None and sensing.lidar and sensing.detector == "compensated":
-            history = (*history[-HISTORY_LENGTH:], (show_time, *pose))
+            history = (*history[-HISTORY_LENGTH:], (now, *pose))
         if cloud is not None and sensing.lidar:
             obstacles = cloud.columns  # filtered at every tick, with the pose of that tick
             height_step = cloud.height_step
             seen_from = self._pose_at(history, cloud.stamp) if (
                 sensing.detector == "compensated") else None
         command = STOP
-        held = False
+        held = holds_show = False
+        paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
             strangers: Perception | None = None  # the points that are no mate on its place
@@ -305,19 +331,29 @@ class RobotBrain:
                     if strangers is not None:
                         seen = replace(seen, force=strangers.force)
             reference_speed = 0.0
+            behind = 0.0  # m from its place (the tracking and path followers)
             if self.follower != "thesis":
                 follower = state.follower
                 reference = self._reference(show_time)
+                if paused:  # the shared show clock stopped: the place stands where it is
+                    reference = replace(reference, speed=0.0, angular_speed=0.0)
                 reference_speed = abs(reference.speed)
                 linear, angular = tracking_step(self.tracking, pose, reference, seen.force)
+                behind = math.hypot(reference.pose[0] - pose[0], reference.pose[1] - pose[1])
             else:
                 sample = self._sample(show_time)
                 follower, (linear, angular) = thesis_follower_step(
                     self.params, state.follower, show_time, pose, sample.leader,
                     sample.path_point, sample.desired, sample.required, sample.moving,
                     seen.force)
+            wanted = linear, angular  # the follower's, before what it sees cuts them
             if (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
+                # it holds the formation's show clock unless only a mate on its place holds it
+                # (that mate moves on with the show; holding the clock for it would stall)
+                holds_show = strangers is None or bool(
+                    (strangers.flags.front and linear > 0)
+                    or (strangers.flags.rear and linear < 0))
                 linear = 0.0
             elif sensing.approach_gain > 0:
                 if linear > 0:
@@ -332,17 +368,24 @@ class RobotBrain:
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
                 linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
                                                    pose, linear, angular)
+            if not held and behind > HOLD_LAG and (
+                    abs(linear) < abs(wanted[0]) - SLOWED
+                    or abs(angular) < abs(wanted[1]) - SLOWED):
+                # slowed or kept from turning by what it sees, and falling behind its place:
+                # it holds the show as if held, when a stranger is near (not for mates alone)
+                near = strangers if strangers is not None else seen
+                holds_show = near.nearest < STRANGER_NEAR
             command = Command(linear, angular)
         else:
             follower = state.follower
         safety, events, may_move = safety_step(
-            sensing.safety, state.safety, show_time, pose is not None,
+            sensing.safety, state.safety, now, pose is not None,
             cloud is not None or not sensing.lidar, held)
         if not may_move:
             command = STOP
         new_state = BrainState(follower=follower, safety=safety, obstacles=obstacles,
                                height_step=height_step, seen_from=seen_from, history=history,
-                               held=held)
+                               held=held, holds_show=holds_show, show_time=show_time)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

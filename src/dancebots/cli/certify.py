@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 from dancebots.cli.common import (
     ShowOutcome,
     add_follower_argument,
+    add_hold_argument,
     add_show_arguments,
     add_timing_argument,
     bundled,
@@ -64,6 +65,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="robots without LIDAR (they cannot see people: for comparison)")
     add_follower_argument(parser)
     add_timing_argument(parser)
+    add_hold_argument(parser)
     parser.add_argument("--final-tolerance", type=positive, default=0.5, metavar="M",
                         help="a run whose robot ends further than this from its final slot "
                         "is not clean, m (default 0.5; reported, does not fail the "
@@ -86,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
         return refuse(NAME, args.json, "certify needs --world W: a world with the people "
                       "([[crowds]] or [[spectators]], docs/worlds.md)")
     job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
-                     args.timing, not args.no_lidar, args.final_tolerance)
+                     args.timing, not args.no_lidar, args.final_tolerance, args.hold)
     from dancebots.loading import load_show
 
     show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)

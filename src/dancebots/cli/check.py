@@ -12,6 +12,7 @@ from dancebots.cli.common import (
     EXIT_OK,
     EXIT_WARNINGS,
     add_follower_argument,
+    add_hold_argument,
     add_show_arguments,
     add_timing_argument,
     positive,
@@ -37,6 +38,7 @@ DESCRIPTION = ("Check a choreography like a compiler checks code: every problem 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_show_arguments(parser)
     add_timing_argument(parser)
+    add_hold_argument(parser)
     add_follower_argument(parser)
     parser.add_argument("--rigid-only", action="store_true",
                         help="skip the simulation pass: only the checks on the rigid desired "
@@ -160,7 +162,8 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
-    config = SimConfig(brain=BrainOptions(follower=args.follower), compiled=compiled)
+    config = SimConfig(brain=BrainOptions(follower=args.follower), compiled=compiled,
+                       hold=args.hold)
     with progress(console, "simulating  (show s)") as update:
         result = simulate(plan, arena, placement, config, update)
     sys.stderr.flush()

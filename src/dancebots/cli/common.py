@@ -546,6 +546,21 @@ def add_timing_argument(parser: argparse.ArgumentParser) -> None:
                         "turn; thesis: the leader's speeds as the thesis gives them")
 
 
+HOLDS = ("together", "alone")
+"""``sync.hold.HOLD_STRATEGIES`` (the CLI imports only the standard library at start-up)."""
+DEFAULT_HOLD = "together"
+
+
+def add_hold_argument(parser: argparse.ArgumentParser) -> None:
+    """--hold: whether the formation waits for a robot held by a person
+    (``SimConfig.hold``)."""
+    parser.add_argument("--hold", choices=HOLDS, default=DEFAULT_HOLD,
+                        help="together (default): when a robot is held (or slowed and left "
+                        "behind) by a person, every robot's virtual leader waits, and all "
+                        "resume together (a shared show clock); alone: each robot's leader "
+                        "runs on from the start whatever the others do (thesis 4.2)")
+
+
 def add_follower_argument(parser: argparse.ArgumentParser) -> None:
     """--follower: how each robot follows its slot (``BrainOptions.follower``)."""
     parser.add_argument("--follower", choices=FOLLOWERS, default=DEFAULT_FOLLOWER,

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 from dancebots.cli.common import (
     ShowOutcome,
     add_follower_argument,
+    add_hold_argument,
     add_show_arguments,
     add_timing_argument,
     bundled,
@@ -91,6 +92,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="how the virtual force field steers (docs/safety.md)")
     add_follower_argument(parser)
     add_timing_argument(parser)
+    add_hold_argument(parser)
     parser.add_argument("--final-tolerance", type=positive, default=None, metavar="M",
                         help="a robot ending further than this from its final slot fails the "
                         "show, m (default 0.5)")
@@ -159,8 +161,8 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
     brain = BrainOptions(follower=args.follower, detector=args.detector,
                          force_steering=args.force_steering)
     config = SimConfig(profile=CORE_PROFILES[args.profile], seed=args.seed, lidar=lidar,
-                       brain=brain, record_lidar=args.show_lidar and lidar is not None
-                       and not args.no_animation)
+                       brain=brain, hold=args.hold, record_lidar=args.show_lidar
+                       and lidar is not None and not args.no_animation)
     started = time.perf_counter()
     with progress(console, "simulating  (show s)") as update:
         result = simulate(plan, arena, placement, config, update)

@@ -16,7 +16,12 @@ from numpy.typing import NDArray
 
 from dancebots.diagnostics import Diagnostic, Severity
 from dancebots.plan.placement import instruction_position, true_runs
-from dancebots.report.metrics import against_desired, heading_errors, samples_per_tick
+from dancebots.report.metrics import (
+    against_desired,
+    heading_errors,
+    moving_over_to_place,
+    samples_per_tick,
+)
 from dancebots.report.verdict import FINAL_HEADING_TOLERANCE, FINAL_SLOT_TOLERANCE
 from dancebots.shows.formation import RunResult
 
@@ -54,7 +59,7 @@ def simulated_findings(result: RunResult, what_ran: str,
 
     def at(robot: int, tick: int) -> tuple[int, int]:
         formation = plan.formations[int(result.formation[robot, tick])]
-        time = float(result.times[tick])
+        time = float(result.show_time[robot, tick])  # the plan's time the robot was at
         if time >= formation.end and formation.timings:  # after the show: its last instruction
             return formation.timings[-1].span.line, formation.timings[-1].span.col
         return instruction_position(formation, time)
@@ -77,7 +82,7 @@ def simulated_findings(result: RunResult, what_ran: str,
             else "steer the formation clear of it, or let the robots see it (LIDAR)")
     reversing: list[Diagnostic] = []
     off_slot: list[Diagnostic] = []
-    during = result.times <= plan.duration + 1e-9
+    during = result.during_show
     step = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     shortest = max(1, round(limits.min_duration / step)) if step > 0 else 1
     for i, name in enumerate(result.robots):
@@ -97,7 +102,7 @@ def simulated_findings(result: RunResult, what_ran: str,
         # tracking, its place on the leader's path for thesis and path
         distance = np.hypot(result.poses[i, :, 0] - result.reference[i, :, 0],
                             result.poses[i, :, 1] - result.reference[i, :, 1])
-        moving_over = _moving_over(result, i, distance, limits.min_duration)
+        moving_over = moving_over_to_place(result, i, distance, limits.min_duration)
         for a, b in true_runs(during & ~moving_over & (distance > limits.slot_distance)):
             if b - a >= shortest:
                 add(off_slot, i, a, f"{name} is more than {limits.slot_distance:g} m from its "
@@ -131,21 +136,3 @@ def simulated_findings(result: RunResult, what_ran: str,
                 "ones above", None)]
         findings.extend(kind)
     return findings
-
-
-def _moving_over(result: RunResult, robot: int, distance: FloatArray,
-                 grace: float) -> NDArray[np.bool_]:
-    """(T,) the ticks at which ``robot`` is moving over to its place in a formation it has
-    just joined: from the tick its formation changes, for as long as closing the distance
-    (m, ``distance`` (T,) from its place then) takes at vmax less the place's speed then
-    (at least 0.2 vmax), plus ``grace`` s. Being far from the place then is the formation
-    change, not a finding."""
-    times = result.times
-    over = np.zeros(len(times), dtype=bool)
-    vmax = result.plan.parameters.vmax
-    changes = np.flatnonzero(np.diff(result.formation[robot]) != 0) + 1
-    for k in changes.tolist():
-        closing = max(vmax - abs(float(result.reference[robot, k, 3])), 0.2 * vmax)
-        until = times[k] + float(distance[k]) / closing + grace
-        over[k:int(np.searchsorted(times, until, side="right"))] = True
-    return over

@@ -44,6 +44,7 @@ __all__ = [
     "formation_error",
     "heading_errors",
     "held_place_error",
+    "moving_over_to_place",
     "reverse_runs",
     "run_metrics",
     "samples_per_tick",
@@ -166,6 +167,7 @@ class RunMetrics:
     timing: str = "thesis"
     min_person_gap: float | None = None
     held_place_error: float | None = None
+    final_show_time: float | None = None
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -223,6 +225,7 @@ class RunMetrics:
             "min_clearance_m": r3(self.min_clearance),
             "min_person_gap_m": r3(self.min_person_gap),
             "held_place_error_m": r3(self.held_place_error),
+            "final_show_time_s": r3(self.final_show_time),
             "max_spacing_change_m": r3(self.max_spacing_change),
             "rms_slot_error_m": r3(self.rms_slot_error),
             "max_slot_error_m": r3(self.max_slot_error),
@@ -273,7 +276,7 @@ class RunMetrics:
 def run_metrics(result: RunResult) -> RunMetrics:
     """Compute the metrics of a run."""
     plan = result.plan
-    during = result.times <= plan.duration + 1e-9
+    during = result.during_show  # (T,) by the show's own time (paused while robots wait)
     error = np.hypot(result.poses[..., 0] - result.desired[..., 0],
                      result.poses[..., 1] - result.desired[..., 1])[:, during]
     deviation = np.abs(result.leader_distance - result.required_distance)[:, during]
@@ -329,22 +332,49 @@ def run_metrics(result: RunResult) -> RunMetrics:
             result.poses, np.array([t.length for t in result.placement.types]),
             np.array([t.width for t in result.placement.types]), result.spectators,
             result.spectator_radii),
-        held_place_error=held_place_error(result.poses, result.reference, stopped, during))
+        held_place_error=held_place_error(
+            result, stopped | (result.holds if result.holds is not None else stopped), during),
+        final_show_time=float(result.show_time[:, -1].min()) if len(result.times) else None)
 
 
-def held_place_error(poses: FloatArray, reference: FloatArray, stopped: BoolArray,
-                     during: BoolArray) -> float | None:
+def held_place_error(result: RunResult, stopped: BoolArray, during: BoolArray,
+                     grace: float = 1.0) -> float | None:
     """The largest distance (m) of any robot from its place (its follower's reference,
     ``RunResult.reference``) at a tick of the show (``during`` (T,)) at which some robot of
-    the show is held by the stop rule (``stopped`` (R, T)): how far the formation drifts
-    apart while one robot waits for a person. poses (R, T, 3), reference (R, T, 5); None
-    when no robot was held."""
+    the show is held by the stop rule or holds the show (``stopped`` (R, T):
+    ``RunResult.holds``, a robot slowed and left behind by a person): how far the formation
+    drifts apart while one robot waits for a person. Not while a robot moves over to its place in a
+    formation it has just joined (:func:`moving_over_to_place`, with ``grace`` s). None when
+    no robot was held."""
     held = stopped.any(axis=0) & during
     if not held.any():
         return None
-    off = np.hypot(poses[:, held, 0] - reference[:, held, 0],
-                   poses[:, held, 1] - reference[:, held, 1])
-    return float(off.max())
+    worst = 0.0
+    for i in range(len(result.robots)):
+        off = np.hypot(result.poses[i, :, 0] - result.reference[i, :, 0],
+                       result.poses[i, :, 1] - result.reference[i, :, 1])
+        counted = held & ~moving_over_to_place(result, i, off, grace)
+        worst = max(worst, float(off[counted].max(initial=0.0)))
+    return worst
+
+
+def moving_over_to_place(result: RunResult, robot: int, distance: FloatArray,
+                 grace: float) -> NDArray[np.bool_]:
+    """(T,) the ticks at which ``robot`` is moving over to its place in a formation it has
+    just joined: from the tick its formation changes, for as long as closing the distance
+    (m, ``distance`` (T,) from its place then) takes at vmax less the place's speed then
+    (at least 0.2 vmax), plus ``grace`` s. Being far from the place then is the formation
+    change, not a finding."""
+    times = result.times
+    over = np.zeros(len(times), dtype=bool)
+    vmax = result.plan.parameters.vmax
+    changes = np.flatnonzero(np.diff(result.formation[robot]) != 0) + 1
+    for k in changes.tolist():
+        closing = max(vmax - abs(float(result.reference[robot, k, 3])), 0.2 * vmax)
+        until = times[k] + float(distance[k]) / closing + grace
+        over[k:int(np.searchsorted(times, until, side="right"))] = True
+    return over
+
 
 
 def smallest_person_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray,

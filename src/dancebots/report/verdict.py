@@ -84,6 +84,11 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
         who = "robots drive against their" if len(against) > 1 else "a robot drives against its"
         failures.append(f"{who} desired direction (more than {100 * reverse_tolerance:g} % of the "
                         f"time the slot moves): {listed}")
+    if metrics.final_show_time is not None and (
+            metrics.final_show_time < metrics.show_duration - 1e-6):
+        failures.append(f"the show did not finish: its robots waited for people until the run "
+                        f"ended at show time {metrics.final_show_time:.1f} s of "
+                        f"{metrics.show_duration:.1f} s")
     askew = [r for r in metrics.robots if r.final_heading_error > heading_tolerance]
     if askew:
         listed = ", ".join(f"{r.robot} {r.final_heading_error:.0f}°" for r in askew)

@@ -26,7 +26,8 @@ __all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "run_seed",
 class CertifyJob:
     """What every run of a certification shares: the choreography and world files, the
     slowest robot's speed (m/s, None: the world's), the profile's name, the follower, the
-    timing, the robots' LIDAR (False: blind robots) and the final-slot tolerance (m)."""
+    timing, the robots' LIDAR (False: blind robots), the final-slot tolerance (m) and whether
+    the formation waits for a held robot (``SimConfig.hold``)."""
 
     scenario: str
     world: str
@@ -36,6 +37,7 @@ class CertifyJob:
     timing: str = "feasible"
     lidar: bool = True
     final_tolerance: float = 0.5
+    hold: str = "together"
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,7 +101,8 @@ def run_seed(job: CertifyJob, seed: int) -> RunSummary:
     plan, arena, placement = _loaded(job)
     config = SimConfig(profile=PROFILES[job.profile], seed=seed,
                        lidar=LidarConfig() if job.lidar else None,
-                       brain=BrainOptions(follower=job.follower))  # type: ignore[arg-type]
+                       brain=BrainOptions(follower=job.follower),  # type: ignore[arg-type]
+                       hold=job.hold)  # type: ignore[arg-type]
     started = time.perf_counter()
     result = simulate(plan, arena, placement, config)  # type: ignore[arg-type]
     metrics = run_metrics(result)

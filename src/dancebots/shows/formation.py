@@ -30,6 +30,14 @@ from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.recorder import Recorder
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.stage import CollisionEvent, Stage
+from dancebots.sync.hold import (
+    ADVANCE_MIN,
+    HoldMessage,
+    HoldStrategy,
+    clock_receive,
+    clock_tick,
+    new_clock,
+)
 
 __all__ = ["STATUS", "CollisionEvent", "Fault", "FaultKind", "RobotEvent", "RunResult", "SimConfig",
            "simulate"]
@@ -75,6 +83,13 @@ class SimConfig:
         loops (the default: fast per tick; ``lidar.compiled`` and ``brain.compiled`` can
         still turn theirs off), else all as their NumPy references (same results; no numba
         to import and start, about 0.75 s: faster for a short show).
+    hold: ``together`` (the default): the formation shares one show clock that stops while
+        any robot is held by something that is not a mate on its place (``sync.hold``), so
+        the others wait on their places; ``alone`` (thesis 4.2): each robot's show time is
+        the time since the start. hold_delay (s) and hold_loss (probability) act on the
+        robots' hold messages, passed in-process (the kernel here has no netem), as on ROS.
+    max_pause: s the shared clock may fall behind the stage's before the run ends anyway (a
+        person who never leaves a robot's way).
     """
 
     profile: Profile = IDEAL
@@ -88,6 +103,10 @@ class SimConfig:
     faults: tuple[Fault, ...] = ()
     record_lidar: bool = False
     compiled: bool = True
+    hold: HoldStrategy = "together"
+    hold_delay: float = 0.0
+    hold_loss: float = 0.0
+    max_pause: float = 120.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,7 +123,13 @@ class RobotEvent:
 class RunResult:
     """A simulated show, sampled at every control tick.
 
-    times (T,) s of show time. Per robot r and tick k, in the world frame: poses (R, T, 3);
+    times (T,) s of the stage's clock (the time since the start). show_times (R, T): each
+    robot's show time then (the plan's time it follows: ``times`` unless the formation's
+    shared clock paused, ``SimConfig.hold``); holds (R, T): whether each robot held the
+    show then (held by a stranger, or slowed and left behind by one: ``BrainState.
+    holding_the_show``; recorded with either ``SimConfig.hold``). Per robot r and tick k,
+    in the world frame:
+    poses (R, T, 3);
     velocities (R, T, 2) actual (v, w); commands (R, T, 2) commanded (v, w); desired (R, T, 3)
     and leader (R, T, 3): where the robot believes its desired pose and its virtual leader are
     (computed in its own frame from its start pose); required_distance (R, T) its desired
@@ -141,6 +166,23 @@ class RunResult:
     spectator_radii: FloatArray
     reference: FloatArray
     lidar: tuple[tuple[float, tuple[FloatArray, ...]], ...] = ()
+    show_times: FloatArray | None = None
+    holds: NDArray[np.bool_] | None = None
+
+    @property
+    def show_time(self) -> FloatArray:
+        """(R, T) each robot's show time at each tick (``times`` for every robot when none
+        was recorded)."""
+        if self.show_times is not None:
+            return self.show_times
+        return np.broadcast_to(self.times, (len(self.placement.robots), len(self.times)))
+
+    @property
+    def during_show(self) -> NDArray[np.bool_]:
+        """(T,) the ticks at which the show runs: the formation's show time (the earliest of
+        the robots') is within the plan's duration."""
+        result: NDArray[np.bool_] = self.show_time.min(axis=0) <= self.plan.duration + 1e-9
+        return result
 
     @property
     def robots(self) -> tuple[str, ...]:
@@ -173,9 +215,10 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
               for robot, kind in zip(placement.robots, placement.types, strict=True)]
     stage = Stage(arena, placement, config.profile, config.dt, lidar,
                   config.command_timeout, config.seed, config.record_lidar, config.compiled)
-    crew = _Crew(brains, placement.robots, stage, config.faults)
+    crew = _Crew(brains, placement.robots, stage, config)
     clock = Clock(config.dt, plan.duration + config.settle,
-                  max(1, round(config.control_period / config.dt)), settle_from=plan.duration)
+                  max(1, round(config.control_period / config.dt)), settle_from=plan.duration,
+                  max_pause=config.max_pause)
     recorder = run_show(stage, crew.step, clock, progress)
     return _result(plan, arena, placement, config, recorder, brains, tuple(stage.collisions),
                    tuple(crew.events), tuple(stage.scans), stage.discs[:, 2].copy())
@@ -184,37 +227,79 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
 class _Crew:
     """The formation's decisions at a control tick: each robot's brain steps with the cloud
     that reaches it and its pose in its own map frame (withheld from the start of an injected
-    fault); the events the robots voiced or reported accumulate in ``events``."""
+    fault) at its show time; the events the robots voiced or reported accumulate in
+    ``events``. With ``hold`` = together every robot keeps the formation's shared show clock
+    (``sync.hold``) from the hold messages of the others, which reach it ``hold_delay`` s
+    after they were sent unless lost (``hold_loss``, drawn from a generator of its own)."""
 
     def __init__(self, brains: list[RobotBrain], robots: tuple[str, ...], stage: Stage,
-                 faults: tuple[Fault, ...]) -> None:
+                 config: SimConfig) -> None:
         count = len(brains)
+        faults = config.faults
         self.brains, self.robots, self.stage = brains, robots, stage
         self.states: list[BrainState] = [brain.initial_state() for brain in brains]
+        self.together = config.hold == "together"
+        self.clocks = [new_clock(role, robots, 0.0) for role in robots]
+        self.in_flight: list[tuple[float, HoldMessage]] = []
+        self.delay, self.loss = config.hold_delay, config.hold_loss
+        self.message_rng = np.random.default_rng([config.seed, 104_729])
+        self.show_times = np.zeros(count)
         self.lidar_faults = {robots.index(f.robot): f.start for f in faults
                              if f.kind == "lidar"}
         self.pose_faults = {robots.index(f.robot): f.start for f in faults if f.kind == "pose"}
         self.events: list[RobotEvent] = []
         self.status = np.zeros(count, dtype=np.int8)
+        self.holding = np.zeros(count, dtype=bool)
         self.command = np.zeros((count, 2))
+
+    def _show_times(self, now: float) -> None:
+        """Each robot's show time at ``now``: with the shared clock, the messages due are
+        heard and every clock ticks with its own robot's hold of the last tick."""
+        if not self.together:
+            self.show_times[:] = now
+            return
+        due = [m for at, m in self.in_flight if at <= now + 1e-9]
+        self.in_flight = [(at, m) for at, m in self.in_flight if at > now + 1e-9]
+        for i, clock in enumerate(self.clocks):
+            for message in due:
+                clock = clock_receive(clock, message)
+            self.clocks[i] = clock_tick(clock, now, self.states[i].holding_the_show)
+            self.show_times[i] = self.clocks[i].show_time
+
+    def _tell(self, now: float) -> None:
+        """Every robot tells the others its show time and whether it holds the show."""
+        if not self.together:
+            return
+        lost = self.message_rng.random(len(self.robots)) < self.loss if self.loss > 0 else (
+            np.zeros(len(self.robots), dtype=bool))
+        for i, role in enumerate(self.robots):
+            if not lost[i]:
+                self.in_flight.append((now + self.delay, HoldMessage(
+                    role, now, float(self.show_times[i]), self.states[i].holding_the_show)))
 
     def step(self, now: float) -> Tick:
         stage, states = self.stage, self.states
         arrived = stage.deliveries(now)
         own_poses = stage.own_poses().tolist()
+        self._show_times(now)
         for i, brain in enumerate(self.brains):
             if now >= self.lidar_faults.get(i, math.inf):
                 arrived[i] = None
             seen = None if now >= self.pose_faults.get(i, math.inf) else tuple(own_poses[i])
-            states[i], cmd, happened = brain.step(states[i], now, seen, arrived[i])
+            states[i], cmd, happened = brain.step(states[i], float(self.show_times[i]), seen,
+                                                  arrived[i], clock=now)
             self.command[i] = (cmd.linear, cmd.angular)
             self.status[i] = STATUS.index(states[i].status)
+            self.holding[i] = states[i].holding_the_show
             if happened:
                 self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                                    for e in happened)
+        self._tell(now)
         return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
                                    "commands": self.command, "status": self.status,
-                                   "spectators": stage.discs[:, :2]})
+                                   "spectators": stage.discs[:, :2],
+                                   "show_times": self.show_times, "holds": self.holding},
+                    float(self.show_times.min()))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,
@@ -273,15 +358,18 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
     commands = recorder.series("commands")
     status = recorder.series("status")
     spectators = recorder.series("spectators")
+    show_times = recorder.series("show_times")  # (R, T)
     slots = [brain.slot0 for brain in brains]
     desired, leader, required, formation, reference = [], [], [], [], []
     for i, robot in enumerate(placement.robots):
-        track = plan.track(robot, times)
+        track = plan.track(robot, show_times[i])
         desired.append(_to_world(placement.starts, slots, track.desired, i))
         leader.append(_to_world(placement.starts, slots, track.leader, i))
         required.append(track.required_distance)
         formation.append(track.formation)
-        rows = follower_references(plan, robot, times, config.brain.follower)
+        rows = follower_references(plan, robot, show_times[i], config.brain.follower)
+        # where the shared clock stood, the place stood: no speed (as the brain saw it)
+        rows[1:, 3:][np.diff(show_times[i]) <= ADVANCE_MIN] = 0.0
         frame = _to_world(placement.starts, slots, np.zeros((1, 3)), i)[0]
         rows[:, :2] = compose_points(frame, rows[:, :2])
         rows[:, 2] += frame[2]
@@ -292,5 +380,5 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                      smallest_gap(poses, np.array([t.length for t in placement.types]),
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
-                     spectator_radii, np.stack(reference),
-                     scans)
+                     spectator_radii, np.stack(reference), scans, show_times,
+                     recorder.series("holds"))

@@ -42,22 +42,28 @@ PROGRESS_PERIOD = 1.0
 class Clock:
     """The timing of a show: dt the step, s; end: the last step is the first at or after this
     show time, s; steps_per_tick: steps per control tick; settle_from: show time from which
-    the show ends early once everything has stood still for ``STILL`` s (None: never)."""
+    the show ends early once everything has stood still for ``STILL`` s (None: never);
+    max_pause: s by which the show's own show time (``Tick.show_time``) may fall behind the
+    loop's time, each second of it moving the end one second later."""
 
     dt: float
     end: float
     steps_per_tick: int = 1
     settle_from: float | None = None
+    max_pause: float = 0.0
 
 
 @dataclass(frozen=True, slots=True, eq=False)
 class Tick:
     """What a show decided at a control tick: commands (R, 2) (v, w) for every robot of the
     stage, issued at the tick; record: the values to record at the tick, by name (the same
-    names at every tick; copied when recorded)."""
+    names at every tick; copied when recorded); show_time: the show's own time at the tick
+    when it paused (a formation whose shared clock stops while a robot is held), s (None:
+    the loop's time)."""
 
     commands: FloatArray
     record: Mapping[str, NDArray[Any]]
+    show_time: float | None = None
 
 
 Step = Callable[[float], Tick]
@@ -75,27 +81,35 @@ def run_show(stage: Stage, step: Step, clock: Clock,
     total_steps = math.ceil(clock.end / clock.dt)
     still_since: float | None = None
     last_report = -math.inf
-    for k in range(total_steps + 1):
+    show_time = 0.0
+    k = 0
+    while True:
         now = k * clock.dt
         if k % clock.steps_per_tick == 0:
             tick = step(now)
             commands, issued = tick.commands, np.full(count, now)
             recorder.add(now, **tick.record)
+            show_time = now if tick.show_time is None else tick.show_time
+            # a paused show ends as much later, up to max_pause
+            lag = min(max(now - show_time, 0.0), clock.max_pause)
+            if lag > 1e-6:  # (not for rounding: an unpaused show ends where it did)
+                total_steps = math.ceil((clock.end + lag) / clock.dt)
             if progress is not None and now - last_report >= PROGRESS_PERIOD:
-                progress(now, clock.end)
+                progress(min(show_time, clock.end), clock.end)
                 last_report = now
             if clock.settle_from is not None:
                 moving = (np.abs(stage.velocity).max() > STILL_SPEED
                           or np.abs(commands).max() > STILL_COMMAND)
-                if now >= clock.settle_from and not moving:
+                if show_time >= clock.settle_from and not moving:
                     still_since = now if still_since is None else still_since
                     if now - still_since >= STILL:
                         break
                 else:
                     still_since = None
-        if k == total_steps:
+        if k >= total_steps:
             break
         stage.advance(now, commands, issued)
+        k += 1
     if progress is not None:
         progress(clock.end, clock.end)
     return recorder

@@ -85,9 +85,9 @@ class KindBehaviour:
 
 KIND_BEHAVIOUR = {
     "adult": KindBehaviour(watch=0.4, watch_near=0.8, watch_far=2.0, pause_min=3.0,
-                           pause_max=12.0, change_rate=0.0, robot_range=0.35),
+                           pause_max=12.0, change_rate=0.0, robot_range=0.5),
     "child": KindBehaviour(watch=0.6, watch_near=0.3, watch_far=1.2, pause_min=0.5,
-                           pause_max=5.0, change_rate=0.15, robot_range=0.15),
+                           pause_max=5.0, change_rate=0.15, robot_range=0.25),
 }
 """Each kind's behaviour (``world.CROWD_KINDS`` holds its size and speed)."""
 

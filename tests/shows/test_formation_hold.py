@@ -1,0 +1,99 @@
+"""The formation waits together (SimConfig.hold, sync/hold.py): a robot held or left behind by
+a person holds every robot's show time; the thesis's independent leaders stay selectable."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from dancebots.check import CheckOptions
+from dancebots.loading import load_show
+from dancebots.plan.placement import places_followed
+from dancebots.report.metrics import run_metrics
+from dancebots.report.verdict import run_verdict
+from dancebots.robot import BrainOptions
+from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.sim.kinematics import REALISTIC
+from dancebots.sim.setup import prepare_show
+
+ROW = "robots R1 R2 R3\nrow R1,R2,R3 0 1.2\nmove 6 0\n"
+# a bystander in R1's lane (y = 8.2 m) from the start, who walks off at 18 s
+ROOM = """[room]
+size = 14.0
+
+[[spectators]]
+name = "bystander"
+start = 18.0
+path = [[9.0, 8.2], [9.0, 13.0]]
+"""
+
+
+def _run(tmp_path: object, **config: object) -> RunResult:
+    from pathlib import Path
+
+    directory = Path(str(tmp_path))
+    (directory / "row.dance").write_text(ROW)
+    (directory / "room.toml").write_text(ROOM)
+    show = load_show(str(directory / "row.dance"), str(directory / "room.toml"),
+                     check=CheckOptions(places=places_followed("path")), timing="feasible")
+    assert show.report is not None
+    assert show.report.placement is not None
+    arena, placement = prepare_show(show.report.placement)
+    assert show.plan is not None
+    return simulate(show.plan, arena, placement, SimConfig(
+        brain=BrainOptions(follower="path"), **config))  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("profile", ["ideal", "realistic"])
+def test_the_formation_waits_for_a_robot_a_bystander_holds(tmp_path: object,
+                                                           profile: str) -> None:
+    extra = {"profile": REALISTIC} if profile == "realistic" else {}
+    together = run_metrics(_run(tmp_path, **extra))
+    alone = run_metrics(_run(tmp_path, hold="alone", **extra))
+    # while R1 waits for the bystander, every robot stays within 10 cm of its place ...
+    assert together.held_place_error is not None
+    assert together.held_place_error <= 0.10
+    # ... where the thesis's independent leaders leave R1 2.4 m behind
+    assert alone.held_place_error is not None
+    assert alone.held_place_error > 2.0
+    # all resume together and end on their slots; the show took the wait longer
+    assert run_verdict(together).clean
+    assert together.max_final_error <= 0.05
+    assert together.final_show_time is not None
+    assert together.final_show_time >= together.show_duration
+    assert together.run_duration > alone.show_duration + 5.0
+
+
+def test_every_robot_shares_one_show_time_and_it_stops_while_r1_waits(tmp_path: object) -> None:
+    result = _run(tmp_path)
+    show = result.show_time
+    assert np.ptp(show, axis=0).max() <= 0.1 + 1e-9  # one message delay at most
+    paused = np.diff(show[0]) < 1e-9
+    assert 5.0 <= paused.sum() * 0.1 <= 12.0  # R1 held until the bystander walks off
+    assert result.holds is not None
+    assert result.holds[0].any()
+    assert not result.holds[1:].any()  # R2 and R3 wait; only R1 holds the show
+    # where the shared clock stood, the recorded places stood too (no speed)
+    assert np.all(result.reference[:, 1:, 3][:, paused] == 0.0)
+
+
+def test_delayed_and_lost_hold_messages_keep_the_formation_together(tmp_path: object) -> None:
+    result = _run(tmp_path, hold_delay=0.3, hold_loss=0.3, seed=3)
+    metrics = run_metrics(result)
+    assert metrics.held_place_error is not None
+    assert metrics.held_place_error <= 0.25
+    assert run_verdict(metrics).clean
+    assert np.ptp(result.show_time, axis=0).max() <= 1.0 + 1e-9  # within the heartbeat
+
+
+def test_a_show_that_waits_too_long_is_not_clean(tmp_path: object) -> None:
+    result = _run(tmp_path, max_pause=1.0, settle=2.0)
+    metrics = run_metrics(result)
+    verdict = run_verdict(metrics)
+    assert not verdict.clean
+    assert verdict.failures[0].startswith(
+        "the show did not finish: its robots waited for people until the run ended at show "
+        "time ")
+    assert replace(metrics, final_show_time=None).final_show_time is None
