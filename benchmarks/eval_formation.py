@@ -6,7 +6,8 @@ bundled open-day show (in its hall) with each follower (``thesis``: eq. 4.4; ``t
 Kanayama's law on the rigid slot's motion; ``path``, the default: the same law on the place
 on the leader's path) and each timing (``thesis``; ``feasible``, the default: the leader
 slows where a slot or place would move faster than 0.8 vmax), in the ideal and realistic profiles,
-with and without LIDAR, and prints per run:
+with and without LIDAR (the thesis follower with the thesis's independent leaders, ``--hold
+alone``; the others with the formation waiting together, the default), and prints per run:
 
 * ``head°``: the largest heading error against the slot's heading, deg (180: turned round);
 * ``rev%``: the share of the time a slot moves that a robot drives against it (at least
@@ -72,7 +73,8 @@ def run(scenario: str, world: str | None, follower: Follower, timing: Timing, pr
         raise SystemExit(f"{scenario}: does not load: {show.diagnostics}")
     arena, placement = prepare_show(show.report.placement)
     config = SimConfig(profile=PROFILES[profile], lidar=LidarConfig() if lidar else None,
-                       brain=BrainOptions(follower=follower))
+                       brain=BrainOptions(follower=follower),
+                       hold=None)  # together; alone for the thesis follower
     return spectator_figures(simulate(show.plan, arena, placement, config))
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from dancebots.cli import main
-from dancebots.shows.certify import CertifyJob, RunSummary, certificate
+from dancebots.report.certify import CertifyJob, RunSummary, certificate
 
 Capture = pytest.CaptureFixture[str]
 
@@ -89,7 +89,7 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     assert main(["run", str(examples / "thesis_7_1.dance"), "--world", world, "--profile",
                  "realistic", "--seed", "5", "--no-animation", "--out",
                  str(tmp_path / "run")]) == 1
-    assert "the show did not finish: its robots waited for people until the run ended" in (
+    assert "the show did not finish: the formation waited for a held robot until the run" in (
         capsys.readouterr().out)
     assert cert["runs_not_clean"] == 3
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())

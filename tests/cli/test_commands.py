@@ -45,7 +45,7 @@ def test_check_valid_prints_summary(capsys: Capture, tmp_path: Path) -> None:
     assert err == ""
 
 
-THESIS = ("--follower", "thesis", "--timing", "thesis")
+THESIS = ("--follower", "thesis", "--timing", "thesis", "--hold", "alone")
 """The thesis's follower (eq. 4.4) and timing, which the defaults (path, feasible) replace."""
 
 

@@ -94,6 +94,6 @@ def test_a_show_that_waits_too_long_is_not_clean(tmp_path: object) -> None:
     verdict = run_verdict(metrics)
     assert not verdict.clean
     assert verdict.failures[0].startswith(
-        "the show did not finish: its robots waited for people until the run ended at show "
-        "time ")
+        "the show did not finish: the formation waited for a held robot until the run ended "
+        "at show time ")
     assert replace(metrics, final_show_time=None).final_show_time is None

@@ -33,7 +33,7 @@ from dancebots.cli.common import (
 )
 
 if TYPE_CHECKING:
-    from dancebots.shows.certify import Certificate, CertifyJob, RunSummary
+    from dancebots.report.certify import Certificate, CertifyJob, RunSummary
 
 NAME = "certify"
 HELP = "run a show over many seeds among people and write a safety certificate"
@@ -78,7 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from dancebots.shows.certify import CertifyJob, _loaded
+    from dancebots.report.certify import CertifyJob, _loaded
 
     if args.scenario is None:
         args.scenario = short_path(bundled("open_day.dance"))
@@ -116,8 +116,8 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
 
     from rich.console import Console
 
+    from dancebots.report.certify import certificate, run_seed
     from dancebots.report.verdict import Verdict
-    from dancebots.shows.certify import certificate, run_seed
     from dancebots.sim.kernels import kernels_to_compile
 
     console = Console(stderr=True, soft_wrap=True)

@@ -548,17 +548,18 @@ def add_timing_argument(parser: argparse.ArgumentParser) -> None:
 
 HOLDS = ("together", "alone")
 """``sync.hold.HOLD_STRATEGIES`` (the CLI imports only the standard library at start-up)."""
-DEFAULT_HOLD = "together"
 
 
 def add_hold_argument(parser: argparse.ArgumentParser) -> None:
     """--hold: whether the formation waits for a robot held by a person
     (``SimConfig.hold``)."""
-    parser.add_argument("--hold", choices=HOLDS, default=DEFAULT_HOLD,
+    parser.add_argument("--hold", choices=HOLDS, default=None,
                         help="together (default): when a robot is held (or slowed and left "
                         "behind) by a person, every robot's virtual leader waits, and all "
-                        "resume together (a shared show clock); alone: each robot's leader "
-                        "runs on from the start whatever the others do (thesis 4.2)")
+                        "resume together (a shared show clock); alone (the default with "
+                        "--follower thesis, whose robots know no mates' places): each "
+                        "robot's leader runs on from the start whatever the others do "
+                        "(thesis 4.2)")
 
 
 def add_follower_argument(parser: argparse.ArgumentParser) -> None:

@@ -10,7 +10,7 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from dancebots.shows.certify import Certificate
+    from dancebots.report.certify import Certificate
 
 __all__ = ["plot_certificate"]
 

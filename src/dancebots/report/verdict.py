@@ -86,8 +86,8 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
                         f"time the slot moves): {listed}")
     if metrics.final_show_time is not None and (
             metrics.final_show_time < metrics.show_duration - 1e-6):
-        failures.append(f"the show did not finish: its robots waited for people until the run "
-                        f"ended at show time {metrics.final_show_time:.1f} s of "
+        failures.append(f"the show did not finish: the formation waited for a held robot until "
+                        f"the run ended at show time {metrics.final_show_time:.1f} s of "
                         f"{metrics.show_duration:.1f} s")
     askew = [r for r in metrics.robots if r.final_heading_error > heading_tolerance]
     if askew:

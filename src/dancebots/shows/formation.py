@@ -40,7 +40,7 @@ from dancebots.sync.hold import (
 )
 
 __all__ = ["STATUS", "CollisionEvent", "Fault", "FaultKind", "RobotEvent", "RunResult", "SimConfig",
-           "simulate"]
+           "hold_strategy", "simulate"]
 
 STATUS = ("ok", "stopped", "error")
 """Codes of ``RunResult.status``: 0 moving freely, 1 held by a stop flag, 2 error state."""
@@ -83,10 +83,12 @@ class SimConfig:
         loops (the default: fast per tick; ``lidar.compiled`` and ``brain.compiled`` can
         still turn theirs off), else all as their NumPy references (same results; no numba
         to import and start, about 0.75 s: faster for a short show).
-    hold: ``together`` (the default): the formation shares one show clock that stops while
-        any robot is held by something that is not a mate on its place (``sync.hold``), so
-        the others wait on their places; ``alone`` (thesis 4.2): each robot's show time is
-        the time since the start. hold_delay (s) and hold_loss (probability) act on the
+    hold: ``together``: the formation shares one show clock that stops while any robot is
+        held by something that is not a mate on its place (``sync.hold``), so the others wait
+        on their places; ``alone`` (thesis 4.2): each robot's show time is the time since the
+        start; None (the default): together, alone for the thesis follower (the thesis's
+        system as written: its follower knows no mates' places, so a mate would hold the
+        show). hold_delay (s) and hold_loss (probability) act on the
         robots' hold messages, passed in-process (the kernel here has no netem), as on ROS.
     max_pause: s the shared clock may fall behind the stage's before the run ends anyway (a
         person who never leaves a robot's way).
@@ -103,7 +105,7 @@ class SimConfig:
     faults: tuple[Fault, ...] = ()
     record_lidar: bool = False
     compiled: bool = True
-    hold: HoldStrategy = "together"
+    hold: HoldStrategy | None = None
     hold_delay: float = 0.0
     hold_loss: float = 0.0
     max_pause: float = 120.0
@@ -196,6 +198,14 @@ class RunResult:
         return result
 
 
+def hold_strategy(config: SimConfig) -> HoldStrategy:
+    """The hold strategy a configuration runs (``SimConfig.hold``; None: together, alone for
+    the thesis follower)."""
+    if config.hold is not None:
+        return config.hold
+    return "alone" if config.brain.follower == "thesis" else "together"
+
+
 def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
     """Show-frame poses (T, 3) as robot ``robot`` believes them in the world: start ⊕ slot0⁻¹."""
     frame = Pose(*(float(v) for v in starts[robot])).compose(slots[robot].inverse())
@@ -238,7 +248,7 @@ class _Crew:
         faults = config.faults
         self.brains, self.robots, self.stage = brains, robots, stage
         self.states: list[BrainState] = [brain.initial_state() for brain in brains]
-        self.together = config.hold == "together"
+        self.together = hold_strategy(config) == "together"
         self.clocks = [new_clock(role, robots, 0.0) for role in robots]
         self.in_flight: list[tuple[float, HoldMessage]] = []
         self.delay, self.loss = config.hold_delay, config.hold_loss

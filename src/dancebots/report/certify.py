@@ -37,7 +37,7 @@ class CertifyJob:
     timing: str = "feasible"
     lidar: bool = True
     final_tolerance: float = 0.5
-    hold: str = "together"
+    hold: str | None = None
 
 
 @dataclass(frozen=True, slots=True)
