@@ -78,6 +78,9 @@ keeping its reference's speed (:meth:`RobotBrain._approach_limit`)."""
 MATE_MARGIN = 0.3
 """m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
 should be are left out of the tracking and path followers' force field."""
+OVERLAP = 0.01
+"""m: an obstacle point nearer than this to the footprint (on or in it) holds the robot still,
+neither driving nor turning (a person standing in its footprint)."""
 HOLD_LAG = 0.05
 """m: a robot this far from its place that its perception slows (the approach limit, the turn
 guard) holds the formation's shared show clock, as a held robot does (``sync.hold``), when a
@@ -217,6 +220,9 @@ class RobotBrain:
                 np.array([self._to_own.x, self._to_own.y, self._to_own.theta]), mates)
             self._mates.flags.writeable = False  # mates_at hands out views of it
         self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
+        # m: how far beyond its sides the footprint's corners swing as it turns on the spot
+        self.sweep_reach = (0.5 * math.hypot(self.sensing.length, self.sensing.width)
+                            - 0.5 * min(self.sensing.length, self.sensing.width))
 
     def _grid_index(self, show_time: float, length: int) -> int | None:
         """The index on the 10 Hz grid (of ``length`` entries) of ``show_time`` s: the last
@@ -347,7 +353,12 @@ class RobotBrain:
                     sample.path_point, sample.desired, sample.required, sample.moving,
                     seen.force)
             wanted = linear, angular  # the follower's, before what it sees cuts them
-            if (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
+            if seen.nearest <= OVERLAP:
+                # something on or in its footprint (a person who stands in it: the stop zones
+                # ahead and behind do not see it): it stays still until the person leaves
+                held = holds_show = True
+                linear = angular = 0.0
+            elif (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
                 # (that mate moves on with the show; holding the clock for it would stall)
@@ -368,6 +379,12 @@ class RobotBrain:
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
                 linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
                                                    pose, linear, angular)
+            if held and angular != 0.0:
+                # held, it turns only when nothing but mates on their places is within the
+                # circle its footprint sweeps (its corners' swing beyond its sides)
+                near = strangers if strangers is not None else seen
+                if near.nearest < self.sweep_reach:
+                    angular = 0.0
             if not held and behind > HOLD_LAG and (
                     abs(linear) < abs(wanted[0]) - SLOWED
                     or abs(angular) < abs(wanted[1]) - SLOWED):

@@ -4,8 +4,10 @@ Rays are cast in 2D against the walls, the obstacles, the other robots and the s
 the third dimension is added as the thesis does: each hit is repeated every 10 cm up to the
 height of what was hit (robots and obstacles 1 m, walls their height, spectators theirs).
 For a ray that hits something nearer than the wall, the lower half of the wall is hidden and
-its upper half is still seen. Nothing nearer than ``min_range`` is seen (the ray is then
-blocked), nothing beyond ``max_range``. Clouds are in the sensor's ``base_link`` frame
+its upper half is still seen. A hit nearer than ``min_range`` cannot be measured; the sensor
+reports it at ``min_range`` (as a scanner's too-near code: something is there), so that a
+person standing in a robot's footprint is seen in it rather than not at all; nothing beyond
+``max_range``. Clouds are in the sensor's ``base_link`` frame
 (x forward, y left, z up; the sensor sits on the robot's centre) and carry the time of the
 scan; the simulator delivers them ``latency`` seconds later.
 """
@@ -136,8 +138,9 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
     solid, solid_height, wall = _cast_numpy(config, origins, headings, angles, segments,
                                             owner, heights, scene, discs, disc_heights)
     wall_height = scene.wall_height
-    in_range = (solid >= config.min_range) & (solid <= config.max_range)
+    in_range = solid <= config.max_range
     blocked = solid < wall
+    solid = np.maximum(solid, config.min_range)  # too near to measure: at min_range
     wall_seen = wall <= config.max_range
     distances = np.stack([solid, wall], axis=1)  # (R, 2, N)
     tops = np.stack([solid_height, np.full_like(wall, wall_height)], axis=1)

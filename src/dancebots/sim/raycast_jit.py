@@ -144,14 +144,15 @@ def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
                   wall_height: float) -> tuple[FloatArray, NDArray[np.int64]]:
     """The thesis's height columns of every ray, robot by robot: the solid hit (0 to its
     height) and the upper half of the wall behind it, or the whole wall when nothing stands
-    before it; nothing nearer than min_range or beyond max_range. Returns columns (K, 4) =
+    before it; nothing beyond max_range, and a hit nearer than min_range at min_range (too
+    near to measure, but there: ``sim.lidar``). Returns columns (K, 4) =
     x, y, z_low, z_high in ``base_link``, robot after robot, and each robot's count (R,)."""
     count, rays = solid.shape
     counts = np.zeros(count, dtype=np.int64)
     for r in range(count):
         for k in range(rays):
             blocked = solid[r, k] < wall[r, k]
-            if blocked and min_range <= solid[r, k] <= max_range:
+            if blocked and solid[r, k] <= max_range:
                 counts[r] += 1
             if wall[r, k] <= max_range:
                 counts[r] += 1
@@ -162,8 +163,9 @@ def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
         for k in range(rays):
             c, s = cosines[k], sines[k]
             blocked = solid[r, k] < wall[r, k]
-            if blocked and min_range <= solid[r, k] <= max_range:
-                columns[i, 0], columns[i, 1] = solid[r, k] * c, solid[r, k] * s
+            if blocked and solid[r, k] <= max_range:
+                near = max(solid[r, k], min_range)
+                columns[i, 0], columns[i, 1] = near * c, near * s
                 columns[i, 2], columns[i, 3] = 0.0, solid_height[r, k]
                 i += 1
             if wall[r, k] <= max_range:

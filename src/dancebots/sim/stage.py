@@ -223,8 +223,12 @@ class Stage:
         spectators, dt = self.spectators, self.dt
         ahead = spectator_discs(spectators, self.walked + dt)
         free = np.ones(len(spectators), dtype=bool)
-        for _, k in disc_contacts(self.pose, self.lengths, self.widths, ahead):
-            free[k] = False
+        if len(spectators):
+            # a step into a robot waits; one who already stands in a robot walks on (out)
+            now = spectator_discs(spectators, self.walked)
+            before = _footprint_gaps(self.pose, self.lengths, self.widths, now[:, :2])
+            after = _footprint_gaps(self.pose, self.lengths, self.widths, ahead[:, :2])
+            free = ~((after < ahead[:, 2]) & (before >= now[:, 2]))
         self.waiting = np.where(free, 0.0, self.waiting + dt)
         walked = self.walked + np.where(free, dt, 0.0)
         for k in np.flatnonzero(self.waiting >= STEP_BACK_AFTER).tolist():
