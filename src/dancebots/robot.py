@@ -82,14 +82,12 @@ OVERLAP = 0.01
 """m: an obstacle point nearer than this to the footprint (on or in it) holds the robot still,
 neither driving nor turning (a person standing in its footprint)."""
 HOLD_LAG = 0.05
-"""m: a robot this far from its place that its perception slows (the approach limit, the turn
-guard) holds the formation's shared show clock, as a held robot does (``sync.hold``), when a
-stranger (a point that is no mate on its place) is within :data:`STRANGER_NEAR`: the
-formation waits instead of leaving it behind."""
+"""m: a robot this far from its place that a stranger (a point that is no mate on its place)
+slows (the approach limit to it) or keeps from turning (the turn guard, with the stranger
+within the turn's reach) holds the formation's shared show clock, as a held robot does
+(``sync.hold``): the formation waits instead of leaving it behind."""
 SLOWED = 0.02
 """m/s or rad/s by which a command must be cut to count as slowed (:data:`HOLD_LAG`)."""
-STRANGER_NEAR = 1.5
-"""m from the footprint within which a stranger can be what slows a robot."""
 GIVE_WAY_SPEED = 0.05
 """m/s: the fastest a robot drives while no part of the turn it should make is allowed and
 what blocks it is beside its leading half (an addition; ``RobotBrain._guard_turn``): a robot
@@ -385,13 +383,16 @@ class RobotBrain:
                 near = strangers if strangers is not None else seen
                 if near.nearest < self.sweep_reach:
                     angular = 0.0
-            if not held and behind > HOLD_LAG and (
-                    abs(linear) < abs(wanted[0]) - SLOWED
-                    or abs(angular) < abs(wanted[1]) - SLOWED):
-                # slowed or kept from turning by what it sees, and falling behind its place:
-                # it holds the show as if held, when a stranger is near (not for mates alone)
+            if not held and behind > HOLD_LAG:
+                # falling behind its place, slowed or kept from turning by a stranger (not by
+                # a mate: the mate moves on with the show): it holds the show as if held
                 near = strangers if strangers is not None else seen
-                holds_show = near.nearest < STRANGER_NEAR
+                free = near.front_free if wanted[0] >= 0.0 else near.rear_free
+                by_stranger = sensing.approach_gain * max(
+                    free - sensing.detection.stop_distance, 0.0) < abs(wanted[0]) - SLOWED
+                turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and near.nearest < turn_reach(
+                    sensing.length, sensing.width, linear, sensing.detection)
+                holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
             command = Command(linear, angular)
         else:
             follower = state.follower

@@ -305,6 +305,8 @@ class _Crew:
                 self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                                    for e in happened)
         self._tell(now)
+        # the robots held by people speak (and beep): the crowd hears them (sim/crowd.py)
+        stage.speaking = self.holding & (self.status == STATUS.index("stopped"))
         return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
                                    "commands": self.command, "status": self.status,
                                    "spectators": stage.discs[:, :2],

@@ -70,8 +70,10 @@ class KindBehaviour:
     """What a kind of pedestrian wants: the probability that a new goal is a place to watch a
     robot from, at ``watch_near`` to ``watch_far`` m beyond the robot's half diagonal; the
     pause at a goal (``pause_min`` to ``pause_max`` s); the rate (1/s) of changing its mind
-    on the way; the range (m) of a robot's repulsion (H&M's R for robots) and the distance
-    (m) at which a goal counts as reached."""
+    on the way; the range (m) of a robot's repulsion (H&M's R for robots); the rate (1/s) at
+    which it heeds a robot that stopped for people and speaks (thesis 5.2: "Obstacle is too
+    close, I have to stop") within :data:`HEARING` of it: it stops pausing and steps away;
+    and the distance (m) at which a goal counts as reached."""
 
     watch: float
     watch_near: float
@@ -80,19 +82,25 @@ class KindBehaviour:
     pause_max: float
     change_rate: float
     robot_range: float
+    heed: float
     arrive: float = 0.3
 
 
 KIND_BEHAVIOUR = {
     "adult": KindBehaviour(watch=0.4, watch_near=0.8, watch_far=2.0, pause_min=3.0,
-                           pause_max=12.0, change_rate=0.0, robot_range=0.5),
+                           pause_max=12.0, change_rate=0.0, robot_range=0.5, heed=2.0),
     "child": KindBehaviour(watch=0.6, watch_near=0.3, watch_far=1.2, pause_min=0.5,
-                           pause_max=5.0, change_rate=0.15, robot_range=0.25),
+                           pause_max=5.0, change_rate=0.15, robot_range=0.25, heed=0.5),
 }
 """Each kind's behaviour (``world.CROWD_KINDS`` holds its size and speed)."""
 
 _BEHAVIOUR_FIELDS = ("watch", "watch_near", "watch_far", "pause_min", "pause_max",
-                     "change_rate", "robot_range", "arrive")
+                     "change_rate", "robot_range", "heed", "arrive")
+HEARING = 2.0
+"""m from a speaking robot's footprint (about) within which people hear it."""
+ROOM_MADE = (1.5, 3.0)
+"""m: how far from a speaking robot a person who heeds it steps (from its centre, further
+away)."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -100,7 +108,7 @@ class CrowdState:
     """P pedestrians: position (P, 2) and velocity (P, 2) in the world frame (m, m/s), goal
     (P, 2), pause (P,) s left to stand at the goal (0 while walking), preferred speed (P,)
     m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
-    (P, 8) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
+    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
 
     position: FloatArray
     velocity: FloatArray
@@ -320,15 +328,21 @@ def _clear(x: float, y: float, radius: float, rows: list[tuple[float, float, flo
 def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls: FloatArray,
                robot_poses: FloatArray, robot_lengths: FloatArray, robot_widths: FloatArray,
                rng: np.random.Generator,
-               params: SocialForceParams = SocialForceParams()) -> CrowdState:
-    """The crowd ``dt`` s later: goals reached start a pause, pauses that end and children
-    who change their mind pick new goals (``areas``: each crowd's polygon), then the social
-    forces (:func:`social_acceleration`) move everyone in substeps of ``params.substep``,
-    speeds capped at ``max_speed_factor`` times the preferred speed (H&M eq. 7)."""
+               params: SocialForceParams = SocialForceParams(),
+               speaking: NDArray[np.bool_] | None = None) -> CrowdState:
+    """The crowd ``dt`` s later: people near a robot that stopped for people and speaks
+    (``speaking`` (R,)) heed it at their kind's rate and step away; goals reached start a
+    pause, pauses that end and children who change their mind pick new goals (``areas``:
+    each crowd's polygon), then the social forces (:func:`social_acceleration`) move
+    everyone in substeps of ``params.substep``, speeds capped at ``max_speed_factor`` times
+    the preferred speed (H&M eq. 7)."""
     count = len(state.position)
     if count == 0:
         return state
     reach = 0.5 * np.hypot(robot_lengths, robot_widths)
+    if speaking is not None and speaking.any():
+        state = _make_room(state, robot_poses[speaking], reach[speaking], dt, areas, walls,
+                           rng)
     arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
                                       < state.column("arrive"))
     low, high = state.column("pause_min"), state.column("pause_max")
@@ -362,6 +376,39 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
             velocity[touch] = 0.0
         position = ahead
     return replace(moving, position=position, velocity=velocity)
+
+
+def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: float,
+               areas: Sequence[FloatArray], walls: FloatArray,
+               rng: np.random.Generator) -> CrowdState:
+    """People within :data:`HEARING` of a speaking robot (poses (S, 3), half diagonals (S,))
+    heed it with probability heed * dt: they stop pausing and walk to a point
+    :data:`ROOM_MADE` m from the nearest speaker, straight away from it (or, where that
+    leaves their area or nears a wall, anywhere in their area)."""
+    offsets = state.position[:, None, :] - speakers[None, :, :2]  # (P, S, 2)
+    distance = np.hypot(offsets[..., 0], offsets[..., 1]) - reach[None, :]
+    nearest = np.argmin(distance, axis=1)
+    hears = distance[np.arange(len(distance)), nearest] < HEARING
+    heeds = hears & (rng.random(len(hears)) < state.column("heed") * dt)
+    if not heeds.any():
+        return state
+    goal, pause = state.goal.copy(), state.pause.copy()
+    for a in np.flatnonzero(heeds).tolist():
+        away = offsets[a, nearest[a]]
+        norm = float(np.hypot(*away))
+        direction = away / norm if norm > 1e-9 else np.array([1.0, 0.0])
+        spot = speakers[nearest[a], :2] + direction * (reach[nearest[a]] + rng.uniform(
+            *ROOM_MADE))
+        area = areas[int(state.crowd[a])]
+        clear = not len(walls) or _wall_distance(spot[None], walls)[0] > (
+            state.radius[a] + WALL_CLEARANCE)
+        if clear and _inside(area, spot[None])[0]:
+            goal[a] = spot
+        else:
+            drawn = _random_in(area, 1, rng, walls, float(state.radius[a]))
+            goal[a] = drawn[0] if len(drawn) else goal[a]
+        pause[a] = 0.0
+    return replace(state, goal=goal, pause=pause)
 
 
 def _wall_distance(points: FloatArray, walls: FloatArray) -> FloatArray:

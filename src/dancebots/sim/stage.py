@@ -106,6 +106,7 @@ class Stage:
         self.walked = np.zeros(len(self.spectators))
         self.waiting = np.zeros(len(self.spectators))
         self.crowd: CrowdState | None = None
+        self.speaking = np.zeros(count, dtype=bool)  # robots stopped for people, speaking
         if arena.crowds:  # its own generator: a crowd leaves the robots' noise as it was
             self.crowd_rng = np.random.default_rng([seed, *(c.seed for c in arena.crowds)])
             self.walls = wall_segments(arena.room, arena.obstacles)
@@ -243,7 +244,8 @@ class Stage:
         crowd = self.crowd
         if crowd is not None:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
-                               self.pose, self.lengths, self.widths, self.crowd_rng)
+                               self.pose, self.lengths, self.widths, self.crowd_rng,
+                               speaking=self.speaking)
             # people do not walk into robots: a step that would reach into a footprint
             # deeper than before stands (one a robot has reached may step out)
             before = _footprint_gaps(self.pose, self.lengths, self.widths, crowd.position)
