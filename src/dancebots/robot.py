@@ -351,9 +351,12 @@ class RobotBrain:
                     sample.path_point, sample.desired, sample.required, sample.moving,
                     seen.force)
             wanted = linear, angular  # the follower's, before what it sees cuts them
-            if seen.nearest <= OVERLAP:
-                # something on or in its footprint (a person who stands in it: the stop zones
-                # ahead and behind do not see it): it stays still until the person leaves
+            near = strangers if strangers is not None else seen
+            if near.nearest <= OVERLAP and (self._mates is not None or len(self.plan.robots) == 1):
+                # something that is no mate on its place on or in its footprint (a person who
+                # stands in it: the stop zones ahead and behind do not see it): it stays
+                # still until the person leaves (the thesis follower, which knows no mates'
+                # places, would freeze beside a mate it touches: not for it)
                 held = holds_show = True
                 linear = angular = 0.0
             elif (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
@@ -377,16 +380,14 @@ class RobotBrain:
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
                 linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
                                                    pose, linear, angular)
-            if held and angular != 0.0:
+            if held and angular != 0.0 and near.nearest < self.sweep_reach:
                 # held, it turns only when nothing but mates on their places is within the
                 # circle its footprint sweeps (its corners' swing beyond its sides)
-                near = strangers if strangers is not None else seen
-                if near.nearest < self.sweep_reach:
-                    angular = 0.0
+                angular = 0.0
             if not held and behind > HOLD_LAG:
                 # falling behind its place, slowed or kept from turning by a stranger (not by
-                # a mate: the mate moves on with the show): it holds the show as if held
-                near = strangers if strangers is not None else seen
+                # a mate: the mate moves on with the show; the LIDAR cannot tell a mate kept
+                # off its place from a stranger): it holds the show as if held
                 free = near.front_free if wanted[0] >= 0.0 else near.rear_free
                 by_stranger = sensing.approach_gain * max(
                     free - sensing.detection.stop_distance, 0.0) < abs(wanted[0]) - SLOWED

@@ -79,11 +79,15 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     out = tmp_path / "cert"
     done = _certify([str(examples / "thesis_7_1.dance"), "--world", world, "--runs", "3",
                      "--first-seed", "4", "--out", str(out)])
-    assert done.returncode == 0, done.stderr
+    # no contact, but the bystander never leaves R1's way: no show finishes, none passes
+    assert done.returncode == 1, done.stderr
     cert = json.loads((out / "certificate.json").read_text())
-    assert cert["passed"] is True
+    assert cert["passed"] is False
+    assert cert["contacts_moving"] == 0
+    assert cert["runs_unfinished"] == 3
     assert [r["seed"] for r in cert["per_run"]] == [4, 5, 6]
-    assert "verdict: PASSED" in done.stdout
+    assert ("3 of 3 shows did not finish: the formation waited for a held robot until the "
+            "run's limit (seeds 4, 5, 6)") in done.stdout
     # the bystander stands on R1's last leg for good: safe, but the formation waits for R1
     # until the run ends (SimConfig.max_pause)
     assert main(["run", str(examples / "thesis_7_1.dance"), "--world", world, "--profile",
@@ -113,7 +117,7 @@ def test_certify_needs_a_world_with_people(examples: Path, capsys: Capture) -> N
 def test_the_certificate_counts_the_robots_doing_apart() -> None:
     def run(seed: int, moving: int, standing: int, gap: float | None) -> RunSummary:
         return RunSummary(seed, moving, standing, 0, gap, 2.0 * seed, seed, 0.1 * seed, 1.0,
-                          0.02, moving == 0, (), 1.0)
+                          True, 0.02, moving == 0, (), 1.0)
 
     job = CertifyJob("show.dance", "world.toml")
     cert = certificate(job, [run(2, 0, 1, 0.0), run(0, 0, 0, 0.3), run(1, 0, 0, None)],
@@ -129,3 +133,51 @@ def test_the_certificate_counts_the_robots_doing_apart() -> None:
     failing = certificate(job, [run(0, 1, 0, 0.0)], 1.0, 1)
     assert not failing.passed
     assert failing.to_json()["runs_with_contacts_moving"] == 1
+
+
+def test_sigterm_stops_certify_and_its_workers(examples: Path, data: Path,
+                                               tmp_path: Path) -> None:
+    import signal
+    import time
+
+    process = subprocess.Popen(
+        [sys.executable, "-m", "dancebots.cli", "certify", str(examples / "thesis_7_1.dance"),
+         "--world", str(data / "worlds" / "crowded_room.toml"), "--runs", "200", "--jobs", "2",
+         "--out", str(tmp_path / "cert")], stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 120
+        while len(_session_members(process.pid)) < 3 and time.monotonic() < deadline:
+            time.sleep(0.2)  # the parent and its two workers
+        assert len(_session_members(process.pid)) >= 3
+        process.send_signal(signal.SIGTERM)
+        status = process.wait(timeout=60)
+        deadline = time.monotonic() + 10
+        while _session_members(process.pid) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        left = _session_members(process.pid)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, 9)
+            process.wait()
+    if left:
+        os.killpg(process.pid, 9)
+    assert not left, f"workers outlived a SIGTERM: {left}"
+    assert status != 0
+    assert not (tmp_path / "cert").exists()  # nothing half-written
+
+
+def test_a_crowd_that_does_not_fit_is_refused_before_anything_is_written(
+        capsys: Capture, tmp_path: Path) -> None:
+    (tmp_path / "s.dance").write_text("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\n")
+    (tmp_path / "w.toml").write_text(
+        '[room]\nsize = 10.0\n\n[[robots]]\nname = "R1"\nx = 5.0\ny = 5.6\n\n'
+        '[[robots]]\nname = "R2"\nx = 5.0\ny = 4.4\n\n[[crowds]]\ncount = 1\n'
+        'area = [[4.5, 5.1], [5.5, 5.1], [5.5, 6.1], [4.5, 6.1]]\n')
+    out = tmp_path / "run"
+    assert main(["run", str(tmp_path / "s.dance"), "--world", str(tmp_path / "w.toml"),
+                 "--no-animation", "--out", str(out)]) == 2
+    assert ("dancebots run: error: crowd 'crowd 1' does not fit in its area: 0 of 1 placed "
+            "clear of the robots, obstacles and others: enlarge its area, lower its count or "
+            "keep it away from the robots' start poses and the walls") in capsys.readouterr().err
+    assert not out.exists()

@@ -51,3 +51,16 @@ def test_a_robot_with_a_person_in_its_footprint_stands_still_until_they_leave() 
     verdict = run_verdict(metrics)
     assert not [f for f in verdict.failures if "final slot" in f or "did not finish" in f]
     assert metrics.max_final_error <= 0.05
+
+
+def test_robots_that_touch_by_design_do_not_freeze() -> None:
+    """Two robots 5 mm apart (a mate on its place within the 1 cm of OVERLAP): not a person
+    in the footprint; the show runs clean."""
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 0.605\nmove 4 0\n")
+    result = simulate(plan, *prepare_show(place_show(plan)),
+                      SimConfig(brain=BrainOptions(follower="path")))
+    metrics = run_metrics(result)
+    assert run_verdict(metrics).clean
+    assert metrics.max_final_error <= 0.05
+    assert result.holds is not None
+    assert not result.holds.any()

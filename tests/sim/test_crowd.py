@@ -165,3 +165,38 @@ def test_a_crowd_that_cannot_fit_is_a_clear_error() -> None:
     tiny = dataclasses.replace(_crowd(50), area=np.array([[1.0, 1.0], [2.0, 1.0], [2.0, 2.0]]))
     with pytest.raises(ValueError, match="crowd 'visitors' does not fit in its area"):
         crowd_start([tiny], NO_ROBOTS, NONE, None, WALLS, np.random.default_rng(0))
+
+
+def test_what_is_behind_a_walking_pedestrian_weighs_half(  # H&M eq. 5, c = 0.5
+        ) -> None:
+    params = SocialForceParams()
+    behind = _state([[5.0, 5.0], [4.0, 5.0]], [[9.0, 5.0], [4.0, 5.0]])
+    behind = dataclasses.replace(behind, pause=np.array([0.0, 1.0]))  # a walks, b stands
+    ahead = dataclasses.replace(behind, goal=np.array([[1.0, 5.0], [4.0, 5.0]]))
+    none = np.zeros((0, 2, 2))
+    # the same push from b on a either way; a walking away from b sees it behind (weight c)
+    push_behind = social_acceleration(behind, none, NO_ROBOTS, NONE, NONE, params)[0] - (
+        np.array([1.0, 0.0]) / params.relaxation)
+    push_ahead = social_acceleration(ahead, none, NO_ROBOTS, NONE, NONE, params)[0] - (
+        np.array([-1.0, 0.0]) / params.relaxation)
+    assert push_ahead[0] > 0.0  # away from b
+    np.testing.assert_allclose(push_behind, params.out_of_sight * push_ahead, atol=1e-12)
+
+
+def test_a_corner_of_a_border_pushes_once() -> None:
+    """H&M eq. 6 sums over borders: a pedestrian off a room's corner, nearer to it than to
+    any other point of the room, is pushed by the corner once, not once per edge."""
+    from dancebots.sim.crowd import wall_rings
+
+    rings = wall_rings(ROOM, ())
+    params = SocialForceParams()
+    corner = _state([[0.3, 0.3]], [[0.3, 0.3]])
+    corner = dataclasses.replace(corner, pause=np.array([1.0]))
+    accel = social_acceleration(corner, WALLS, NO_ROBOTS, NONE, NONE, params, rings)[0]
+    # the nearest point of the room's border is one of the two edges' common corner region:
+    # one push along the nearest edge's normal, of U0/R exp(-d/R) with d = 0.3
+    expected = params.border_strength / params.border_range * math.exp(
+        -0.3 / params.border_range)
+    assert abs(float(np.hypot(*accel)) - expected) < 1e-9
+    doubled = social_acceleration(corner, WALLS, NO_ROBOTS, NONE, NONE, params)[0]
+    assert float(np.hypot(*doubled)) > 1.4 * expected  # every edge a border: pushed twice

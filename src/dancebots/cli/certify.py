@@ -1,10 +1,11 @@
 """``dancebots certify``: run a show over many seeds among people and write a certificate.
 
 A thin shell: it checks the show once, runs the seeds on a pool of local processes
-(``shows.certify.run_seed`` in each), gathers the summaries into a certificate, writes
+(``report.certify.run_seed`` in each), gathers the summaries into a certificate, writes
 certificate.json and certificate.png through the output writer of ``cli.common`` and exits 0
-when no moving robot touched a person and no robot touched a robot, wall or obstacle in any
-run, 1 otherwise.
+when no moving robot touched a person, no robot touched a robot, wall or obstacle and every
+show finished in every run, 1 otherwise. Ctrl-C and SIGTERM stop the workers; a worker whose
+parent dies is stopped by the kernel (PR_SET_PDEATHSIG).
 """
 
 from __future__ import annotations
@@ -42,8 +43,9 @@ DESCRIPTION = ("Run a show over N seeds (each a new draw of the world's crowds a
                "certificate.png: contacts of a moving robot with a person (the robot's doing), "
                "contacts of a robot standing still, the smallest robot-person gap, the time "
                "robots were held and how much longer the show took. Exit 0 when no moving "
-               "robot touched a person and no robot touched a robot, wall or obstacle in any "
-               "run; 1 otherwise; 2 when the input is invalid.")
+               "robot touched a person, no robot touched a robot, wall or obstacle and every "
+               "show finished (did not wait for people beyond the run's limit) in every run; "
+               "1 otherwise; 2 when the input is invalid.")
 OUTPUT_NAMES = ("certificate.json", "certificate.png")
 MAX_RUNS = 100_000
 
@@ -103,11 +105,22 @@ def run(args: argparse.Namespace) -> int:
                          lambda staging: _certify(args, job, staging, target))
 
 
-def _ignore_interrupts() -> None:
-    """Workers leave Ctrl-C to the parent, which stops the pool."""
+def _worker_start() -> None:
+    """Workers leave Ctrl-C to the parent, which stops the pool, and die with the parent
+    (Linux's PR_SET_PDEATHSIG: a parent killed outright leaves no worker behind)."""
+    import contextlib
+    import ctypes
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    with contextlib.suppress(OSError, AttributeError):  # not Linux: the parent stops them
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, int(signal.SIGKILL))  # PDEATHSIG
+
+
+def _terminate(signum: int, frame: object) -> None:
+    """SIGTERM in the parent: stop like Ctrl-C (the pool's workers are terminated)."""
+    raise KeyboardInterrupt
 
 
 def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
@@ -129,7 +142,10 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
     processes = min(args.jobs or os.cpu_count() or 1, len(seeds))
     summaries: list[RunSummary] = []
     started = time.perf_counter()
-    pool = ProcessPoolExecutor(processes, initializer=_ignore_interrupts)
+    import signal
+
+    signal.signal(signal.SIGTERM, _terminate)
+    pool = ProcessPoolExecutor(processes, initializer=_worker_start)
     try:
         with progress(console, f"certifying  ({processes} processes, runs)") as update:
             pending: set[Future[RunSummary]] = {pool.submit(run_seed, job, s) for s in seeds}
@@ -161,6 +177,11 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
         runs = [r.seed for r in cert.runs if r.robot_contacts]
         lines.append(f"{cert.robot_contacts} contacts of robots with robots, walls or "
                      f"obstacles in {len(runs)} runs (seeds {_seeds(runs)})")
+    if cert.unfinished:
+        runs = [r.seed for r in cert.runs if not r.finished]
+        lines.append(f"{cert.unfinished} of {len(cert.runs)} shows did not finish: the "
+                     "formation waited for a held robot until the run's limit (seeds "
+                     f"{_seeds(runs)})")
     return tuple(lines)
 
 
@@ -218,7 +239,8 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
     if cert.passed:
         out.print("verdict: PASSED (no moving robot touched a person, no robot touched a "
-                  "robot, wall or obstacle)", style="bold green", highlight=False)
+                  "robot, wall or obstacle, every show finished)", style="bold green",
+                  highlight=False)
         return
     out.print("verdict: FAILED", style="bold red", highlight=False)
     for failure in _failures(cert):

@@ -153,7 +153,7 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     from dancebots.robot import BrainOptions
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim.kernels import kernels_to_compile
-    from dancebots.sim.setup import prepare_show
+    from dancebots.sim.setup import SetupError, prepare_show
 
     arena, placement = prepare_show(report.placement)
     console = Console(stderr=True, soft_wrap=True)
@@ -164,8 +164,13 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     config = SimConfig(brain=BrainOptions(follower=args.follower), compiled=compiled,
                        hold=args.hold)
-    with progress(console, "simulating  (show s)") as update:
-        result = simulate(plan, arena, placement, config, update)
+    try:
+        with progress(console, "simulating  (show s)") as update:
+            result = simulate(plan, arena, placement, config, update)
+    except SetupError as exc:  # e.g. a crowd that does not fit
+        where = plan.scenario.robots_span
+        return [Diagnostic(plan.scenario.path, where.line, where.col, Severity.WARNING,
+                           f"not simulated: {exc}", "`dancebots run` refuses it too")]
     sys.stderr.flush()
     return simulated_findings(result, f"ideal profile, {args.follower} follower")
 

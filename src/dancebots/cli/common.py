@@ -466,6 +466,13 @@ def run_show_into(command: str, target: Path, names: Sequence[str], json_output:
         staged.abandon()
         return refuse(command, json_output, f"cannot write the outputs to {target}: "
                       f"{exc.strerror or exc}; nothing there was changed")
+    except Exception as exc:
+        from dancebots.sim.setup import SetupError
+
+        staged.abandon()
+        if isinstance(exc, SetupError):  # e.g. a crowd that does not fit: nothing written
+            return refuse(command, json_output, str(exc))
+        raise
     except BaseException:
         staged.abandon()
         raise

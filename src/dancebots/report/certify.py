@@ -50,8 +50,9 @@ class RunSummary:
     between a robot and a person, m (None without people); held: robot-seconds held by the
     stop rule; stops: how often a robot was held; held_place_error: the largest distance of a
     robot from its place while some robot was held, m (None: none was); overrun: s from the
-    planned end until the last robot came to rest; max_final_error: m; clean: the run's
-    verdict; failures: its lines; wall: s the run took.
+    planned end until the last robot came to rest; finished: whether the show reached its
+    end (not: the formation waited for a held robot until the run's limit); max_final_error:
+    m; clean: the run's verdict; failures: its lines; wall: s the run took.
     """
 
     seed: int
@@ -63,6 +64,7 @@ class RunSummary:
     stops: int
     held_place_error: float | None
     overrun: float
+    finished: bool
     max_final_error: float
     clean: bool
     failures: tuple[str, ...]
@@ -120,7 +122,9 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         sum(1 for e in people if not e.get("robot_moving", True)), len(events) - len(people),
         metrics.min_person_gap, float(sum(r.stopped_time for r in metrics.robots)),
         int(sum(r.stops for r in metrics.robots)), metrics.held_place_error,
-        max(metrics.run_duration - metrics.show_duration, 0.0), metrics.max_final_error,
+        max(metrics.run_duration - metrics.show_duration, 0.0),
+        metrics.final_show_time is None or metrics.final_show_time >= metrics.show_duration - 1e-6,
+        metrics.max_final_error,
         not failures, tuple(failures), wall)
 
 
@@ -128,8 +132,8 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
 class Certificate:
     """A certification's result: the job, the runs (one :class:`RunSummary` per seed, in seed
     order), the wall time (s) and how many processes ran them. ``passed``: no contact of a
-    moving robot with a person and no contact of a robot with a robot, wall or obstacle in
-    any run."""
+    moving robot with a person, no contact of a robot with a robot, wall or obstacle, and
+    every show finished (a show that waits for people for ever is no show) in every run."""
 
     job: CertifyJob
     runs: tuple[RunSummary, ...]
@@ -149,8 +153,12 @@ class Certificate:
         return sum(r.robot_contacts for r in self.runs)
 
     @property
+    def unfinished(self) -> int:
+        return sum(1 for r in self.runs if not r.finished)
+
+    @property
     def passed(self) -> bool:
-        return self.contacts_moving == 0 and self.robot_contacts == 0
+        return self.contacts_moving == 0 and self.robot_contacts == 0 and self.unfinished == 0
 
     def gaps(self) -> np.ndarray:
         """The smallest robot-person gap of every run that had people (m)."""
@@ -175,6 +183,7 @@ class Certificate:
             "contacts_standing": self.contacts_standing,
             "robot_contacts": self.robot_contacts,
             "runs_not_clean": sum(1 for r in self.runs if not r.clean),
+            "runs_unfinished": self.unfinished,
             "min_person_gap_m": stats(self.gaps()),
             "held_robot_s": stats(np.array([r.held for r in self.runs])),
             "held_place_error_m": stats(np.array([r.held_place_error for r in self.runs

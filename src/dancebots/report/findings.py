@@ -114,9 +114,9 @@ def simulated_findings(result: RunResult, what_ran: str,
     final: list[Diagnostic] = []
     last = len(result.times) - 1
     for i, name in enumerate(result.robots):
-        gap = float(np.hypot(*(result.poses[i, last, :2] - result.desired[i, last, :2])))
-        turn = float(np.degrees(heading_errors(result.poses[i, last, 2],
-                                               result.desired[i, last, 2])))
+        slot = result.final_slot[i]  # at the plan's end, even if the run ended before it
+        gap = float(np.hypot(*(result.poses[i, last, :2] - slot[:2])))
+        turn = float(np.degrees(heading_errors(result.poses[i, last, 2], slot[2])))
         if gap > limits.final_distance:
             add(final, i, last, f"{name} ends {gap:.2f} m from its final slot",
                 "it did not reach its place in the last formation: see the findings before "

@@ -280,8 +280,9 @@ def run_metrics(result: RunResult) -> RunMetrics:
     error = np.hypot(result.poses[..., 0] - result.desired[..., 0],
                      result.poses[..., 1] - result.desired[..., 1])[:, during]
     deviation = np.abs(result.leader_distance - result.required_distance)[:, during]
-    final = np.hypot(result.poses[:, -1, 0] - result.desired[:, -1, 0],
-                     result.poses[:, -1, 1] - result.desired[:, -1, 1])  # (R,)
+    slots = result.final_slot  # (R, 3): at the plan's end, even if the run ended before it
+    final = np.hypot(result.poses[:, -1, 0] - slots[:, 0],
+                     result.poses[:, -1, 1] - slots[:, 1])  # (R,)
     period = float(np.median(np.diff(result.times))) if len(result.times) > 1 else 0.0
     stopped = result.status == STATUS.index("stopped")
     heading = np.degrees(heading_errors(result.poses[..., 2], result.reference[..., 2]))  # (R, T)

@@ -33,6 +33,7 @@ from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.sync.hold import (
     ADVANCE_MIN,
     HoldMessage,
+    HoldParams,
     HoldStrategy,
     clock_receive,
     clock_tick,
@@ -88,8 +89,9 @@ class SimConfig:
         on their places; ``alone`` (thesis 4.2): each robot's show time is the time since the
         start; None (the default): together, alone for the thesis follower (the thesis's
         system as written: its follower knows no mates' places, so a mate would hold the
-        show). hold_delay (s) and hold_loss (probability) act on the
-        robots' hold messages, passed in-process (the kernel here has no netem), as on ROS.
+        show). hold_delay (s, below the 1 s heartbeat timeout) and hold_loss (probability,
+        below 1) act on the robots' hold messages, passed in-process (the kernel here has no
+        netem; the ROS nodes do not send them yet).
     max_pause: s the shared clock may fall behind the stage's before the run ends anyway (a
         person who never leaves a robot's way).
     """
@@ -109,6 +111,12 @@ class SimConfig:
     hold_delay: float = 0.0
     hold_loss: float = 0.0
     max_pause: float = 120.0
+
+    def __post_init__(self) -> None:
+        if not (0.0 <= self.hold_delay < HoldParams().heartbeat_timeout
+                and 0.0 <= self.hold_loss < 1.0 and self.max_pause >= 0.0):
+            raise ValueError("hold_delay must be 0 s or more and below the heartbeat timeout "
+                             "(1 s), hold_loss in [0, 1) and max_pause 0 s or more")
 
 
 @dataclass(frozen=True, slots=True)
@@ -170,6 +178,14 @@ class RunResult:
     lidar: tuple[tuple[float, tuple[FloatArray, ...]], ...] = ()
     show_times: FloatArray | None = None
     holds: NDArray[np.bool_] | None = None
+    final_slots: FloatArray | None = None
+
+    @property
+    def final_slot(self) -> FloatArray:
+        """(R, 3) each robot's slot at the plan's end in the world frame (x, y, heading): where
+        it should end, even when the run ended before its show did (``desired`` at the last
+        tick when not recorded)."""
+        return self.final_slots if self.final_slots is not None else self.desired[:, -1]
 
     @property
     def show_time(self) -> FloatArray:
@@ -373,7 +389,10 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
     show_times = recorder.series("show_times")  # (R, T)
     slots = [brain.slot0 for brain in brains]
     desired, leader, required, formation, reference = [], [], [], [], []
+    final_slots = []
     for i, robot in enumerate(placement.robots):
+        final_slots.append(_to_world(placement.starts, slots, plan.track(
+            robot, np.array([plan.duration])).desired, i)[0])
         track = plan.track(robot, show_times[i])
         desired.append(_to_world(placement.starts, slots, track.desired, i))
         leader.append(_to_world(placement.starts, slots, track.leader, i))
@@ -393,4 +412,4 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
                      spectator_radii, np.stack(reference), scans, show_times,
-                     recorder.series("holds"))
+                     recorder.series("holds"), np.stack(final_slots))

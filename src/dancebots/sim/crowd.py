@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 from dancebots.world.model import Crowd, Obstacle
 
 __all__ = ["KIND_BEHAVIOUR", "CrowdState", "KindBehaviour", "SocialForceParams",
-           "crowd_start", "crowd_step", "social_acceleration", "wall_segments"]
+           "crowd_start", "crowd_step", "social_acceleration", "wall_rings", "wall_segments"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -133,6 +133,25 @@ def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray
                            for ring in rings])
 
 
+def wall_rings(room: FloatArray, obstacles: Sequence[Obstacle]) -> IntArray:
+    """(S,) the border (0: the room, k: obstacle k - 1) of each of :func:`wall_segments`."""
+    sizes = [len(room), *(len(o.polygon) for o in obstacles)]
+    return np.repeat(np.arange(len(sizes)), sizes)
+
+
+def _nearest_per_border(vectors: FloatArray, rings: IntArray) -> FloatArray:
+    """Of vectors (P, S, 2) from each segment's nearest point, the one from each border's
+    nearest point (P, B, 2) (borders: ``rings`` (S,), contiguous): H&M's eq. 6 sums over
+    borders, so a corner, the nearest point of two edges, pushes once."""
+    distance = np.hypot(vectors[..., 0], vectors[..., 1])  # (P, S)
+    starts = np.flatnonzero(np.r_[True, rings[1:] != rings[:-1]])
+    chosen = [start + np.argmin(distance[:, start:end], axis=1)
+              for start, end in zip(starts, [*starts[1:], len(rings)], strict=True)]
+    picks = np.stack(chosen, axis=1)  # (P, B)
+    result: FloatArray = np.take_along_axis(vectors, picks[..., None], axis=1)
+    return result
+
+
 def _nearest_on_segments(points: FloatArray, segments: FloatArray) -> FloatArray:
     """Vectors (P, S, 2) from the nearest point of each segment (S, 2, 2) to each point
     (P, 2)."""
@@ -174,10 +193,13 @@ def _border_force(vectors: FloatArray, strength: float, reach: FloatArray | floa
 
 def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: FloatArray,
                         robot_lengths: FloatArray, robot_widths: FloatArray,
-                        params: SocialForceParams = SocialForceParams()) -> FloatArray:
+                        params: SocialForceParams = SocialForceParams(),
+                        rings: IntArray | None = None) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian (H&M eq. 2-6, module docstring): towards its goal
-    (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2))
-    and the robots (poses (R, 3), lengths and widths (R,))."""
+    (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2);
+    ``rings`` (S,) the border of each, :func:`wall_rings`: each border pushes from its
+    nearest point; None: each segment is a border) and the robots (poses (R, 3), lengths
+    and widths (R,))."""
     position, velocity = state.position, state.velocity
     count = len(position)
     to_goal = state.goal - position
@@ -205,7 +227,10 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
             force[..., 0], force[..., 1]) * math.cos(params.sight)  # eq. 5
         accel += (np.where(seen, 1.0, params.out_of_sight)[..., None] * force).sum(axis=1)
     if len(walls):
-        accel += _border_force(_nearest_on_segments(position, walls), params.border_strength,
+        vectors = _nearest_on_segments(position, walls)
+        if rings is not None:
+            vectors = _nearest_per_border(vectors, rings)
+        accel += _border_force(vectors, params.border_strength,
                                params.border_range)
     if len(robot_poses):
         accel += _border_force(
@@ -329,7 +354,8 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
                robot_poses: FloatArray, robot_lengths: FloatArray, robot_widths: FloatArray,
                rng: np.random.Generator,
                params: SocialForceParams = SocialForceParams(),
-               speaking: NDArray[np.bool_] | None = None) -> CrowdState:
+               speaking: NDArray[np.bool_] | None = None,
+               rings: IntArray | None = None) -> CrowdState:
     """The crowd ``dt`` s later: people near a robot that stopped for people and speaks
     (``speaking`` (R,)) heed it at their kind's rate and step away; goals reached start a
     pause, pauses that end and children who change their mind pick new goals (``areas``:
@@ -363,7 +389,8 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     cap = params.max_speed_factor * moving.preferred
     for _ in range(steps):
         accel = social_acceleration(replace(moving, position=position, velocity=velocity),
-                                    walls, robot_poses, robot_lengths, robot_widths, params)
+                                    walls, robot_poses, robot_lengths, robot_widths, params,
+                                    rings)
         velocity = velocity + h * accel
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         velocity = velocity * np.minimum(1.0, cap / np.maximum(speed, 1e-12))[:, None]

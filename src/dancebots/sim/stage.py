@@ -36,7 +36,13 @@ from dancebots.sim.collision import (
     overlapping_pairs,
     rectangles_overlap,
 )
-from dancebots.sim.crowd import CrowdState, crowd_start, crowd_step, wall_segments
+from dancebots.sim.crowd import (
+    CrowdState,
+    crowd_start,
+    crowd_step,
+    wall_rings,
+    wall_segments,
+)
 from dancebots.sim.kinematics import Profile, actuate, fresh_commands
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds, scan_ranges
 from dancebots.sim.setup import Arena, Placement
@@ -110,10 +116,17 @@ class Stage:
         if arena.crowds:  # its own generator: a crowd leaves the robots' noise as it was
             self.crowd_rng = np.random.default_rng([seed, *(c.seed for c in arena.crowds)])
             self.walls = wall_segments(arena.room, arena.obstacles)
+            self.wall_rings = wall_rings(arena.room, arena.obstacles)
             keep_clear = shapely.union_all([shapely.Polygon(o.polygon)
                                             for o in arena.obstacles]) if arena.obstacles else None
-            self.crowd = crowd_start(arena.crowds, starts, self.reach, keep_clear,
-                                     self.walls, self.crowd_rng)
+            try:
+                self.crowd = crowd_start(arena.crowds, starts, self.reach, keep_clear,
+                                         self.walls, self.crowd_rng)
+            except ValueError as exc:
+                from dancebots.sim.setup import SetupError
+
+                raise SetupError(f"{exc}: enlarge its area, lower its count or keep it away "
+                                 "from the robots' start poses and the walls") from None
         self.disc_names = (*(p.name for p in self.spectators),
                            *(self.crowd.names if self.crowd is not None else ()))
         self.disc_heights = np.array([p.height for p in self.spectators] + (
@@ -245,7 +258,7 @@ class Stage:
         if crowd is not None:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
                                self.pose, self.lengths, self.widths, self.crowd_rng,
-                               speaking=self.speaking)
+                               speaking=self.speaking, rings=self.wall_rings)
             # people do not walk into robots: a step that would reach into a footprint
             # deeper than before stands (one a robot has reached may step out)
             before = _footprint_gaps(self.pose, self.lengths, self.widths, crowd.position)

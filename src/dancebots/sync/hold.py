@@ -14,10 +14,13 @@ clock only while
   counts as a hold: a lost robot stops the show; the show never runs on without it);
 
 and never beyond any mate's show time as extrapolated from its latest message (that show time
-plus the time since it was sent, if that mate's clock was running), nor backwards. So every
-robot's show time stops when one is held and all resume together; delayed or lost messages
-make a robot wait a little longer, never run ahead, and every clock catches the slowest up to
-within one message delay: the formation shares one show time. Pure functions; times in s.
+plus the time since it was sent, unless that mate holds the show), nor backwards. So every
+robot's show time stops when one is held and all resume together. A mate that waits without
+holding is extrapolated as if it ran, so where a holder's messages are lost a robot may run
+ahead of the waiting mates, by at most the heartbeat timeout (then the holder's silence holds
+it); a robot that ran ahead waits until the others catch up, so the clocks meet again within
+one message delay once messages pass: the formation shares one show time. Pure functions;
+times in s.
 """
 
 from __future__ import annotations
