@@ -352,7 +352,10 @@ class RobotBrain:
                     seen.force)
             wanted = linear, angular  # the follower's, before what it sees cuts them
             near = strangers if strangers is not None else seen
-            if near.nearest <= OVERLAP and (self._mates is not None or len(self.plan.robots) == 1):
+            # the rules for strangers need the mates' places (the tracking and path followers;
+            # the thesis follower, which knows none, keeps thesis 5.2's rules as written)
+            knows_strangers = self._mates is not None or len(self.plan.robots) == 1
+            if near.nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
                 # still until the person leaves (the thesis follower, which knows no mates'
@@ -380,7 +383,7 @@ class RobotBrain:
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
                 linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
                                                    pose, linear, angular)
-            if held and angular != 0.0 and near.nearest < self.sweep_reach:
+            if held and angular != 0.0 and knows_strangers and near.nearest < self.sweep_reach:
                 # held, it turns only when nothing but mates on their places is within the
                 # circle its footprint sweeps (its corners' swing beyond its sides)
                 angular = 0.0

@@ -93,8 +93,8 @@ def test_moving_over_to_a_new_formation_is_not_a_finding_but_staying_away_is() -
 def test_a_robot_that_ends_off_its_slot_and_turned_is_not_said_to_have_reached_it(
         examples: Path) -> None:
     """7.4 with SIM robots, defaults, LIDAR: R2 is held beside R1 (the formation waits for it
-    until the run ends) and ends 0.62 m off its slot and turned; the heading finding's hint
-    no longer says it reached its place."""
+    until the run ends) and ends 1.05 m off its final slot and turned; the heading finding's
+    hint no longer says it reached its place."""
     from dancebots.plan.planner import PlanParameters
     from dancebots.robot import BrainOptions
 
@@ -104,6 +104,6 @@ def test_a_robot_that_ends_off_its_slot_and_turned_is_not_said_to_have_reached_i
                       SimConfig(brain=BrainOptions(follower="path")))
     final = {d.message.split(" ends ")[1].split(" ")[0]: d for d in
              simulated_findings(result, "x") if d.message.startswith("simulated (x): R2 ends")}
-    assert set(final) == {"0.62", "facing"}
+    assert set(final) == {"1.05", "facing"}
     assert final["facing"].hint == ("it did not reach its place either: see the findings "
                                     "before this one for why")
