@@ -77,7 +77,8 @@ def main() -> None:
         print(f"  robots held, robot-s per run: median {held['median']}, max {held['max']}")
         print(f"  farthest from its place while one was held, m: median {apart['median']}, "
               f"max {apart['max']}  (target 0.10)")
-        print(f"  runs not clean for other reasons: {two['runs_not_clean']}")
+        print(f"  shows that did not finish (waited beyond the run's limit): "
+              f"{two['runs_unfinished']}; runs not clean: {two['runs_not_clean']}")
         print(f"  wall {wall2:.1f} s: {60 * args.runs / wall2:.1f} runs/min; 1,000 runs "
               f"projected {1000 * wall2 / args.runs / 60:.1f} min (target < 10)")
         if not args.skip_speedup:
