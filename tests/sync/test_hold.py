@@ -126,4 +126,16 @@ def test_the_clock_never_runs_ahead_of_a_mate_nor_backwards() -> None:
     clock = clock_receive(clock, HoldMessage("R2", 1.3, 0.3, False))  # R2 behind: R1 waits
     clock = clock_tick(clock, 1.4, False)
     assert clock.show_time == 0.7
-    assert not clock.running
+
+
+def test_hearing_messages_together_is_hearing_them_one_by_one() -> None:
+    messages = [HoldMessage("R2", 1.0, 0.5, False), HoldMessage("R3", 1.0, 0.4, True),
+                HoldMessage("R2", 0.9, 0.3, True), HoldMessage("R9", 1.0, 0.0, True),
+                HoldMessage("R3", 1.1, 0.6, False)]
+    together = clock_receive(new_clock("R1", ROLES, 0.0), *messages)
+    one_by_one = new_clock("R1", ROLES, 0.0)
+    for message in messages:
+        one_by_one = clock_receive(one_by_one, message)
+    assert dict(together.heard) == dict(one_by_one.heard)
+    assert together.heard["R2"].stamp == 1.0  # the older R2 message did not replace it
+    assert together.heard["R3"].show_time == 0.6

@@ -80,7 +80,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from dancebots.report.certify import CertifyJob, _loaded
+    from dancebots.report.certify import CertifyJob, load_job
 
     if args.scenario is None:
         args.scenario = short_path(bundled("open_day.dance"))
@@ -91,14 +91,14 @@ def run(args: argparse.Namespace) -> int:
                       "([[crowds]] or [[spectators]], docs/worlds.md)")
     job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
                      args.timing, not args.no_lidar, args.final_tolerance, args.hold)
-    from dancebots.loading import load_show
-
-    show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)
-    if not show.valid:
+    show = load_job(job)  # the check and placement every worker repeats, once here first
+    if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
+    from dancebots.sim.setup import SetupError, prepare_show
+
     try:
-        _loaded(job)  # the check and placement every worker repeats, once here first
-    except ValueError as exc:
+        prepare_show(show.report.placement)
+    except SetupError as exc:
         return refuse(NAME, args.json, str(exc))
     target = Path(args.out) if args.out else Path("out") / f"{Path(args.scenario).stem}-certificate"
     return run_show_into(NAME, target, OUTPUT_NAMES, args.json,

@@ -17,9 +17,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from dancebots.loading import LoadedShow
     from dancebots.report.metrics import RunMetrics
 
-__all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "run_seed", "summarise"]
+__all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "load_job", "run_seed",
+           "summarise"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,17 +73,24 @@ class RunSummary:
     wall: float
 
 
-@cache
-def _loaded(job: CertifyJob) -> tuple[object, object, object]:
-    """The job's plan, arena and placement, loaded once per process. Raises ValueError with
-    the diagnostics when the show cannot run (the shell checks it before any worker)."""
+def load_job(job: CertifyJob) -> LoadedShow:
+    """The job's show, compiled, checked and placed as ``dancebots run`` does (its
+    diagnostics say what is wrong)."""
     from dancebots.check import CheckOptions
     from dancebots.loading import load_show
     from dancebots.plan.placement import places_followed
+
+    return load_show(job.scenario, job.world, job.vmax, check=CheckOptions(
+        places=places_followed(job.follower)), timing=job.timing)  # type: ignore[arg-type]
+
+
+@cache
+def _loaded(job: CertifyJob) -> tuple[object, object, object]:
+    """The job's plan, arena and placement, loaded once per process (the shell refuses a
+    show :func:`load_job` finds invalid before any worker starts; ValueError otherwise)."""
     from dancebots.sim.setup import prepare_show
 
-    show = load_show(job.scenario, job.world, job.vmax, check=CheckOptions(
-        places=places_followed(job.follower)), timing=job.timing)  # type: ignore[arg-type]
+    show = load_job(job)
     if not show.valid or show.report is None or show.report.placement is None:
         raise ValueError("; ".join(d.message for d in show.diagnostics))
     arena, placement = prepare_show(show.report.placement)

@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from dancebots.geometry import wrap_angles
 from dancebots.plan.placement import true_runs
 from dancebots.shows.formation import STATUS, RunResult
+from dancebots.sim.collision import footprint_gaps
 
 __all__ = [
     "ANGULAR_DEADBAND",
@@ -387,13 +388,8 @@ def smallest_person_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArr
         return None
     best = math.inf
     for r in range(poses.shape[0]):  # (C, T) per robot: memory stays C x T
-        c, s = np.cos(poses[r, :, 2]), np.sin(poses[r, :, 2])  # (T,)
-        dx = people[..., 0] - poses[r, :, 0]
-        dy = people[..., 1] - poses[r, :, 1]
-        ex = np.maximum(np.abs(c * dx + s * dy) - 0.5 * lengths[r], 0.0)
-        ey = np.maximum(np.abs(-s * dx + c * dy) - 0.5 * widths[r], 0.0)
-        best = min(best, float(np.nanmin(np.hypot(ex, ey) - radii[:, None],
-                                         initial=math.inf)))
+        gaps = footprint_gaps(people, poses[r][None], lengths[r], widths[r])  # (C, T)
+        best = min(best, float(np.nanmin(gaps - radii[:, None], initial=math.inf)))
     return max(best, 0.0)
 
 

@@ -11,7 +11,8 @@ from numpy.typing import NDArray
 
 from dancebots.geometry import points_in_frames
 
-__all__ = ["Boundaries", "disc_contacts", "overlapping_pairs", "rectangles_overlap"]
+__all__ = ["Boundaries", "disc_contacts", "footprint_gaps", "overlapping_pairs",
+           "rectangles_overlap"]
 
 FloatArray = NDArray[np.float64]
 
@@ -121,14 +122,24 @@ class Boundaries:
         return result
 
 
+def footprint_gaps(points: FloatArray, poses: FloatArray, lengths: FloatArray | float,
+                   widths: FloatArray | float) -> FloatArray:
+    """The distance (m) from points (..., 2) to the footprints of robots at poses (..., 3)
+    with sizes (...), all in one frame; the shapes broadcast (as
+    ``geometry.points_in_frames``): 0 for a point on or in a footprint."""
+    local = points_in_frames(points, poses)
+    ex = np.maximum(np.abs(local[..., 0]) - 0.5 * np.asarray(lengths), 0.0)
+    ey = np.maximum(np.abs(local[..., 1]) - 0.5 * np.asarray(widths), 0.0)
+    result: FloatArray = np.hypot(ex, ey)
+    return result
+
+
 def disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
                   discs: FloatArray) -> list[tuple[int, int]]:
     """(robot, disc) pairs whose footprint (poses (R, 3)) and disc (C, 3) overlap."""
     if len(discs) == 0:
         return []
-    local = points_in_frames(discs[None, :, :2], poses[:, None, :])  # (R, C, 2)
-    lx, ly = local[..., 0], local[..., 1]
-    ex = np.maximum(np.abs(lx) - 0.5 * lengths[:, None], 0.0)
-    ey = np.maximum(np.abs(ly) - 0.5 * widths[:, None], 0.0)
-    r, k = np.nonzero(np.hypot(ex, ey) < discs[None, :, 2])
+    gaps = footprint_gaps(discs[None, :, :2], poses[:, None, :], lengths[:, None],
+                          widths[:, None])  # (R, C)
+    r, k = np.nonzero(gaps < discs[None, :, 2])
     return list(zip(r.tolist(), k.tolist(), strict=True))

@@ -277,22 +277,27 @@ def _new_goals(state: CrowdState, which: NDArray[np.int64], areas: Sequence[Floa
     watch = state.column("watch")[which]
     near, far = state.column("watch_near")[which], state.column("watch_far")[which]
     for n, a in enumerate(which.tolist()):
-        area = areas[int(state.crowd[a])]
-        goal = None
+        spot = None
         if len(robot_poses) and rng.random() < watch[n]:
             robot = int(rng.integers(len(robot_poses)))
             angle = rng.uniform(-math.pi, math.pi)
             gap = robot_reach[robot] + state.radius[a] + rng.uniform(near[n], far[n])
             spot = robot_poses[robot, :2] + gap * np.array([math.cos(angle), math.sin(angle)])
-            clear = not len(walls) or _wall_distance(spot[None], walls)[0] > (
-                state.radius[a] + WALL_CLEARANCE)
-            if clear and _inside(area, spot[None])[0]:
-                goal = spot
-        if goal is None:
-            drawn = _random_in(area, 1, rng, walls, float(state.radius[a]))
-            goal = drawn[0] if len(drawn) else state.goal[a]
-        goals[n] = goal
+        goals[n] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
+                            rng, state.goal[a])
     return goals
+
+
+def _goal_at(spot: FloatArray | None, area: FloatArray, walls: FloatArray, radius: float,
+             rng: np.random.Generator, keep: FloatArray) -> FloatArray:
+    """``spot`` (2,) as a pedestrian's goal if it lies in its ``area`` with the disc
+    (``radius``) clear of the walls (S, 2, 2) by :data:`WALL_CLEARANCE`; else a random such
+    place in the area; else (none found) ``keep``."""
+    if spot is not None and _inside(area, spot[None])[0] and (
+            not len(walls) or _wall_distance(spot[None], walls)[0] > radius + WALL_CLEARANCE):
+        return spot
+    drawn = _random_in(area, 1, rng, walls, radius)
+    return drawn[0] if len(drawn) else keep
 
 
 def crowd_start(crowds: Sequence[Crowd], robot_poses: FloatArray, robot_reach: FloatArray,
@@ -426,14 +431,8 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
         direction = away / norm if norm > 1e-9 else np.array([1.0, 0.0])
         spot = speakers[nearest[a], :2] + direction * (reach[nearest[a]] + rng.uniform(
             *ROOM_MADE))
-        area = areas[int(state.crowd[a])]
-        clear = not len(walls) or _wall_distance(spot[None], walls)[0] > (
-            state.radius[a] + WALL_CLEARANCE)
-        if clear and _inside(area, spot[None])[0]:
-            goal[a] = spot
-        else:
-            drawn = _random_in(area, 1, rng, walls, float(state.radius[a]))
-            goal[a] = drawn[0] if len(drawn) else goal[a]
+        goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
+                           rng, goal[a])
         pause[a] = 0.0
     return replace(state, goal=goal, pause=pause)
 

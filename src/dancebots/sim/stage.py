@@ -25,7 +25,6 @@ from dancebots.geometry import (
     compose_poses,
     footprint_corners,
     integrate_unicycle,
-    points_in_frames,
     points_to_world,
     wrap_angles,
 )
@@ -33,6 +32,7 @@ from dancebots.perception.cloud import PointCloud
 from dancebots.sim.collision import (
     Boundaries,
     disc_contacts,
+    footprint_gaps,
     overlapping_pairs,
     rectangles_overlap,
 )
@@ -238,11 +238,8 @@ class Stage:
         ahead = spectator_discs(spectators, self.walked + dt)
         free = np.ones(len(spectators), dtype=bool)
         if len(spectators):
-            # a step into a robot waits; one who already stands in a robot walks on (out)
             now = spectator_discs(spectators, self.walked)
-            before = _footprint_gaps(self.pose, self.lengths, self.widths, now[:, :2])
-            after = _footprint_gaps(self.pose, self.lengths, self.widths, ahead[:, :2])
-            free = ~((after < ahead[:, 2]) & (before >= now[:, 2]))
+            free = ~self._steps_into_robots(now[:, :2], ahead[:, :2], now[:, 2])
         self.waiting = np.where(free, 0.0, self.waiting + dt)
         walked = self.walked + np.where(free, dt, 0.0)
         for k in np.flatnonzero(self.waiting >= STEP_BACK_AFTER).tolist():
@@ -259,17 +256,23 @@ class Stage:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
                                self.pose, self.lengths, self.widths, self.crowd_rng,
                                speaking=self.speaking, rings=self.wall_rings)
-            # people do not walk into robots: a step that would reach into a footprint
-            # deeper than before stands (one a robot has reached may step out)
-            before = _footprint_gaps(self.pose, self.lengths, self.widths, crowd.position)
-            after = _footprint_gaps(self.pose, self.lengths, self.widths, moved.position)
-            stands = (after < moved.radius) & (after < before)
+            stands = self._steps_into_robots(crowd.position, moved.position, crowd.radius)
             if stands.any():
                 position, velocity = moved.position.copy(), moved.velocity.copy()
                 position[stands], velocity[stands] = crowd.position[stands], 0.0
                 moved = replace(moved, position=position, velocity=velocity)
             self.crowd = moved
         self.discs = self._discs(scripted)
+
+    def _steps_into_robots(self, before: FloatArray, after: FloatArray,
+                           radii: FloatArray) -> NDArray[np.bool_]:
+        """(P,) the people (centres (P, 2) before and after a step, disc radii (P,)) whose step
+        would reach into a robot's footprint from outside: people do not walk into robots,
+        so they stand instead; one who already stands in a robot walks on (out of it)."""
+        gap_before = _footprint_gaps(self.pose, self.lengths, self.widths, before)
+        gap_after = _footprint_gaps(self.pose, self.lengths, self.widths, after)
+        result: NDArray[np.bool_] = (gap_after < radii) & (gap_before >= radii)
+        return result
 
     def _discs(self, scripted: FloatArray) -> FloatArray:
         """All people as discs (C, 3) = x, y, radius: the scripted spectators, then the
@@ -290,10 +293,8 @@ def _footprint_gaps(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
     sizes (R,)), m; 0 inside one, inf without robots."""
     if len(poses) == 0:
         return np.full(len(points), math.inf)
-    local = points_in_frames(points[None, :, :], poses[:, None, :])  # (R, P, 2)
-    ex = np.maximum(np.abs(local[..., 0]) - 0.5 * lengths[:, None], 0.0)
-    ey = np.maximum(np.abs(local[..., 1]) - 0.5 * widths[:, None], 0.0)
-    result: FloatArray = np.hypot(ex, ey).min(axis=0)
+    result: FloatArray = footprint_gaps(points[None, :, :], poses[:, None, :],
+                                        lengths[:, None], widths[:, None]).min(axis=0)
     return result
 
 

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Literal, get_args
 
@@ -47,12 +47,15 @@ ADVANCE_MIN = 1e-9
 @dataclass(frozen=True, slots=True)
 class HoldMessage:
     """What a robot tells the formation at every tick: its ``role``, its clock when sending
-    (``stamp``, s), its ``show_time`` then (s) and whether it ``holds`` the show."""
+    (``stamp``, s), its ``show_time`` then (s), whether it ``holds`` the show, and where it
+    stands in the show frame (``position``, m; None: unknown), so that its mates do not take
+    it for a person where it is off its place."""
 
     role: str
     stamp: float
     show_time: float
     holds: bool
+    position: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -66,34 +69,41 @@ class HoldParams:
 @dataclass(frozen=True, slots=True)
 class ShowClock:
     """One robot's view of the shared show clock: its ``role``, the ``mates`` it waits for,
-    its show time (s) at its clock ``updated`` (s), whether it ran at its last tick, and the
-    latest message heard from each mate."""
+    its show time (s) at its clock ``updated`` (s), and the latest message heard from each
+    mate."""
 
     role: str
     mates: tuple[str, ...]
     show_time: float
     updated: float
-    running: bool
     heard: Mapping[str, HoldMessage]
 
 
 def new_clock(role: str, roles: tuple[str, ...], start: float) -> ShowClock:
     """The clock of ``role`` in a formation of ``roles`` at the agreed start (its clock
     ``start`` s, show time 0); it runs once it has heard every mate."""
-    return ShowClock(role, tuple(r for r in roles if r != role), 0.0, start, False,
+    return ShowClock(role, tuple(r for r in roles if r != role), 0.0, start,
                      MappingProxyType({}))
 
 
-def clock_receive(clock: ShowClock, message: HoldMessage) -> ShowClock:
-    """``clock`` after hearing ``message`` (its own echo, unknown roles and messages older
-    than the latest of that role are ignored)."""
-    if message.role not in clock.mates or not (
-            math.isfinite(message.stamp) and math.isfinite(message.show_time)):
+def clock_receive(clock: ShowClock, *messages: HoldMessage) -> ShowClock:
+    """``clock`` after hearing ``messages`` in order (its own echo, unknown roles and messages
+    older than the latest of their role are ignored); ``clock`` itself when none counts."""
+    heard: dict[str, HoldMessage] | None = None
+    for message in messages:
+        if message.role not in clock.mates or not (
+                math.isfinite(message.stamp) and math.isfinite(message.show_time)):
+            continue
+        latest = (heard if heard is not None else clock.heard).get(message.role)
+        if latest is not None and latest.stamp >= message.stamp:
+            continue
+        if heard is None:
+            heard = dict(clock.heard)
+        heard[message.role] = message
+    if heard is None:
         return clock
-    latest = clock.heard.get(message.role)
-    if latest is not None and latest.stamp >= message.stamp:
-        return clock
-    return replace(clock, heard=MappingProxyType({**clock.heard, message.role: message}))
+    return ShowClock(clock.role, clock.mates, clock.show_time, clock.updated,
+                     MappingProxyType(heard))
 
 
 def clock_tick(clock: ShowClock, now: float, holds: bool,
@@ -117,5 +127,4 @@ def clock_tick(clock: ShowClock, now: float, holds: bool,
     show_time = clock.show_time
     if not waiting and min(show_time + elapsed, ceiling) > show_time + ADVANCE_MIN:
         show_time = min(show_time + elapsed, ceiling)
-    return replace(clock, show_time=show_time, updated=now,
-                   running=show_time > clock.show_time)
+    return ShowClock(clock.role, clock.mates, show_time, now, clock.heard)
