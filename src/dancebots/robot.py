@@ -157,6 +157,12 @@ class BrainState:
         return self.holds_show or self.safety.error is not None
 
     @property
+    def asks_for_room(self) -> bool:
+        """Whether it stands held by people and speaks (thesis 5.2's stop sentence and beeps):
+        people near it hear that they should make room (``sim.crowd``)."""
+        return self.holds_show and self.status == "stopped"
+
+    @property
     def status(self) -> str:
         """"error", "stopped" (held by a stop flag) or "ok"."""
         if self.safety.error is not None:
@@ -218,9 +224,20 @@ class RobotBrain:
                 np.array([self._to_own.x, self._to_own.y, self._to_own.theta]), mates)
             self._mates.flags.writeable = False  # mates_at hands out views of it
         self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
+        # the rules for strangers (points that are no mate on its place) need the mates'
+        # places: the tracking and path followers; the thesis follower, which knows none,
+        # keeps thesis 5.2's rules as written
+        self.knows_strangers = self._mates is not None or len(plan.robots) == 1
+        self._own_frame = np.array([self._to_own.x, self._to_own.y, self._to_own.theta])
         # m: how far beyond its sides the footprint's corners swing as it turns on the spot
         self.sweep_reach = (0.5 * math.hypot(self.sensing.length, self.sensing.width)
                             - 0.5 * min(self.sensing.length, self.sensing.width))
+
+    def show_position(self, pose: tuple[float, float, float]) -> tuple[float, float]:
+        """Where a robot at ``pose`` (its own map frame) stands in the show frame, m (what
+        it tells its mates: ``sync.hold.HoldMessage.position``)."""
+        x, y = points_to_world(np.array([pose[:2]]), self.slot0)[0]
+        return float(x), float(y)
 
     def _grid_index(self, show_time: float, length: int) -> int | None:
         """The index on the 10 Hz grid (of ``length`` entries) of ``show_time`` s: the last
@@ -299,11 +316,14 @@ class RobotBrain:
 
     def step(self, state: BrainState, show_time: float,
              pose: tuple[float, float, float] | None, cloud: PointCloud | None = None,
-             clock: float | None = None) -> tuple[BrainState, Command, tuple[Event, ...]]:
+             clock: float | None = None, mates_heard: np.ndarray | None = None,
+             ) -> tuple[BrainState, Command, tuple[Event, ...]]:
         """One control tick: show time in s (negative before the start), pose (x, y, theta)
         in the robot's own map frame or None (a failed look-up), the cloud that arrived, and
         the robot's clock (s, the time base of the clouds' stamps; None: the show time, as
-        when every robot's show time is its clock since the start).
+        when every robot's show time is its clock since the start), and where its mates said
+        they are (``mates_heard`` (K, 2), show frame, m: the shared clock's messages), so that
+        a mate off its place does not pass for a person.
         Returns the new state, the command and the events of this tick.
 
         A show time that did not advance since the last tick (the formation's shared clock
@@ -352,9 +372,15 @@ class RobotBrain:
                     seen.force)
             wanted = linear, angular  # the follower's, before what it sees cuts them
             near = strangers if strangers is not None else seen
-            # the rules for strangers need the mates' places (the tracking and path followers;
-            # the thesis follower, which knows none, keeps thesis 5.2's rules as written)
-            knows_strangers = self._mates is not None or len(self.plan.robots) == 1
+            if mates_heard is not None and len(mates_heard) and self._mates is not None and (
+                    seen.flags.front or seen.flags.rear or behind > HOLD_LAG
+                    or near.nearest < self.sweep_reach):
+                # (only where a rule below may use it:) a mate off its place, where it said
+                # it is, is no stranger either
+                near = self._without_mates(obstacles, height_step, seen_from or pose, pose,
+                                           show_time, compose_points(self._own_frame,
+                                                                     mates_heard)) or near
+            knows_strangers = self.knows_strangers
             if near.nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -366,9 +392,8 @@ class RobotBrain:
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
                 # (that mate moves on with the show; holding the clock for it would stall)
-                holds_show = strangers is None or bool(
-                    (strangers.flags.front and linear > 0)
-                    or (strangers.flags.rear and linear < 0))
+                holds_show = bool((near.flags.front and linear > 0)
+                                  or (near.flags.rear and linear < 0))
                 linear = 0.0
             elif sensing.approach_gain > 0:
                 if linear > 0:
@@ -389,11 +414,10 @@ class RobotBrain:
                 angular = 0.0
             if not held and behind > HOLD_LAG:
                 # falling behind its place, slowed or kept from turning by a stranger (not by
-                # a mate: the mate moves on with the show; the LIDAR cannot tell a mate kept
-                # off its place from a stranger): it holds the show as if held
+                # a mate on its place or where it said it is: the mate moves on with the
+                # show): it holds the show as if held
                 free = near.front_free if wanted[0] >= 0.0 else near.rear_free
-                by_stranger = sensing.approach_gain * max(
-                    free - sensing.detection.stop_distance, 0.0) < abs(wanted[0]) - SLOWED
+                by_stranger = self._approach_limit(free, None, 0.0) < abs(wanted[0]) - SLOWED
                 turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and near.nearest < turn_reach(
                     sensing.length, sensing.width, linear, sensing.detection)
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
@@ -471,14 +495,16 @@ class RobotBrain:
     def _without_mates(self, columns: np.ndarray, height_step: float,
                        seen_from: tuple[float, float, float],
                        pose: tuple[float, float, float], show_time: float,
-                       ) -> Perception | None:
+                       heard: np.ndarray | None = None) -> Perception | None:
         """The perception of the cloud's columns (K, 4) (``base_link`` at ``seen_from``)
         without the points within ``mate_radius`` of where a formation mate should be, or
         None when no point is left out (an addition of the tracking and path followers: a
         mate on its place is part of the plan: its force and the approach limit,
         :meth:`_approach_limit`, leave it out; the stop flags and the turn guard still see
-        every point)."""
-        mates = points_to_local(self.mates_at(show_time), seen_from)  # (M, 2) base_link
+        every point). ``heard`` (K, 2), own map frame: more mates, where they said they are."""
+        where = self.mates_at(show_time) if heard is None else np.concatenate(
+            [self.mates_at(show_time), heard])
+        mates = points_to_local(where, seen_from)  # (M, 2) base_link
         if self.sensing.compiled:
             from dancebots.perception.fast import far_from_all  # imports numba
 

@@ -92,9 +92,8 @@ def test_moving_over_to_a_new_formation_is_not_a_finding_but_staying_away_is() -
 
 def test_a_robot_that_ends_off_its_slot_and_turned_is_not_said_to_have_reached_it(
         examples: Path) -> None:
-    """7.4 with SIM robots, defaults, LIDAR: R2 is held beside R1 (the formation waits for it
-    until the run ends) and ends 1.05 m off its final slot and turned; the heading finding's
-    hint no longer says it reached its place."""
+    """7.4 with SIM robots, defaults, LIDAR: R2 is held beside R1 and ends 1.05 m off its
+    final slot and turned; the heading finding's hint no longer says it reached its place."""
     from dancebots.plan.planner import PlanParameters
     from dancebots.robot import BrainOptions
 

@@ -276,6 +276,7 @@ class _Crew:
         self.events: list[RobotEvent] = []
         self.status = np.zeros(count, dtype=np.int8)
         self.holding = np.zeros(count, dtype=bool)
+        self.asking = np.zeros(count, dtype=bool)
         self.command = np.zeros((count, 2))
 
     def _show_times(self, now: float) -> None:
@@ -287,42 +288,57 @@ class _Crew:
         due = [m for at, m in self.in_flight if at <= now + 1e-9]
         self.in_flight = [(at, m) for at, m in self.in_flight if at > now + 1e-9]
         for i, clock in enumerate(self.clocks):
-            for message in due:
-                clock = clock_receive(clock, message)
-            self.clocks[i] = clock_tick(clock, now, self.states[i].holding_the_show)
+            self.clocks[i] = clock_tick(clock_receive(clock, *due), now,
+                                        self.states[i].holding_the_show)
             self.show_times[i] = self.clocks[i].show_time
 
-    def _tell(self, now: float) -> None:
-        """Every robot tells the others its show time and whether it holds the show."""
+    def _mates_heard(self, robot: int) -> np.ndarray | None:
+        """(K, 2) where ``robot``'s mates said they stand (show frame), from the latest
+        message of each; None without the shared clock."""
+        if not self.together:
+            return None
+        said = [m.position for m in self.clocks[robot].heard.values() if m.position is not None]
+        return np.array(said, dtype=float).reshape(-1, 2)
+
+    def _tell(self, now: float, poses: list[tuple[float, float, float] | None]) -> None:
+        """Every robot tells the others its show time, whether it holds the show and where it
+        stands (``poses``: in its own map frame, as its brain got it; None: a failed look-up,
+        it does not say)."""
         if not self.together:
             return
         lost = self.message_rng.random(len(self.robots)) < self.loss if self.loss > 0 else (
             np.zeros(len(self.robots), dtype=bool))
         for i, role in enumerate(self.robots):
+            pose = poses[i]
             if not lost[i]:
                 self.in_flight.append((now + self.delay, HoldMessage(
-                    role, now, float(self.show_times[i]), self.states[i].holding_the_show)))
+                    role, now, float(self.show_times[i]), self.states[i].holding_the_show,
+                    None if pose is None else self.brains[i].show_position(pose))))
 
     def step(self, now: float) -> Tick:
         stage, states = self.stage, self.states
         arrived = stage.deliveries(now)
         own_poses = stage.own_poses().tolist()
         self._show_times(now)
+        given: list[tuple[float, float, float] | None] = []
         for i, brain in enumerate(self.brains):
             if now >= self.lidar_faults.get(i, math.inf):
                 arrived[i] = None
-            seen = None if now >= self.pose_faults.get(i, math.inf) else tuple(own_poses[i])
+            seen = None if now >= self.pose_faults.get(i, math.inf) else (
+                own_poses[i][0], own_poses[i][1], own_poses[i][2])
+            given.append(seen)
             states[i], cmd, happened = brain.step(states[i], float(self.show_times[i]), seen,
-                                                  arrived[i], clock=now)
+                                                  arrived[i], clock=now,
+                                                  mates_heard=self._mates_heard(i))
             self.command[i] = (cmd.linear, cmd.angular)
             self.status[i] = STATUS.index(states[i].status)
             self.holding[i] = states[i].holding_the_show
+            self.asking[i] = states[i].asks_for_room
             if happened:
                 self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                                    for e in happened)
-        self._tell(now)
-        # the robots held by people speak (and beep): the crowd hears them (sim/crowd.py)
-        stage.speaking = self.holding & (self.status == STATUS.index("stopped"))
+        self._tell(now, given)
+        stage.speaking = self.asking.copy()  # the crowd hears them (sim/crowd.py)
         return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
                                    "commands": self.command, "status": self.status,
                                    "spectators": stage.discs[:, :2],
