@@ -50,14 +50,16 @@ from dancebots.perception.obstacles import (
     turn_fraction,
     turn_reach,
 )
+from dancebots.perception.ssm import SsmParams, ssm_speed_limit
+from dancebots.perception.tracks import ObstacleTracks, TrackParams, approach_speeds, track_step
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.sync.hold import ADVANCE_MIN
 from dancebots.world import RobotType
 
-__all__ = ["DETECTORS", "FOLLOWERS", "BrainOptions", "BrainState", "Command", "Detector",
-           "Follower", "RobotBrain", "SensingConfig", "brain_for"]
+__all__ = ["DETECTORS", "FOLLOWERS", "STOP_RULES", "BrainOptions", "BrainState", "Command",
+           "Detector", "Follower", "RobotBrain", "SensingConfig", "StopRule", "brain_for"]
 
 Follower = Literal["tracking", "path", "thesis"]
 FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
@@ -65,6 +67,15 @@ FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
 ``tracking`` (an addition: feedforward of the rigid slot's motion from the plan plus
 Kanayama's tracking law, ``control/tracking.py``); ``path`` (an addition: the same law on
 the robot's place on its leader's path, ``control.tracking.path_references``)."""
+
+StopRule = Literal["fixed", "ssm"]
+STOP_RULES: tuple[StopRule, ...] = get_args(StopRule)
+"""When a robot stops for what it sees: ``fixed`` (thesis 5.2): a point within 0.55 m ahead
+of the front (behind the rear) in the corridor the robot sweeps stops it driving that way,
+and the approach limit slows it before; ``ssm`` (an addition, ISO/TS 15066's speed and
+separation monitoring: ``perception.ssm``): its speed is limited so that it can stop before
+any point, approaching at its tracked speed (``perception.tracks``) or at walking speed,
+comes nearer than a margin to the area it sweeps until it stands."""
 
 Detector = Literal["thesis", "compensated"]
 DETECTORS: tuple[Detector, ...] = get_args(Detector)
@@ -132,6 +143,9 @@ class SensingConfig:
     compiled: bool = True
     detection: DetectorParams = field(default_factory=DetectorParams)
     safety: SafetyParams = field(default_factory=SafetyParams)
+    stop_rule: StopRule = "fixed"
+    ssm: SsmParams = field(default_factory=SsmParams)
+    tracks: TrackParams = field(default_factory=TrackParams)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -149,6 +163,10 @@ class BrainState:
     held: bool = False
     holds_show: bool = False
     show_time: float | None = None
+    tracks: ObstacleTracks | None = None
+    point_velocity: np.ndarray | None = None
+    point_kind: np.ndarray | None = None
+    cloud_stamp: float | None = None
 
     @property
     def holding_the_show(self) -> bool:
@@ -336,13 +354,24 @@ class RobotBrain:
         height_step = state.height_step
         if pose is not None and sensing.lidar and sensing.detector == "compensated":
             history = (*history[-HISTORY_LENGTH:], (now, *pose))
+        tracks, point_velocity, point_kind = state.tracks, state.point_velocity, state.point_kind
+        cloud_stamp = state.cloud_stamp
         if cloud is not None and sensing.lidar:
             obstacles = cloud.columns  # filtered at every tick, with the pose of that tick
             height_step = cloud.height_step
             seen_from = self._pose_at(history, cloud.stamp) if (
                 sensing.detector == "compensated") else None
+            cloud_stamp = cloud.stamp
+            taken_at = seen_from or pose
+            if sensing.stop_rule == "ssm" and taken_at is not None:
+                # the obstacles tracked in the own map frame (SSM needs their speeds)
+                points = points_to_world(obstacle_points_from_columns(
+                    obstacles, height_step, sensing.detection), taken_at)
+                tracks, point_velocity, point_kind = track_step(
+                    sensing.tracks, tracks or ObstacleTracks(), points, cloud.stamp)
         command = STOP
         held = holds_show = False
+        stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
         paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
@@ -388,6 +417,18 @@ class RobotBrain:
                 # places, would freeze beside a mate it touches: not for it)
                 held = holds_show = True
                 linear = angular = 0.0
+            elif sensing.stop_rule == "ssm":
+                if linear != 0.0 and point_velocity is not None and point_kind is not None:
+                    limit, stranger_limit = self._separation_limits(
+                        obstacles, height_step, seen_from or pose, pose, show_time,
+                        mates_heard, point_velocity, point_kind,
+                        now - (cloud_stamp if cloud_stamp is not None else now), linear)
+                    if limit < abs(linear):
+                        if limit <= SLOWED < abs(linear):
+                            held = True  # it may not drive that way: thesis 5.2's stop
+                            holds_show = stranger_limit <= SLOWED
+                            limit = 0.0
+                        linear = math.copysign(limit, linear)
             elif (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
@@ -417,7 +458,8 @@ class RobotBrain:
                 # a mate on its place or where it said it is: the mate moves on with the
                 # show): it holds the show as if held
                 free = near.front_free if wanted[0] >= 0.0 else near.rear_free
-                by_stranger = self._approach_limit(free, None, 0.0) < abs(wanted[0]) - SLOWED
+                by_stranger = (stranger_limit if stranger_limit is not None else
+                               self._approach_limit(free, None, 0.0)) < abs(wanted[0]) - SLOWED
                 turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and near.nearest < turn_reach(
                     sensing.length, sensing.width, linear, sensing.detection)
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
@@ -431,7 +473,9 @@ class RobotBrain:
             command = STOP
         new_state = BrainState(follower=follower, safety=safety, obstacles=obstacles,
                                height_step=height_step, seen_from=seen_from, history=history,
-                               held=held, holds_show=holds_show, show_time=show_time)
+                               held=held, holds_show=holds_show, show_time=show_time,
+                               tracks=tracks, point_velocity=point_velocity,
+                               point_kind=point_kind, cloud_stamp=cloud_stamp)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
@@ -466,6 +510,55 @@ class RobotBrain:
         if fraction == 0.0 and fraction_of(True) == 0.0:
             linear = math.copysign(min(abs(linear), GIVE_WAY_SPEED), linear)
         return linear, fraction * angular
+
+    def _separation_limits(self, columns: np.ndarray, height_step: float,
+                           seen_from: tuple[float, float, float],
+                           pose: tuple[float, float, float], show_time: float,
+                           heard: np.ndarray | None, velocity: np.ndarray, kind: np.ndarray,
+                           latency: float, linear: float) -> tuple[float, float]:
+        """Speed and separation monitoring (``SensingConfig.stop_rule`` ssm): the fastest
+        (m/s, at most |linear|) the robot may drive the way ``linear`` points, with every
+        obstacle point of the cloud's columns (``base_link`` at ``seen_from``), moved to
+        ``pose``, kept at the protective distance (``perception.ssm``) from what it sweeps
+        until it stands; and the same for the strangers alone (points that are no mate
+        where it should be or said it is: ``heard`` (K, 2), show frame). A stranger
+        approaches at its tracked speed (``velocity`` (N, 2), own map frame, and ``kind``
+        (N,) per point, ``perception.tracks``), a mate at 0 with the mates' margin. The data
+        are ``latency`` s old; the robot reacts within a tick and its actuator's lag."""
+        sensing, params = self.sensing, self.sensing.ssm
+        points = obstacle_points_from_columns(columns, height_step, sensing.detection)
+        if len(points) != len(kind):  # the tracks are of an older cloud: trust nothing
+            kind = np.full(len(points), 2, dtype=np.int8)
+            velocity = np.zeros((len(points), 2))
+        world = points_to_world(points, seen_from)
+        if seen_from != pose:
+            points = compensate_motion(points, seen_from, pose)
+        approach = approach_speeds(world, velocity, kind, (pose[0], pose[1]),
+                                   params.walking_speed, params.speed_margin)
+        margins = np.full(len(points), params.margin)
+        mate = np.zeros(len(points), dtype=bool)
+        if self._mates is not None and len(points):
+            where = self.mates_at(show_time)
+            if heard is not None and len(heard):
+                where = np.concatenate([where, compose_points(self._own_frame, heard)])
+            mates = points_to_local(where, pose)
+            gaps = np.hypot(points[:, None, 0] - mates[None, :, 0],
+                            points[:, None, 1] - mates[None, :, 1])  # (N, M)
+            mate = gaps.min(axis=1) <= self.mate_radius
+            approach[mate] = 0.0
+            margins[mate] = params.mate_margin
+        direction = 1.0 if linear >= 0.0 else -1.0
+        reaction = params.reaction_time + self.feedforward_lead  # a tick and the actuator lag
+        latency = max(latency, 0.0)
+
+        def limit(keep: np.ndarray) -> float:
+            return ssm_speed_limit(points[keep], approach[keep], margins[keep],
+                                   sensing.length, sensing.width, direction, abs(linear),
+                                   latency, reaction, params.deceleration)
+
+        everything = limit(np.ones(len(points), dtype=bool))
+        strangers = everything if not mate.any() else limit(~mate)
+        return everything, strangers
 
     def mates_at(self, show_time: float) -> np.ndarray:
         """(M, 2) where the other robots should be at ``show_time`` s (their followers'
@@ -594,7 +687,7 @@ class BrainOptions:
     constant (s) with which the robot's speeds follow its commands, by which the tracking and
     path followers lead their feedforward speeds (None: the simulator's profile's; 0 on ROS
     unless ``~actuator_lag`` says); compiled: the perception as numba-compiled loops, else
-    the NumPy reference (``SensingConfig.compiled``).
+    the NumPy reference (``SensingConfig.compiled``); stop_rule: :data:`STOP_RULES`.
     """
 
     follower: Follower = "thesis"
@@ -604,6 +697,7 @@ class BrainOptions:
     force_steering: ForceSteering = "blend"
     actuator_lag: float | None = None
     compiled: bool = True
+    stop_rule: StopRule = "fixed"
 
 
 def brain_for(plan: Plan, robot: str, robot_type: RobotType,
@@ -617,5 +711,5 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
         sensing=SensingConfig(
             robot_type.length, robot_type.width, lidar=options.lidar,
             detector=options.detector, force_radius=options.force_radius,
-            compiled=options.compiled),
+            compiled=options.compiled, stop_rule=options.stop_rule),
         follower=options.follower, feedforward_lead=options.actuator_lag or 0.0)

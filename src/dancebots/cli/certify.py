@@ -23,6 +23,7 @@ from dancebots.cli.common import (
     add_follower_argument,
     add_hold_argument,
     add_show_arguments,
+    add_stop_rule_argument,
     add_timing_argument,
     bundled,
     in_range,
@@ -68,6 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_follower_argument(parser)
     add_timing_argument(parser)
     add_hold_argument(parser)
+    add_stop_rule_argument(parser)
     parser.add_argument("--final-tolerance", type=positive, default=0.5, metavar="M",
                         help="a run whose robot ends further than this from its final slot "
                         "is not clean, m (default 0.5; reported, does not fail the "
@@ -90,7 +92,8 @@ def run(args: argparse.Namespace) -> int:
         return refuse(NAME, args.json, "certify needs --world W: a world with the people "
                       "([[crowds]] or [[spectators]], docs/worlds.md)")
     job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
-                     args.timing, not args.no_lidar, args.final_tolerance, args.hold)
+                     args.timing, not args.no_lidar, args.final_tolerance, args.hold,
+                     args.stop_rule)
     show = load_job(job)  # the check and placement every worker repeats, once here first
     if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)

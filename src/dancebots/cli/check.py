@@ -14,6 +14,7 @@ from dancebots.cli.common import (
     add_follower_argument,
     add_hold_argument,
     add_show_arguments,
+    add_stop_rule_argument,
     add_timing_argument,
     positive,
     print_diagnostics,
@@ -39,6 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_show_arguments(parser)
     add_timing_argument(parser)
     add_hold_argument(parser)
+    add_stop_rule_argument(parser)
     add_follower_argument(parser)
     parser.add_argument("--rigid-only", action="store_true",
                         help="skip the simulation pass: only the checks on the rigid desired "
@@ -162,7 +164,8 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
-    config = SimConfig(brain=BrainOptions(follower=args.follower), compiled=compiled,
+    config = SimConfig(brain=BrainOptions(follower=args.follower, stop_rule=args.stop_rule),
+                       compiled=compiled,
                        hold=args.hold)
     try:
         with progress(console, "simulating  (show s)") as update:

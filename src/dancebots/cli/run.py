@@ -21,6 +21,7 @@ from dancebots.cli.common import (
     add_follower_argument,
     add_hold_argument,
     add_show_arguments,
+    add_stop_rule_argument,
     add_timing_argument,
     bundled,
     in_range,
@@ -93,6 +94,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_follower_argument(parser)
     add_timing_argument(parser)
     add_hold_argument(parser)
+    add_stop_rule_argument(parser)
     parser.add_argument("--final-tolerance", type=positive, default=None, metavar="M",
                         help="a robot ending further than this from its final slot fails the "
                         "show, m (default 0.5)")
@@ -159,7 +161,7 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
     brain = BrainOptions(follower=args.follower, detector=args.detector,
-                         force_steering=args.force_steering)
+                         force_steering=args.force_steering, stop_rule=args.stop_rule)
     config = SimConfig(profile=CORE_PROFILES[args.profile], seed=args.seed, lidar=lidar,
                        brain=brain, hold=args.hold, record_lidar=args.show_lidar
                        and lidar is not None and not args.no_animation)

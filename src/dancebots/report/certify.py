@@ -29,7 +29,8 @@ class CertifyJob:
     """What every run of a certification shares: the choreography and world files, the
     slowest robot's speed (m/s, None: the world's), the profile's name, the follower, the
     timing, the robots' LIDAR (False: blind robots), the final-slot tolerance (m) and whether
-    the formation waits for a held robot (``SimConfig.hold``)."""
+    the formation waits for a held robot (``SimConfig.hold``) and the stop rule
+    (``BrainOptions.stop_rule``)."""
 
     scenario: str
     world: str
@@ -40,6 +41,7 @@ class CertifyJob:
     lidar: bool = True
     final_tolerance: float = 0.5
     hold: str | None = None
+    stop_rule: str = "fixed"
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,7 +114,8 @@ def run_seed(job: CertifyJob, seed: int) -> RunSummary:
     plan, arena, placement = _loaded(job)
     config = SimConfig(profile=PROFILES[job.profile], seed=seed,
                        lidar=LidarConfig() if job.lidar else None,
-                       brain=BrainOptions(follower=job.follower),  # type: ignore[arg-type]
+                       brain=BrainOptions(follower=job.follower,  # type: ignore[arg-type]
+                                          stop_rule=job.stop_rule),  # type: ignore[arg-type]
                        hold=job.hold)  # type: ignore[arg-type]
     started = time.perf_counter()
     result = simulate(plan, arena, placement, config)  # type: ignore[arg-type]

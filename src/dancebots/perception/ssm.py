@@ -1,0 +1,122 @@
+"""Speed and separation monitoring (an addition; the principle of ISO/TS 15066 clause 5.5.4 and
+ISO 13855 for machines near people), as pure vectorised functions.
+
+The protective separation distance of ISO/TS 15066 (eq. 1 there, simplified to a robot whose
+speed is constant until it reacts and which then brakes at a constant deceleration ``a``):
+
+    S_p(v_r, v_h) = v_h (T_l + T_r + T_s)  +  v_r T_r  +  v_r^2 / (2 a)  +  C
+                    `----- person: S_h ---'   `-robot: S_r-'  `-braking: S_s'
+
+with T_s = v_r / a the robot's stopping time, T_r its reaction time (a control tick and the
+actuator's lag), T_l the age of the LIDAR data the decision rests on (the robot compensates
+its own motion over it, not the person's), v_h the speed at which the person approaches
+and C a margin (intrusion distance and measurement uncertainty). ISO 13855 takes
+v_h = 1.6 m/s for a walking person; a tracked object approaches at its estimated speed
+towards the robot plus an uncertainty (``perception.tracks``).
+
+The robot may drive at v_r only where every obstacle point keeps at least S_p from the area
+the robot sweeps until it stands (its footprint stretched by S_r + S_s in the direction it
+drives): :func:`ssm_speed_limit` gives the largest such speed. Frames: ``base_link`` (x
+forward, y left, m).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["SsmParams", "protective_distance", "ssm_speed_limit", "swept_gaps"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class SsmParams:
+    """reaction_time: T_r, s (a 10 Hz control tick; the actuator lag is added per robot);
+    deceleration: a, the braking deceleration a robot is sure of, m/s^2 (the realistic
+    profile's limit); walking_speed: v_h of an object the tracker has not confirmed yet, m/s
+    (ISO 13855: 1.6); speed_margin: m/s added to a tracked object's estimated approach
+    speed (a standing person may step towards the robot); margin: C for people and other
+    strangers, m; mate_margin: C for a formation mate where it should be or said it is, m
+    (mates are robots that keep to the plan: their approach is the plan's, which the
+    rigid check keeps apart)."""
+
+    reaction_time: float = 0.1
+    deceleration: float = 1.0
+    walking_speed: float = 1.6
+    speed_margin: float = 0.3
+    margin: float = 0.25
+    mate_margin: float = 0.1
+
+    def __post_init__(self) -> None:
+        values = (self.reaction_time, self.deceleration, self.walking_speed,
+                  self.speed_margin, self.margin, self.mate_margin)
+        if not all(math.isfinite(v) for v in values) or self.deceleration <= 0.0 or min(
+                self.reaction_time, self.walking_speed, self.speed_margin, self.margin,
+                self.mate_margin) < 0.0:
+            raise ValueError("SSM parameters must be finite, the deceleration above 0 and the "
+                             "others 0 or more")
+
+
+def protective_distance(robot_speed: float | FloatArray, approach_speed: float | FloatArray,
+                        latency: float, reaction_time: float, deceleration: float,
+                        margin: float | FloatArray) -> FloatArray:
+    """S_p of ISO/TS 15066 (see the module), m: the robot at ``robot_speed`` (m/s, >= 0)
+    reacts after ``reaction_time`` s and brakes at ``deceleration`` m/s^2; the person
+    approaches at ``approach_speed`` m/s (>= 0) from data ``latency`` s old. Broadcasts."""
+    v = np.asarray(robot_speed, dtype=float)
+    stopping = v / deceleration
+    result: FloatArray = (np.asarray(approach_speed, dtype=float)
+                          * (latency + reaction_time + stopping)
+                          + v * reaction_time + 0.5 * v * stopping + margin)
+    return result
+
+
+def swept_gaps(points: FloatArray, length: float, width: float, reach: float,
+               direction: float) -> FloatArray:
+    """Distances (M,) from obstacle points (M, 2) in ``base_link`` to the area the footprint
+    (``length`` x ``width``, m, centred) sweeps driving ``reach`` m straight ahead
+    (``direction`` +1) or back (-1): 0 on or in it."""
+    half_l, half_w = 0.5 * length, 0.5 * width
+    x = points[:, 0] * (1.0 if direction >= 0.0 else -1.0)
+    dx = np.maximum(np.maximum(-half_l - x, x - (half_l + reach)), 0.0)
+    dy = np.maximum(np.abs(points[:, 1]) - half_w, 0.0)
+    result: FloatArray = np.hypot(dx, dy)
+    return result
+
+
+def ssm_speed_limit(points: FloatArray, approach: FloatArray, margins: FloatArray,
+                    length: float, width: float, direction: float, top: float,
+                    latency: float, reaction_time: float, deceleration: float,
+                    iterations: int = 30) -> float:
+    """The largest speed v in [0, ``top``] (m/s) at which the robot may drive ``direction``
+    (+1 forwards, -1 backwards) with every obstacle point (M, 2, ``base_link``) that
+    approaches at ``approach`` (M,) m/s, with margins ``margins`` (M,) m, at least
+    :func:`protective_distance` from the area it sweeps until it stands
+    (:func:`swept_gaps`, reach v T_r + v^2 / 2a). 0.0 when even standing still leaves a point
+    nearer than its S_p(0) (the robot stops: the stop flag of thesis 5.2 in SSM form). The
+    gap shrinks and S_p grows with v, so bisection finds the limit (to top / 2^iterations)."""
+    if len(points) == 0 or not top > 0.0:
+        return max(top, 0.0) if math.isfinite(top) else 0.0
+
+    def allowed(speed: float) -> bool:
+        reach = speed * reaction_time + 0.5 * speed * speed / deceleration
+        need = protective_distance(speed, approach, latency, reaction_time, deceleration,
+                                   margins)
+        return bool(np.all(swept_gaps(points, length, width, reach, direction) >= need))
+
+    if allowed(top):
+        return float(top)
+    if not allowed(0.0):
+        return 0.0
+    low, high = 0.0, float(top)
+    for _ in range(iterations):
+        middle = 0.5 * (low + high)
+        if allowed(middle):
+            low = middle
+        else:
+            high = middle
+    return low

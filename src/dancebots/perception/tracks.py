@@ -1,0 +1,148 @@
+"""Obstacles tracked over scans, for speed and separation monitoring (``perception.ssm``): an
+addition, the formation robot's counterpart of the second seed's detector A2.
+
+Each cloud's obstacle points that are no formation mate (in the robot's own map frame, m) are
+clustered (points nearer than ``TrackParams.cluster_gap`` join; SciPy's k-d tree and
+connected components); a cluster wider than a person (``max_width``) is a wall or an
+obstacle face and stands still. The small clusters' centres are assigned to the tracks of
+the last scan (Hungarian assignment, gated) and filtered by the project's constant-velocity
+Kalman filter (``leader_follower.kalman``), which gives their velocity. A track seen fewer
+than ``min_hits`` times has no trusted velocity yet: SSM takes the walking speed for it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from dancebots.leader_follower.kalman import kalman_predict, kalman_update
+
+__all__ = ["NEW", "STANDING", "TRACKED", "ObstacleTracks", "TrackParams", "approach_speeds",
+           "cluster_points", "track_step"]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+STANDING, TRACKED, NEW = 0, 1, 2
+"""Kinds of obstacle point (``track_step``): a wall or obstacle face, a tracked object, an
+object seen too few times to trust its velocity."""
+
+
+@dataclass(frozen=True, slots=True)
+class TrackParams:
+    """cluster_gap: points nearer than this join one cluster, m; max_width: a cluster wider
+    than this (its bounding box's diagonal) is a wall or obstacle face, taken as standing, m;
+    gate: the farthest a track may move between scans to keep a cluster, m; min_hits: scans
+    before a track's velocity is trusted; max_misses: scans a track survives unseen;
+    acceleration_noise: q of the Kalman filter, m^2/s^3 (people change speed quickly);
+    measurement_noise: m."""
+
+    cluster_gap: float = 0.3
+    max_width: float = 0.9
+    gate: float = 0.6
+    min_hits: int = 3
+    max_misses: int = 3
+    acceleration_noise: float = 2.0
+    measurement_noise: float = 0.05
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ObstacleTracks:
+    """Tracks in the robot's own map frame: states (K, 4) x, y, vx, vy (m, m/s), covariances
+    (K, 4, 4), hits and misses (K,), and the stamp of the last scan (s)."""
+
+    states: FloatArray = field(default_factory=lambda: np.zeros((0, 4)))
+    covariances: FloatArray = field(default_factory=lambda: np.zeros((0, 4, 4)))
+    hits: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    misses: IntArray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    stamp: float | None = None
+
+
+def cluster_points(points: FloatArray, gap: float) -> tuple[IntArray, int]:
+    """Cluster labels (N,) of points (N, 2) (points nearer than ``gap`` m join, transitively)
+    and the number of clusters."""
+    count = len(points)
+    if count == 0:
+        return np.zeros(0, dtype=np.int64), 0
+    pairs = cKDTree(points).query_pairs(gap, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
+    clusters, labels = connected_components(graph, directed=False)
+    return labels.astype(np.int64), int(clusters)
+
+
+def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
+               stamp: float) -> tuple[ObstacleTracks, FloatArray, NDArray[np.int8]]:
+    """One scan: obstacle points (N, 2) in the map frame at ``stamp`` s. Returns the new
+    tracks, each point's velocity (N, 2) in the map frame (0 for walls) and its kind (N,):
+    :data:`STANDING` (a wall or obstacle face), :data:`TRACKED` (a small cluster seen at least
+    ``min_hits`` times: its velocity is trusted) or :data:`NEW`."""
+    labels, count = cluster_points(points, params.cluster_gap)
+    velocity = np.zeros((len(points), 2))
+    kind = np.full(len(points), STANDING, dtype=np.int8)
+    lows = np.full((count, 2), math.inf)
+    highs = np.full((count, 2), -math.inf)
+    np.minimum.at(lows, labels, points)
+    np.maximum.at(highs, labels, points)
+    small = np.hypot(*(highs - lows).T) <= params.max_width if count else np.zeros(0, bool)
+    sums = np.zeros((count, 2))
+    np.add.at(sums, labels, points)
+    centres = (sums / np.maximum(np.bincount(labels, minlength=count), 1)[:, None])[small]
+    dt = 0.0 if tracks.stamp is None else max(stamp - tracks.stamp, 0.0)
+    states, covariances = kalman_predict(tracks.states, tracks.covariances, dt,
+                                         params.acceleration_noise)
+    hits, misses = tracks.hits, tracks.misses
+    of_centre = np.full(len(centres), -1, dtype=np.int64)  # each centre's track
+    if len(states) and len(centres):
+        cost = np.hypot(states[:, None, 0] - centres[None, :, 0],
+                        states[:, None, 1] - centres[None, :, 1])
+        rows, cols = linear_sum_assignment(cost)
+        good = cost[rows, cols] <= params.gate
+        rows, cols = rows[good], cols[good]
+        if len(rows):
+            states = states.copy()
+            covariances = covariances.copy()
+            states[rows], covariances[rows] = kalman_update(
+                states[rows], covariances[rows], centres[cols], params.measurement_noise)
+        of_centre[cols] = rows
+    matched = np.zeros(len(states), dtype=bool)
+    matched[of_centre[of_centre >= 0]] = True
+    hits = np.where(matched, hits + 1, hits)
+    misses = np.where(matched, 0, misses + 1)
+    new = np.flatnonzero(of_centre < 0)
+    of_centre[new] = len(states) + np.arange(len(new))
+    states = np.concatenate([states, np.column_stack([centres[new], np.zeros((len(new), 2))])])
+    covariances = np.concatenate([covariances, np.tile(np.diag(
+        [params.measurement_noise ** 2] * 2 + [1.0, 1.0]), (len(new), 1, 1))])
+    hits = np.concatenate([hits, np.ones(len(new), dtype=np.int64)])
+    misses = np.concatenate([misses, np.zeros(len(new), dtype=np.int64)])
+    # each point of a small cluster takes its track's velocity
+    track_of_cluster = np.full(count, -1, dtype=np.int64)
+    track_of_cluster[np.flatnonzero(small)] = of_centre
+    point_track = track_of_cluster[labels]
+    moving = point_track >= 0
+    velocity[moving] = states[point_track[moving], 2:]
+    kind[moving] = np.where(hits[point_track[moving]] >= params.min_hits, TRACKED, NEW)
+    alive = misses <= params.max_misses
+    # keep the indices of the tracks consistent: drop the dead ones after the lookup above
+    return (ObstacleTracks(states[alive], covariances[alive], hits[alive], misses[alive], stamp),
+            velocity, kind)
+
+
+def approach_speeds(points: FloatArray, velocity: FloatArray, kind: NDArray[np.int8],
+                    position: tuple[float, float], walking_speed: float,
+                    speed_margin: float) -> FloatArray:
+    """How fast each point (N, 2, map frame) approaches the robot standing at ``position``,
+    m/s: 0 for what stands (walls); for a tracked object its velocity's component towards
+    the robot, at least 0, plus ``speed_margin``; ``walking_speed`` for a new one."""
+    towards = np.array(position) - points
+    distance = np.maximum(np.hypot(towards[:, 0], towards[:, 1]), 1e-9)
+    closing = np.maximum((velocity * towards).sum(axis=1) / distance, 0.0) + speed_margin
+    result: FloatArray = np.select([kind == TRACKED, kind == NEW], [closing, walking_speed],
+                                   0.0)
+    return result
