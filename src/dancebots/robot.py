@@ -50,7 +50,7 @@ from dancebots.perception.obstacles import (
     turn_fraction,
     turn_reach,
 )
-from dancebots.perception.ssm import SsmParams, ssm_speed_limit
+from dancebots.perception.ssm import SsmParams, ssm_speed_limit, turn_allowed
 from dancebots.perception.tracks import ObstacleTracks, TrackParams, approach_speeds, track_step
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
@@ -248,6 +248,8 @@ class RobotBrain:
         self.knows_strangers = self._mates is not None or len(plan.robots) == 1
         self._own_frame = np.array([self._to_own.x, self._to_own.y, self._to_own.theta])
         # m: how far beyond its sides the footprint's corners swing as it turns on the spot
+        # what SSM watches: the detector's heights in a wider square (``SsmParams.reach``)
+        self._ssm_detection = replace(self.sensing.detection, crop_half=self.sensing.ssm.reach)
         self.sweep_reach = (0.5 * math.hypot(self.sensing.length, self.sensing.width)
                             - 0.5 * min(self.sensing.length, self.sensing.width))
 
@@ -366,7 +368,7 @@ class RobotBrain:
             if sensing.stop_rule == "ssm" and taken_at is not None:
                 # the obstacles tracked in the own map frame (SSM needs their speeds)
                 points = points_to_world(obstacle_points_from_columns(
-                    obstacles, height_step, sensing.detection), taken_at)
+                    obstacles, height_step, self._ssm_detection), taken_at)
                 tracks, point_velocity, point_kind = track_step(
                     sensing.tracks, tracks or ObstacleTracks(), points, cloud.stamp)
         command = STOP
@@ -418,8 +420,8 @@ class RobotBrain:
                 held = holds_show = True
                 linear = angular = 0.0
             elif sensing.stop_rule == "ssm":
-                if linear != 0.0 and point_velocity is not None and point_kind is not None:
-                    limit, stranger_limit = self._separation_limits(
+                if point_velocity is not None and point_kind is not None:
+                    limit, stranger_limit, may_turn = self._separation_limits(
                         obstacles, height_step, seen_from or pose, pose, show_time,
                         mates_heard, point_velocity, point_kind,
                         now - (cloud_stamp if cloud_stamp is not None else now), linear)
@@ -429,6 +431,9 @@ class RobotBrain:
                             holds_show = stranger_limit <= SLOWED
                             limit = 0.0
                         linear = math.copysign(limit, linear)
+                    if abs(linear) <= SLOWED and not may_turn:
+                        # standing, it does not swing a corner out at a person walking up
+                        linear = angular = 0.0
             elif (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
@@ -515,7 +520,7 @@ class RobotBrain:
                            seen_from: tuple[float, float, float],
                            pose: tuple[float, float, float], show_time: float,
                            heard: np.ndarray | None, velocity: np.ndarray, kind: np.ndarray,
-                           latency: float, linear: float) -> tuple[float, float]:
+                           latency: float, linear: float) -> tuple[float, float, bool]:
         """Speed and separation monitoring (``SensingConfig.stop_rule`` ssm): the fastest
         (m/s, at most |linear|) the robot may drive the way ``linear`` points, with every
         obstacle point of the cloud's columns (``base_link`` at ``seen_from``), moved to
@@ -524,9 +529,11 @@ class RobotBrain:
         where it should be or said it is: ``heard`` (K, 2), show frame). A stranger
         approaches at its tracked speed (``velocity`` (N, 2), own map frame, and ``kind``
         (N,) per point, ``perception.tracks``), a mate at 0 with the mates' margin. The data
-        are ``latency`` s old; the robot reacts within a tick and its actuator's lag."""
+        are ``latency`` s old; the robot reacts within a tick and its actuator's lag, and its
+        speed dies away two more lags later. Third: whether, standing, it may turn
+        (``perception.ssm.turn_allowed``, strangers only)."""
         sensing, params = self.sensing, self.sensing.ssm
-        points = obstacle_points_from_columns(columns, height_step, sensing.detection)
+        points = obstacle_points_from_columns(columns, height_step, self._ssm_detection)
         if len(points) != len(kind):  # the tracks are of an older cloud: trust nothing
             kind = np.full(len(points), 2, dtype=np.int8)
             velocity = np.zeros((len(points), 2))
@@ -549,16 +556,20 @@ class RobotBrain:
             margins[mate] = params.mate_margin
         direction = 1.0 if linear >= 0.0 else -1.0
         reaction = params.reaction_time + self.feedforward_lead  # a tick and the actuator lag
+        settle = 2.0 * self.feedforward_lead
         latency = max(latency, 0.0)
 
         def limit(keep: np.ndarray) -> float:
             return ssm_speed_limit(points[keep], approach[keep], margins[keep],
                                    sensing.length, sensing.width, direction, abs(linear),
-                                   latency, reaction, params.deceleration)
+                                   latency, reaction, params.deceleration, settle)
 
         everything = limit(np.ones(len(points), dtype=bool))
         strangers = everything if not mate.any() else limit(~mate)
-        return everything, strangers
+        may_turn = turn_allowed(points[~mate], approach[~mate], margins[~mate],
+                                0.5 * math.hypot(sensing.length, sensing.width),
+                                latency + reaction + settle)
+        return everything, strangers, may_turn
 
     def mates_at(self, show_time: float) -> np.ndarray:
         """(M, 2) where the other robots should be at ``show_time`` s (their followers'

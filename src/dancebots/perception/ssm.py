@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["SsmParams", "protective_distance", "ssm_speed_limit", "swept_gaps"]
+__all__ = ["SsmParams", "protective_distance", "ssm_speed_limit", "swept_gaps", "turn_allowed"]
 
 FloatArray = NDArray[np.float64]
 
@@ -42,7 +42,9 @@ class SsmParams:
     speed (a standing person may step towards the robot); margin: C for people and other
     strangers, m; mate_margin: C for a formation mate where it should be or said it is, m
     (mates are robots that keep to the plan: their approach is the plan's, which the
-    rigid check keeps apart)."""
+    rigid check keeps apart); reach: SSM watches the points in the square of 2 x reach m
+    around ``base_link`` (thesis 5.2's detector keeps 4 x 4 m: too near for a person walking
+    at 1.6 m/s towards a robot driving at 0.5 m/s, whose S_p is about 2.4 m ahead of it)."""
 
     reaction_time: float = 0.1
     deceleration: float = 1.0
@@ -50,15 +52,16 @@ class SsmParams:
     speed_margin: float = 0.3
     margin: float = 0.25
     mate_margin: float = 0.1
+    reach: float = 4.0
 
     def __post_init__(self) -> None:
         values = (self.reaction_time, self.deceleration, self.walking_speed,
-                  self.speed_margin, self.margin, self.mate_margin)
+                  self.speed_margin, self.margin, self.mate_margin, self.reach)
         if not all(math.isfinite(v) for v in values) or self.deceleration <= 0.0 or min(
                 self.reaction_time, self.walking_speed, self.speed_margin, self.margin,
-                self.mate_margin) < 0.0:
-            raise ValueError("SSM parameters must be finite, the deceleration above 0 and the "
-                             "others 0 or more")
+                self.mate_margin) < 0.0 or self.reach <= 0.0:
+            raise ValueError("SSM parameters must be finite, the deceleration and reach above "
+                             "0 and the others 0 or more")
 
 
 def protective_distance(robot_speed: float | FloatArray, approach_speed: float | FloatArray,
@@ -91,21 +94,26 @@ def swept_gaps(points: FloatArray, length: float, width: float, reach: float,
 def ssm_speed_limit(points: FloatArray, approach: FloatArray, margins: FloatArray,
                     length: float, width: float, direction: float, top: float,
                     latency: float, reaction_time: float, deceleration: float,
-                    iterations: int = 30) -> float:
+                    settle: float = 0.0, iterations: int = 30) -> float:
     """The largest speed v in [0, ``top``] (m/s) at which the robot may drive ``direction``
     (+1 forwards, -1 backwards) with every obstacle point (M, 2, ``base_link``) that
     approaches at ``approach`` (M,) m/s, with margins ``margins`` (M,) m, at least
-    :func:`protective_distance` from the area it sweeps until it stands
-    (:func:`swept_gaps`, reach v T_r + v^2 / 2a). 0.0 when even standing still leaves a point
-    nearer than its S_p(0) (the robot stops: the stop flag of thesis 5.2 in SSM form). The
-    gap shrinks and S_p grows with v, so bisection finds the limit (to top / 2^iterations)."""
-    if len(points) == 0 or not top > 0.0:
-        return max(top, 0.0) if math.isfinite(top) else 0.0
+    :func:`protective_distance` from its footprint as it drives, that is S_h + C from the
+    area it sweeps until it stands (:func:`swept_gaps`, reach S_r + S_s = v T_r + v^2 / 2a).
+    0.0 when even standing still leaves a point nearer than its S_p(0) (the robot stops: the
+    stop flag of thesis 5.2 in SSM form), and for a ``top`` that is not finite and above 0.
+    ``settle`` (s) lengthens the person's approach by the time the robot's speed takes to
+    die away after braking (an actuator that lags: about two more time constants). The gap
+    shrinks and S_p grows with v, so bisection finds the limit (to top / 2^iterations)."""
+    if not (math.isfinite(top) and top > 0.0):
+        return 0.0  # no speed, or one that cannot be judged: stand
+    if len(points) == 0:
+        return float(top)
 
     def allowed(speed: float) -> bool:
-        reach = speed * reaction_time + 0.5 * speed * speed / deceleration
-        need = protective_distance(speed, approach, latency, reaction_time, deceleration,
-                                   margins)
+        reach = speed * reaction_time + 0.5 * speed * speed / deceleration  # S_r + S_s
+        # the swept area already holds the robot's part of S_p: the rest is S_h + C
+        need = approach * (latency + reaction_time + speed / deceleration + settle) + margins
         return bool(np.all(swept_gaps(points, length, width, reach, direction) >= need))
 
     if allowed(top):
@@ -120,3 +128,16 @@ def ssm_speed_limit(points: FloatArray, approach: FloatArray, margins: FloatArra
         else:
             high = middle
     return low
+
+
+def turn_allowed(points: FloatArray, approach: FloatArray, margins: FloatArray,
+                 sweep_radius: float, exposure: float) -> bool:
+    """Whether a robot standing still may turn on the spot: every obstacle point (M, 2,
+    ``base_link``) approaching at ``approach`` (M,) m/s stays ``margins`` (M,) m outside the
+    circle its footprint sweeps (``sweep_radius``, m: its half diagonal) for ``exposure`` s
+    (the data's age, the reaction and the time its turn takes to die away): SSM for a turn,
+    so that a person walking up to a held robot does not meet a corner swinging out."""
+    if len(points) == 0:
+        return True
+    gaps = np.maximum(np.hypot(points[:, 0], points[:, 1]) - sweep_radius, 0.0)
+    return bool(np.all(gaps >= approach * exposure + margins))

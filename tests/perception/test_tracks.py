@@ -1,0 +1,97 @@
+"""Obstacles tracked over scans (perception/tracks.py): clusters, their velocities, walls that
+stand, and how fast each point approaches the robot."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dancebots.perception.tracks import (
+    NEW,
+    STANDING,
+    TRACKED,
+    ObstacleTracks,
+    TrackParams,
+    approach_speeds,
+    cluster_points,
+    track_step,
+)
+
+WALL = np.column_stack([np.full(17, 5.0), np.linspace(-2.0, 2.0, 17)])  # 4 m, 0.25 m apart
+
+
+def _person(centre: np.ndarray) -> np.ndarray:
+    """The points a LIDAR sees of a person (a 0.25 m disc) from the origin's side."""
+    angles = np.linspace(2.4, 3.9, 7)
+    return centre + 0.25 * np.column_stack([np.cos(angles), np.sin(angles)])
+
+
+def test_clusters_join_points_nearer_than_the_gap() -> None:
+    points = np.array([[0.0, 0.0], [0.2, 0.0], [0.4, 0.0], [2.0, 0.0], [2.1, 0.1]])
+    labels, count = cluster_points(points, 0.3)
+    assert count == 2
+    assert len(set(labels[:3].tolist())) == 1
+    assert labels[3] == labels[4] != labels[0]
+    assert cluster_points(np.zeros((0, 2)), 0.3)[1] == 0
+
+
+def test_a_walking_person_gets_their_velocity_and_a_wall_stands() -> None:
+    params, tracks = TrackParams(), ObstacleTracks()
+    velocity = np.array([-1.2, 0.4])  # m/s, towards the robot at the origin
+    kinds = []
+    for k in range(12):
+        person = _person(np.array([3.0, -1.0]) + velocity * 0.1 * k)
+        points = np.concatenate([person, WALL])
+        tracks, point_velocity, kind = track_step(params, tracks, points, 0.1 * k)
+        kinds.append(int(kind[0]))
+    assert kinds[:params.min_hits - 1] == [NEW] * (params.min_hits - 1)
+    assert set(kinds[params.min_hits - 1:]) == {TRACKED}
+    np.testing.assert_allclose(point_velocity[:7], np.tile(velocity, (7, 1)), atol=0.05)
+    assert np.all(kind[7:] == STANDING)
+    assert np.all(point_velocity[7:] == 0.0)
+
+
+def test_a_track_unseen_for_long_is_dropped() -> None:
+    params, tracks = TrackParams(), ObstacleTracks()
+    tracks, _, _ = track_step(params, tracks, _person(np.array([1.0, 1.0])), 0.0)
+    assert len(tracks.states) == 1
+    for k in range(1, params.max_misses + 2):
+        tracks, _, _ = track_step(params, tracks, np.zeros((0, 2)), 0.1 * k)
+    assert len(tracks.states) == 0
+
+
+def test_approach_speeds_of_each_kind() -> None:
+    points = np.array([[2.0, 0.0], [2.0, 0.0], [-2.0, 0.0], [0.0, 3.0]])
+    velocity = np.array([[-1.0, 0.0], [0.0, 0.0], [-1.0, 0.0], [0.0, 0.0]])
+    kind = np.array([TRACKED, NEW, TRACKED, STANDING], dtype=np.int8)
+    speeds = approach_speeds(points, velocity, kind, (0.0, 0.0), 1.6, 0.3)
+    # towards the robot at 1 m/s (+ margin), new (walking speed), moving away (margin), wall
+    np.testing.assert_allclose(speeds, [1.3, 1.6, 0.3, 0.0])
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3)), min_size=0, max_size=40),
+       st.integers(1, 5))
+def test_any_points_give_one_velocity_and_kind_each(rows: list[tuple[float, float]],
+                                                    scans: int) -> None:
+    params, tracks = TrackParams(), ObstacleTracks()
+    points = np.array(rows, dtype=float).reshape(-1, 2)
+    for k in range(scans):
+        tracks, velocity, kind = track_step(params, tracks, points, 0.1 * k)
+        assert velocity.shape == (len(points), 2)
+        assert kind.shape == (len(points),)
+        assert np.all(np.isfinite(velocity))
+        assert np.all(np.isin(kind, (STANDING, TRACKED, NEW)))
+        # what stands still is seen to stand still
+        assert np.all(np.abs(velocity) <= 1e-9) or scans == 1
+
+
+@pytest.mark.parametrize("stamp", [0.0, 1e-300, 1e9])
+def test_a_repeated_stamp_predicts_nothing(stamp: float) -> None:
+    params = TrackParams()
+    tracks, _, _ = track_step(params, ObstacleTracks(), _person(np.array([1.0, 0.0])), stamp)
+    tracks, velocity, _ = track_step(params, tracks, _person(np.array([1.0, 0.0])), stamp)
+    assert np.all(np.isfinite(velocity))
+    assert np.all(velocity == 0.0)
