@@ -51,7 +51,7 @@ from dancebots.perception.obstacles import (
     turn_reach,
 )
 from dancebots.perception.ssm import SsmParams, ssm_speed_limit, turn_allowed
-from dancebots.perception.tracks import ObstacleTracks, TrackParams, approach_speeds, track_step
+from dancebots.perception.tracks import ObstacleTracks, TrackParams, point_motion, track_step
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
@@ -426,9 +426,8 @@ class RobotBrain:
                         mates_heard, point_velocity, point_kind,
                         now - (cloud_stamp if cloud_stamp is not None else now), linear)
                     if limit < abs(linear):
-                        if limit <= SLOWED < abs(linear):
-                            held = True  # it may not drive that way: thesis 5.2's stop
-                            holds_show = stranger_limit <= SLOWED
+                        if stranger_limit <= SLOWED < abs(linear):
+                            held = holds_show = True  # a stranger: thesis 5.2's stop
                             limit = 0.0
                         linear = math.copysign(limit, linear)
                     if abs(linear) <= SLOWED and not may_turn:
@@ -524,12 +523,14 @@ class RobotBrain:
         """Speed and separation monitoring (``SensingConfig.stop_rule`` ssm): the fastest
         (m/s, at most |linear|) the robot may drive the way ``linear`` points, with every
         obstacle point of the cloud's columns (``base_link`` at ``seen_from``), moved to
-        ``pose``, kept at the protective distance (``perception.ssm``) from what it sweeps
-        until it stands; and the same for the strangers alone (points that are no mate
-        where it should be or said it is: ``heard`` (K, 2), show frame). A stranger
-        approaches at its tracked speed (``velocity`` (N, 2), own map frame, and ``kind``
-        (N,) per point, ``perception.tracks``), a mate at 0 with the mates' margin. The data
-        are ``latency`` s old; the robot reacts within a tick and its actuator's lag, and its
+        ``pose``, predicted on and kept at its margin from what the robot sweeps until it
+        stands (``perception.ssm.ssm_speed_limit``); and the same for the strangers alone
+        (points that are no mate where it should be or said it is: ``heard`` (K, 2), show
+        frame). A stranger moves at its tracked velocity (``velocity`` (N, 2), own map frame,
+        and ``kind`` (N,) per point: ``perception.tracks.point_motion``); a mate where it
+        should be moves as its place does in the plan, one where it said it is stands, both
+        with the mates' margin and no uncertainty (they keep to the plan). The data are
+        ``latency`` s old; the robot reacts within a tick and its actuator's lag, and its
         speed dies away two more lags later. Third: whether, standing, it may turn
         (``perception.ssm.turn_allowed``, strangers only)."""
         sensing, params = self.sensing, self.sensing.ssm
@@ -537,22 +538,28 @@ class RobotBrain:
         if len(points) != len(kind):  # the tracks are of an older cloud: trust nothing
             kind = np.full(len(points), 2, dtype=np.int8)
             velocity = np.zeros((len(points), 2))
-        world = points_to_world(points, seen_from)
         if seen_from != pose:
             points = compensate_motion(points, seen_from, pose)
-        approach = approach_speeds(world, velocity, kind, (pose[0], pose[1]),
-                                   params.walking_speed, params.speed_margin)
+        moving, spread = point_motion(velocity, kind, params.walking_speed, params.speed_margin)
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        moving = moving @ np.array([[c, -s], [s, c]])  # own map frame -> base_link axes
         margins = np.full(len(points), params.margin)
         mate = np.zeros(len(points), dtype=bool)
         if self._mates is not None and len(points):
             where = self.mates_at(show_time)
+            # the places' velocities (M, 2), own map frame, from the plan's grid
+            ahead = self.mates_at(show_time + self.grid_period)
+            place_velocity = (ahead - where) / self.grid_period
             if heard is not None and len(heard):
                 where = np.concatenate([where, compose_points(self._own_frame, heard)])
+                place_velocity = np.concatenate([place_velocity, np.zeros((len(heard), 2))])
             mates = points_to_local(where, pose)
             gaps = np.hypot(points[:, None, 0] - mates[None, :, 0],
                             points[:, None, 1] - mates[None, :, 1])  # (N, M)
-            mate = gaps.min(axis=1) <= self.mate_radius
-            approach[mate] = 0.0
+            nearest = gaps.argmin(axis=1)
+            mate = gaps[np.arange(len(points)), nearest] <= self.mate_radius
+            moving[mate] = place_velocity[nearest[mate]] @ np.array([[c, -s], [s, c]])
+            spread[mate] = 0.0
             margins[mate] = params.mate_margin
         direction = 1.0 if linear >= 0.0 else -1.0
         reaction = params.reaction_time + self.feedforward_lead  # a tick and the actuator lag
@@ -560,15 +567,15 @@ class RobotBrain:
         latency = max(latency, 0.0)
 
         def limit(keep: np.ndarray) -> float:
-            return ssm_speed_limit(points[keep], approach[keep], margins[keep],
+            return ssm_speed_limit(points[keep], moving[keep], spread[keep], margins[keep],
                                    sensing.length, sensing.width, direction, abs(linear),
                                    latency, reaction, params.deceleration, settle)
 
         everything = limit(np.ones(len(points), dtype=bool))
         strangers = everything if not mate.any() else limit(~mate)
-        may_turn = turn_allowed(points[~mate], approach[~mate], margins[~mate],
-                                0.5 * math.hypot(sensing.length, sensing.width),
-                                latency + reaction + settle)
+        may_turn = turn_allowed(points[~mate], moving[~mate], spread[~mate], margins[~mate],
+                                0.5 * math.hypot(sensing.length, sensing.width), latency,
+                                reaction + settle)
         return everything, strangers, may_turn
 
     def mates_at(self, show_time: float) -> np.ndarray:

@@ -14,8 +14,8 @@ from dancebots.perception.tracks import (
     TRACKED,
     ObstacleTracks,
     TrackParams,
-    approach_speeds,
     cluster_points,
+    point_motion,
     track_step,
 )
 
@@ -62,13 +62,14 @@ def test_a_track_unseen_for_long_is_dropped() -> None:
     assert len(tracks.states) == 0
 
 
-def test_approach_speeds_of_each_kind() -> None:
-    points = np.array([[2.0, 0.0], [2.0, 0.0], [-2.0, 0.0], [0.0, 3.0]])
-    velocity = np.array([[-1.0, 0.0], [0.0, 0.0], [-1.0, 0.0], [0.0, 0.0]])
-    kind = np.array([TRACKED, NEW, TRACKED, STANDING], dtype=np.int8)
-    speeds = approach_speeds(points, velocity, kind, (0.0, 0.0), 1.6, 0.3)
-    # towards the robot at 1 m/s (+ margin), new (walking speed), moving away (margin), wall
-    np.testing.assert_allclose(speeds, [1.3, 1.6, 0.3, 0.0])
+def test_what_ssm_assumes_of_each_kind() -> None:
+    velocity = np.array([[-1.0, 0.5], [0.3, 0.0], [0.2, 0.2]])
+    kind = np.array([TRACKED, NEW, STANDING], dtype=np.int8)
+    moving, spread = point_motion(velocity, kind, 1.6, 0.3)
+    # a tracked object moves as tracked (uncertain by 0.3 m/s), a new one may walk anywhere
+    # at 1.6 m/s, a wall stands
+    np.testing.assert_allclose(moving, [[-1.0, 0.5], [0.0, 0.0], [0.0, 0.0]])
+    np.testing.assert_allclose(spread, [0.3, 1.6, 0.0])
 
 
 @settings(max_examples=100, deadline=None)

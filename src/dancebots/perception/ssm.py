@@ -91,20 +91,37 @@ def swept_gaps(points: FloatArray, length: float, width: float, reach: float,
     return result
 
 
-def ssm_speed_limit(points: FloatArray, approach: FloatArray, margins: FloatArray,
-                    length: float, width: float, direction: float, top: float,
-                    latency: float, reaction_time: float, deceleration: float,
-                    settle: float = 0.0, iterations: int = 30) -> float:
+def _predicted(points: FloatArray, velocity: FloatArray, spread: FloatArray, margins: FloatArray,
+               first: float, last: float, samples: int) -> tuple[FloatArray, FloatArray]:
+    """Where the points (M, 2) moving at ``velocity`` (M, 2) are at ``samples`` instants from
+    ``first`` to ``last`` s after the data were taken, (K, M, 2), and the distance each must
+    keep then, (K, M): its margin, its uncertainty grown at ``spread`` m/s, and half its way
+    between two instants (so that the samples miss no approach)."""
+    taus = np.linspace(first, last, samples)  # (K,)
+    where = points[None] + taus[:, None, None] * velocity[None]
+    step = (last - first) / max(samples - 1, 1)
+    speed = np.hypot(velocity[:, 0], velocity[:, 1])
+    need = margins[None] + spread[None] * taus[:, None] + 0.5 * step * speed[None]
+    return where, need
+
+
+def ssm_speed_limit(points: FloatArray, velocity: FloatArray, spread: FloatArray,
+                    margins: FloatArray, length: float, width: float, direction: float,
+                    top: float, latency: float, reaction_time: float, deceleration: float,
+                    settle: float = 0.0, samples: int = 8, iterations: int = 20) -> float:
     """The largest speed v in [0, ``top``] (m/s) at which the robot may drive ``direction``
-    (+1 forwards, -1 backwards) with every obstacle point (M, 2, ``base_link``) that
-    approaches at ``approach`` (M,) m/s, with margins ``margins`` (M,) m, at least
-    :func:`protective_distance` from its footprint as it drives, that is S_h + C from the
-    area it sweeps until it stands (:func:`swept_gaps`, reach S_r + S_s = v T_r + v^2 / 2a).
-    0.0 when even standing still leaves a point nearer than its S_p(0) (the robot stops: the
-    stop flag of thesis 5.2 in SSM form), and for a ``top`` that is not finite and above 0.
-    ``settle`` (s) lengthens the person's approach by the time the robot's speed takes to
-    die away after braking (an actuator that lags: about two more time constants). The gap
-    shrinks and S_p grows with v, so bisection finds the limit (to top / 2^iterations)."""
+    (+1 forwards, -1 backwards): every obstacle point (M, 2, ``base_link``), predicted on
+    along its ``velocity`` (M, 2, m/s, ``base_link`` axes, its own motion: the robot's is in
+    the swept area) with an uncertainty growing at ``spread`` (M,) m/s (ISO 13855's 1.6 m/s
+    for what is not tracked yet: S_h), keeps its margin (M,) (C) from the area the robot
+    sweeps until it stands (:func:`swept_gaps`, reach S_r + S_s = v T_r + v^2 / 2a) at every
+    instant from when the data were taken (``latency`` s ago) until the robot stands (T_r +
+    v / a + ``settle`` from now; ``settle``: the time its speed takes to die away after
+    braking, for an actuator that lags). For a point walking straight at the robot this is
+    :func:`protective_distance`. 0.0 when even standing still is not enough (the robot
+    stops: thesis 5.2's stop flag in SSM form), and for a ``top`` that is not finite and
+    above 0. The condition only tightens as v grows, so bisection finds the limit (to
+    top / 2^iterations)."""
     if not (math.isfinite(top) and top > 0.0):
         return 0.0  # no speed, or one that cannot be judged: stand
     if len(points) == 0:
@@ -112,9 +129,11 @@ def ssm_speed_limit(points: FloatArray, approach: FloatArray, margins: FloatArra
 
     def allowed(speed: float) -> bool:
         reach = speed * reaction_time + 0.5 * speed * speed / deceleration  # S_r + S_s
-        # the swept area already holds the robot's part of S_p: the rest is S_h + C
-        need = approach * (latency + reaction_time + speed / deceleration + settle) + margins
-        return bool(np.all(swept_gaps(points, length, width, reach, direction) >= need))
+        where, need = _predicted(points, velocity, spread, margins, latency,
+                                 latency + reaction_time + speed / deceleration + settle,
+                                 samples)
+        gaps = swept_gaps(where.reshape(-1, 2), length, width, reach, direction)
+        return bool(np.all(gaps >= need.reshape(-1)))
 
     if allowed(top):
         return float(top)
@@ -130,14 +149,18 @@ def ssm_speed_limit(points: FloatArray, approach: FloatArray, margins: FloatArra
     return low
 
 
-def turn_allowed(points: FloatArray, approach: FloatArray, margins: FloatArray,
-                 sweep_radius: float, exposure: float) -> bool:
+def turn_allowed(points: FloatArray, velocity: FloatArray, spread: FloatArray,
+                 margins: FloatArray, sweep_radius: float, latency: float, exposure: float,
+                 samples: int = 8) -> bool:
     """Whether a robot standing still may turn on the spot: every obstacle point (M, 2,
-    ``base_link``) approaching at ``approach`` (M,) m/s stays ``margins`` (M,) m outside the
-    circle its footprint sweeps (``sweep_radius``, m: its half diagonal) for ``exposure`` s
-    (the data's age, the reaction and the time its turn takes to die away): SSM for a turn,
-    so that a person walking up to a held robot does not meet a corner swinging out."""
+    ``base_link``), predicted as in :func:`ssm_speed_limit`, keeps its margin outside the
+    circle its footprint sweeps (``sweep_radius``, m: its half diagonal) from when the data
+    were taken (``latency`` s ago) for ``exposure`` s more (the reaction and the time its turn
+    takes to die away): SSM for a turn, so that a person walking up to a held robot does not
+    meet a corner swinging out."""
     if len(points) == 0:
         return True
-    gaps = np.maximum(np.hypot(points[:, 0], points[:, 1]) - sweep_radius, 0.0)
-    return bool(np.all(gaps >= approach * exposure + margins))
+    where, need = _predicted(points, velocity, spread, margins, latency, latency + exposure,
+                             samples)
+    gaps = np.maximum(np.hypot(where[..., 0], where[..., 1]) - sweep_radius, 0.0)
+    return bool(np.all(gaps >= need))

@@ -24,8 +24,16 @@ from scipy.spatial import cKDTree
 
 from dancebots.leader_follower.kalman import kalman_predict, kalman_update
 
-__all__ = ["NEW", "STANDING", "TRACKED", "ObstacleTracks", "TrackParams", "approach_speeds",
-           "cluster_points", "track_step"]
+__all__ = [
+    "NEW",
+    "STANDING",
+    "TRACKED",
+    "ObstacleTracks",
+    "TrackParams",
+    "cluster_points",
+    "point_motion",
+    "track_step",
+]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -134,15 +142,13 @@ def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
             velocity, kind)
 
 
-def approach_speeds(points: FloatArray, velocity: FloatArray, kind: NDArray[np.int8],
-                    position: tuple[float, float], walking_speed: float,
-                    speed_margin: float) -> FloatArray:
-    """How fast each point (N, 2, map frame) approaches the robot standing at ``position``,
-    m/s: 0 for what stands (walls); for a tracked object its velocity's component towards
-    the robot, at least 0, plus ``speed_margin``; ``walking_speed`` for a new one."""
-    towards = np.array(position) - points
-    distance = np.maximum(np.hypot(towards[:, 0], towards[:, 1]), 1e-9)
-    closing = np.maximum((velocity * towards).sum(axis=1) / distance, 0.0) + speed_margin
-    result: FloatArray = np.select([kind == TRACKED, kind == NEW], [closing, walking_speed],
-                                   0.0)
-    return result
+def point_motion(velocity: FloatArray, kind: NDArray[np.int8], walking_speed: float,
+                 speed_margin: float) -> tuple[FloatArray, FloatArray]:
+    """What SSM assumes of each point (``perception.ssm.ssm_speed_limit``): its velocity (N, 2)
+    (the track's for a tracked object, else 0) and how fast the uncertainty about where it is
+    grows (N,), m/s: ``speed_margin`` for a tracked object (it may change its mind),
+    ``walking_speed`` for a new one (it may walk any way), 0 for what stands (walls)."""
+    tracked = kind == TRACKED
+    moving: FloatArray = np.where(tracked[:, None], velocity, 0.0)
+    spread: FloatArray = np.select([tracked, kind == NEW], [speed_margin, walking_speed], 0.0)
+    return moving, spread
