@@ -163,3 +163,53 @@ def test_a_robot_keeps_its_speed_behind_a_mate_on_its_place_but_not_behind_a_str
     assert brain._approach_limit(1.0, 0.8, 0.3) == pytest.approx(1.0 - stop)  # a stranger
     assert brain._approach_limit(stop + 0.5 * MATE_GAP, math.inf, 0.3) == pytest.approx(
         0.5 * MATE_GAP)
+
+
+def _side_by_side_cloud(gap: float, length: float = 1.2, width: float = 0.6) -> np.ndarray:
+    """Columns (K, 4) of a SIM robot standing ``gap`` m to the left of a SIM robot at the
+    origin, side by side (its right side, every 2 cm, as a LIDAR sees it)."""
+    xs = np.arange(-0.5 * length, 0.5 * length + 1e-9, 0.02)
+    y = 0.5 * width + gap
+    return np.column_stack([xs, np.full(len(xs), y), np.zeros(len(xs)), np.ones(len(xs))])
+
+
+def test_a_robot_that_may_not_turn_beside_a_mate_makes_room_forwards_first() -> None:
+    """Listing 7.4 with SIM robots 0.2 m apart: R2 should turn right on the spot; its tail
+    would swing 0.26 m into R1 beside it. It drives straight to where the turn is free,
+    forwards when the way ahead is free, backwards when it is not, and keeps the direction
+    it chose while it still helps; with no way free it does not make room."""
+    from dancebots.robot import SensingConfig
+
+    plan = plan_of(PLAN_TEXT)
+    brain = RobotBrain(plan, "R2", FollowerParams(), sensing=SensingConfig(), follower="path")
+    here = (0.0, 0.0, 0.0)
+    beside = _side_by_side_cloud(0.2)
+    assert brain._make_room(beside, 0.1, here, here, -1.0, 0.0) == 1.0
+    # a wall 0.8 m ahead: no forward shift leaves room for the stop distance
+    wall = np.column_stack([np.full(31, 1.4), np.linspace(-0.6, 0.6, 31), np.zeros(31),
+                            np.ones(31)])
+    assert brain._make_room(np.concatenate([beside, wall]), 0.1, here, here, -1.0,
+                            0.0) == -1.0
+    # it keeps going backwards once it chose to, even with the way ahead free again
+    assert brain._make_room(beside, 0.1, here, here, -1.0, -1.0) == -1.0
+    # walls close ahead and behind: nowhere to make room
+    behind = wall * np.array([-1.0, 1.0, 1.0, 1.0])
+    assert brain._make_room(np.concatenate([beside, wall, behind]), 0.1, here, here, -1.0,
+                            0.0) == 0.0
+
+
+def test_a_robot_makes_room_only_among_mates() -> None:
+    """A robot alone with a stranger 0.2 m beside it (every point is a stranger) never drives
+    off to make room for a turn: a person near is waited for, not pushed past."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 2 -90\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
+    state = brain.initial_state()
+    cloud = PointCloud(0.0, _side_by_side_cloud(0.2))
+    rooms = []
+    for k in range(60):
+        state, _, _ = brain.step(state, 0.1 * k, (0.0, 0.0, 0.0), cloud, clock=0.1 * k)
+        rooms.append(state.making_room)
+    assert rooms == [0.0] * 60

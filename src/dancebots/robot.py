@@ -18,7 +18,7 @@ import bisect
 import functools
 import math
 from dataclasses import dataclass, field, replace
-from typing import Literal, get_args
+from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
 
@@ -44,6 +44,7 @@ from dancebots.perception.obstacles import (
     DetectorParams,
     Perception,
     StopFlags,
+    clear_distances,
     compensate_motion,
     obstacle_points_from_columns,
     perceive,
@@ -51,12 +52,14 @@ from dancebots.perception.obstacles import (
     turn_reach,
 )
 from dancebots.perception.ssm import SsmParams, ssm_speed_limit, turn_allowed
-from dancebots.perception.tracks import ObstacleTracks, TrackParams, point_motion, track_step
 from dancebots.plan.places import places_end
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.sync.hold import ADVANCE_MIN
 from dancebots.world import RobotType
+
+if TYPE_CHECKING:  # SSM's tracker (SciPy) is imported where the ssm stop rule runs
+    from dancebots.perception.tracks import ObstacleTracks, TrackParams
 
 __all__ = ["DETECTORS", "FOLLOWERS", "STOP_RULES", "BrainOptions", "BrainState", "Command",
            "Detector", "Follower", "RobotBrain", "SensingConfig", "StopRule", "brain_for"]
@@ -104,6 +107,17 @@ GIVE_WAY_SPEED = 0.05
 what blocks it is beside its leading half (an addition; ``RobotBrain._guard_turn``): a robot
 that would cut into a neighbour's lane lets it go first instead of driving on beside it,
 neither able to turn (thesis listing 7.4's split), and still creeps past what stands."""
+PARKED_GAP = 0.1
+"""m: after the show (every reference stands on its final slot) a formation mate on its
+final place stands for good: a robot parks up to this near it instead of the stop distance
+(an addition: listing 7.4 puts R1's final slot 0.27 m from R2's tail, inside the 0.55 m
+that held R1 short of it); strangers keep the stop distance."""
+MAKE_ROOM_SPEED = 0.15
+"""m/s: how fast a robot drives straight to make room for a turn it may not make where it
+stands (an addition; ``RobotBrain._make_room``)."""
+MAKE_ROOM_SHIFTS = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6)
+"""m: the straight shifts, forwards and backwards, that ``RobotBrain._make_room`` tries, the
+nearest first: up to a little more than a SIM robot's length (1.2 m) beside a neighbour."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -124,7 +138,8 @@ class SensingConfig:
     """The robot's footprint (m), whether it has a LIDAR (without one: no obstacle detection,
     no sensor-age check), its detector, the force field's reach (m, 0: off), the approach
     gain (1/s, 0: off), whether to use the compiled perception (else the NumPy reference;
-    same results) and the detection and safety parameters.
+    same results), the detection and safety parameters, the stop rule (:data:`STOP_RULES`)
+    and, for ``ssm``, its parameters and its tracker's (None: ``TrackParams()``).
 
     Approach limit (an addition): the speed towards an obstacle in the robot's corridor is at
     most approach_gain * (free distance - stop distance), so a robot closes up to the stop
@@ -145,7 +160,7 @@ class SensingConfig:
     safety: SafetyParams = field(default_factory=SafetyParams)
     stop_rule: StopRule = "fixed"
     ssm: SsmParams = field(default_factory=SsmParams)
-    tracks: TrackParams = field(default_factory=TrackParams)
+    tracks: TrackParams | None = None
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -167,6 +182,7 @@ class BrainState:
     point_velocity: np.ndarray | None = None
     point_kind: np.ndarray | None = None
     cloud_stamp: float | None = None
+    making_room: float = 0.0
 
     @property
     def holding_the_show(self) -> bool:
@@ -367,10 +383,13 @@ class RobotBrain:
             taken_at = seen_from or pose
             if sensing.stop_rule == "ssm" and taken_at is not None:
                 # the obstacles tracked in the own map frame (SSM needs their speeds)
+                from dancebots.perception.tracks import ObstacleTracks, TrackParams, track_step
+
                 points = points_to_world(obstacle_points_from_columns(
                     obstacles, height_step, self._ssm_detection), taken_at)
                 tracks, point_velocity, point_kind = track_step(
-                    sensing.tracks, tracks or ObstacleTracks(), points, cloud.stamp)
+                    sensing.tracks or TrackParams(), tracks or ObstacleTracks(), points,
+                    cloud.stamp)
         command = STOP
         held = holds_show = False
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
@@ -433,7 +452,8 @@ class RobotBrain:
                     if abs(linear) <= SLOWED and not may_turn:
                         # standing, it does not swing a corner out at a person walking up
                         linear = angular = 0.0
-            elif (seen.flags.front and linear > 0) or (seen.flags.rear and linear < 0):
+            elif ((flags := near.flags if show_time >= self.rest_from and knows_strangers
+                   else seen.flags).front and linear > 0) or (flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
                 # (that mate moves on with the show; holding the clock for it would stall)
@@ -441,18 +461,24 @@ class RobotBrain:
                                   or (near.flags.rear and linear < 0))
                 linear = 0.0
             elif sensing.approach_gain > 0:
+                parked = show_time >= self.rest_from and knows_strangers
                 if linear > 0:
                     linear = min(linear, self._approach_limit(
                         seen.front_free, strangers.front_free if strangers else None,
-                        reference_speed))
+                        reference_speed, parked))
                 elif linear < 0:
                     linear = max(linear, -self._approach_limit(
                         seen.rear_free, strangers.rear_free if strangers else None,
-                        reference_speed))
+                        reference_speed, parked))
+            making_room = 0.0
             if angular != 0.0 and seen.nearest < turn_reach(
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
-                linear, angular = self._guard_turn(obstacles, height_step, seen_from or pose,
-                                                   pose, linear, angular)
+                # it may make room for a turn only among mates (not held; no stranger near)
+                may_make_room = (not held and knows_strangers and near.nearest >= turn_reach(
+                    sensing.length, sensing.width, MAKE_ROOM_SPEED, sensing.detection))
+                linear, angular, making_room = self._guard_turn(
+                    obstacles, height_step, seen_from or pose, pose, linear, angular,
+                    state.making_room if may_make_room else None)
             if held and angular != 0.0 and knows_strangers and near.nearest < self.sweep_reach:
                 # held, it turns only when nothing but mates on their places is within the
                 # circle its footprint sweeps (its corners' swing beyond its sides)
@@ -479,19 +505,26 @@ class RobotBrain:
                                height_step=height_step, seen_from=seen_from, history=history,
                                held=held, holds_show=holds_show, show_time=show_time,
                                tracks=tracks, point_velocity=point_velocity,
-                               point_kind=point_kind, cloud_stamp=cloud_stamp)
+                               point_kind=point_kind, cloud_stamp=cloud_stamp,
+                               making_room=making_room if may_move and command != STOP
+                               else 0.0)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
                     seen_from: tuple[float, float, float], pose: tuple[float, float, float],
-                    linear: float, angular: float) -> tuple[float, float]:
+                    linear: float, angular: float, making_room: float | None = None,
+                    ) -> tuple[float, float, float]:
         """The turn guard (an addition), for a command (m/s, rad/s) that turns while a point is
         within reach of the turn (``perception.obstacles.turn_reach``): the largest fraction
         of the turn that swings no corner into anything (``turn_fraction``). When none is left
         and what blocks it is beside the robot's leading half (the front driving forwards),
         the robot gives way: it creeps at :data:`GIVE_WAY_SPEED`, so that a robot that would
         cut into a neighbour's lane lets the neighbour go first instead of driving on beside
-        it."""
+        it. A robot that should turn almost on the spot, or that made room at the last tick
+        (``making_room``: +1 forwards, -1 backwards, 0 not; None: it may not, a person is
+        near or it is held), and may not turn at all makes room instead
+        (:meth:`_make_room`). Returns the command and the direction it makes room in (0.0:
+        none)."""
         sensing, detection = self.sensing, self.sensing.detection
         length, width = sensing.length, sensing.width
 
@@ -511,9 +544,43 @@ class RobotBrain:
             return turn_fraction(points, length, width, linear, angular, detection)
 
         fraction = fraction_of(False)
+        if fraction == 0.0 and making_room is not None and (
+                abs(linear) < GIVE_WAY_SPEED or making_room != 0.0):
+            room = self._make_room(columns, height_step, seen_from, pose, angular, making_room)
+            if room != 0.0:
+                return room * MAKE_ROOM_SPEED, 0.0, room
         if fraction == 0.0 and fraction_of(True) == 0.0:
             linear = math.copysign(min(abs(linear), GIVE_WAY_SPEED), linear)
-        return linear, fraction * angular
+        return linear, fraction * angular, 0.0
+
+    def _make_room(self, columns: np.ndarray, height_step: float,
+                   seen_from: tuple[float, float, float], pose: tuple[float, float, float],
+                   angular: float, previous: float) -> float:
+        """The direction (+1.0 forwards, -1.0 backwards, 0.0 none) in which a robot that should
+        turn on the spot at ``angular`` rad/s, and may not turn at all where it stands, drives
+        straight to make room for the turn (an addition, like a driver who pulls forward out
+        of a tight row before turning; thesis listing 7.4 with SIM robots 0.2 m apart: R2's
+        tail would swing into R1 beside it): towards one of :data:`MAKE_ROOM_SHIFTS` after
+        which the turn, with every obstacle point standing where it is, is allowed
+        (``perception.obstacles.turn_fraction``) and to which the way is free beyond the stop
+        distance and :data:`MATE_GAP`; forwards when any such shift lies ahead (a robot that
+        backs off looks wrong to the audience), else backwards. It keeps the direction of the
+        last tick (``previous``) while any shift that way works, so it does not shuttle."""
+        detection = self.sensing.detection
+        length, width = self.sensing.length, self.sensing.width
+        points = obstacle_points_from_columns(columns, height_step, detection)
+        if seen_from != pose:
+            points = compensate_motion(points, seen_from, pose)
+        front, rear = clear_distances(points, length, width, detection)
+        for direction in ((previous,) if previous != 0.0 else ()) + (1.0, -1.0):
+            free = front if direction > 0.0 else rear
+            for shift in MAKE_ROOM_SHIFTS:
+                if shift + detection.stop_distance + MATE_GAP > free:
+                    break
+                moved = points - np.array([direction * shift, 0.0])
+                if turn_fraction(moved, length, width, 0.0, angular, detection) > 0.0:
+                    return direction
+        return 0.0
 
     def _separation_limits(self, columns: np.ndarray, height_step: float,
                            seen_from: tuple[float, float, float],
@@ -533,6 +600,8 @@ class RobotBrain:
         ``latency`` s old; the robot reacts within a tick and its actuator's lag, and its
         speed dies away two more lags later. Third: whether, standing, it may turn
         (``perception.ssm.turn_allowed``, strangers only)."""
+        from dancebots.perception.tracks import point_motion
+
         sensing, params = self.sensing, self.sensing.ssm
         points = obstacle_points_from_columns(columns, height_step, self._ssm_detection)
         if len(points) != len(kind):  # the tracks are of an older cloud: trust nothing
@@ -586,7 +655,7 @@ class RobotBrain:
         return self._mates[:, k]
 
     def _approach_limit(self, free: float, strangers_free: float | None,
-                        reference_speed: float) -> float:
+                        reference_speed: float, parked: bool = False) -> float:
         """The fastest (m/s) the robot may drive towards what it sees ``free`` m ahead (or
         behind): approach_gain * (free - stop distance). Where the nearest of it is a
         formation mate on its place (``strangers_free``: the free distance without the mates'
@@ -594,10 +663,15 @@ class RobotBrain:
         may keep its own reference's speed ``reference_speed`` (m/s) until it is within
         :data:`MATE_GAP` of the stop distance (adaptive cruise control: the gap closes
         only as fast as the mate drives away); the stop flags still hold it at the stop
-        distance, and anything else within reach keeps the first limit."""
+        distance, and anything else within reach keeps the first limit. ``parked``: the
+        show is over, so a mate on its final place stands for good and the robot may close
+        up to :data:`PARKED_GAP` of it (strangers keep the stop distance)."""
         sensing = self.sensing
         stop = sensing.detection.stop_distance
         limit = sensing.approach_gain * max(free - stop, 0.0)
+        if parked and strangers_free is not None:  # after the show, mates stand for good
+            return sensing.approach_gain * max(min(free - PARKED_GAP, strangers_free - stop),
+                                               0.0)
         if strangers_free is None or free <= stop + MATE_GAP:
             return limit
         cruise = reference_speed + sensing.approach_gain * (free - stop - MATE_GAP)

@@ -29,8 +29,8 @@ from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 from sklearn.cluster import DBSCAN
 
-from dancebots.leader_follower.kalman import kalman_predict, kalman_update
 from dancebots.leader_follower.scan import Detection, Scan, TrackedObject, to_odom
+from dancebots.perception.kalman import kalman_predict, kalman_update
 
 __all__ = ["DETECTORS", "ClusterParams", "ClusterState", "QueueDetector", "TargetRule",
            "TrackingParams", "TrackingState", "bin_scan", "cluster_step", "scan_objects",

@@ -22,7 +22,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from dancebots.leader_follower.kalman import kalman_predict, kalman_update
+from dancebots.perception.kalman import kalman_predict, kalman_update
 
 __all__ = [
     "NEW",
