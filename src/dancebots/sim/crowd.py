@@ -194,12 +194,14 @@ def _border_force(vectors: FloatArray, strength: float, reach: FloatArray | floa
 def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: FloatArray,
                         robot_lengths: FloatArray, robot_widths: FloatArray,
                         params: SocialForceParams = SocialForceParams(),
-                        rings: IntArray | None = None) -> FloatArray:
+                        rings: IntArray | None = None,
+                        wall_vectors: FloatArray | None = None) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian (H&M eq. 2-6, module docstring): towards its goal
     (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2);
     ``rings`` (S,) the border of each, :func:`wall_rings`: each border pushes from its
     nearest point; None: each segment is a border) and the robots (poses (R, 3), lengths
-    and widths (R,))."""
+    and widths (R,)); ``wall_vectors``: :func:`_nearest_on_segments` of the positions and
+    walls when the caller has them already."""
     position, velocity = state.position, state.velocity
     count = len(position)
     to_goal = state.goal - position
@@ -227,7 +229,8 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
             force[..., 0], force[..., 1]) * math.cos(params.sight)  # eq. 5
         accel += (np.where(seen, 1.0, params.out_of_sight)[..., None] * force).sum(axis=1)
     if len(walls):
-        vectors = _nearest_on_segments(position, walls)
+        vectors = (_nearest_on_segments(position, walls) if wall_vectors is None
+                   else wall_vectors)
         if rings is not None:
             vectors = _nearest_per_border(vectors, rings)
         accel += _border_force(vectors, params.border_strength,
@@ -393,17 +396,19 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     position, velocity = moving.position, moving.velocity
     cap = params.max_speed_factor * moving.preferred
     for _ in range(steps):
+        # the walls' nearest points, once per substep: the walls' push and the step's check
+        vectors = _nearest_on_segments(position, walls) if len(walls) else None
         accel = social_acceleration(replace(moving, position=position, velocity=velocity),
                                     walls, robot_poses, robot_lengths, robot_widths, params,
-                                    rings)
+                                    rings, vectors)
         velocity = velocity + h * accel
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         velocity = velocity * np.minimum(1.0, cap / np.maximum(speed, 1e-12))[:, None]
         ahead = position + h * velocity
-        if len(walls):  # no step through a wall: a disc that would touch one stands
-            before = _wall_distance(position, walls)
-            touch = (_wall_distance(ahead, walls) < moving.radius) & (
-                _wall_distance(ahead, walls) < before)
+        if vectors is not None:  # no step through a wall: a disc that would touch one stands
+            before = np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1)
+            after = _wall_distance(ahead, walls)
+            touch = (after < moving.radius) & (after < before)
             ahead[touch] = position[touch]
             velocity[touch] = 0.0
         position = ahead
