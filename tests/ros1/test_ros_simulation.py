@@ -61,14 +61,20 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
     assert final_gap.max() <= FINAL_TOLERANCE, final_gap
 
 
-def test_a_robot_whose_nodes_are_killed_stops_and_the_other_finishes(roscore: Master,
-                                                                     tmp_path: Path) -> None:
+@pytest.mark.parametrize("hold", ["alone", "together"])
+def test_a_robot_whose_nodes_are_killed_stops_and_the_others_wait_or_finish(
+        roscore: Master, tmp_path: Path, hold: str) -> None:
+    """R1's nodes are killed 10 s into the show (a crash: no goodbye). Its orphaned robot is
+    at zero command within 0.3 s (the 10 Hz rule at the bridge). With ``--hold alone``
+    (thesis 4.2) R2 finishes its part of the show; with ``together`` (the default) R2 no
+    longer hears R1's hold messages, so after the 1 s heartbeat timeout its show clock
+    stops and it stands where it is: a lost robot stops the show."""
     duration = plan_of(SCENARIO_7_1).duration
     show = RosShow(roscore, tmp_path)
     try:
         record_path = show.start_bridge(SCENARIO_7_1, duration + START_ALLOWANCE)
         for role in ("R1", "R2"):
-            show.start_robot(SCENARIO_7_1, role)
+            show.start_robot(SCENARIO_7_1, role, extra=(f"hold:={hold}",))
         wait_until(lambda: "R1: ok at show time" in show.log("R1"), 60, "R1's start")
         time.sleep(10.0)  # well into the show
         killed_at = time.time()
@@ -84,7 +90,17 @@ def test_a_robot_whose_nodes_are_killed_stops_and_the_other_finishes(roscore: Ma
     moved = np.hypot(*(record.poses[r1, -1, :2] - record.poses[r1, after.argmax(), :2]))
     assert moved < 0.05
     gap = np.hypot(*(record.poses[r2, -1, :2] - pure.poses[r2, -1, :2]))
-    assert gap <= FINAL_TOLERANCE  # R2 finished its part of the show
+    if hold == "alone":
+        assert gap <= FINAL_TOLERANCE  # R2 finished its part of the show
+        return
+    assert "the show waits" in show.log("R2")
+    assert "not heard from R1" in show.log("R2")
+    # R2 stands from the heartbeat timeout on (1 s, a tick and the bridge's rule: 1.5 s)
+    stood = record.times > killed_at + 1.5
+    assert np.all(np.abs(record.commands[r2, stood]) <= 1e-9)
+    still = np.hypot(*(record.poses[r2, -1, :2] - record.poses[r2, stood.argmax(), :2]))
+    assert still < 0.05
+    assert gap > 0.5  # far from the end of its part: it did not drive on alone
 
 
 def test_silent_then_malformed_clouds_put_the_robot_into_the_error_state(

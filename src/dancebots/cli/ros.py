@@ -22,6 +22,7 @@ from dancebots.cli.common import (
     EXIT_INVALID,
     EXIT_OK,
     add_follower_argument,
+    add_hold_argument,
     add_show_arguments,
     add_timing_argument,
     fail,
@@ -59,6 +60,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                            help="run without obstacle detection (no stops, no force field)")
     add_follower_argument(formation)
     add_timing_argument(formation)
+    add_hold_argument(formation)
     formation.add_argument("--print-command", action="store_true",
                            help="print what would run (the roslaunch command) and exit")
     formation.set_defaults(subparser=formation)
@@ -72,6 +74,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                           help="robots without LIDAR (no stops, no force field)")
     add_follower_argument(simulate)
     add_timing_argument(simulate)
+    add_hold_argument(simulate)
     simulate.add_argument("--record", default="", metavar="FILE.npz",
                           help="write the run's poses and commands here")
     simulate.add_argument("--print-command", "--print-launch", dest="print_command",
@@ -112,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
                    f"role:={args.role}", f"world:={world_file}", f"vmax:={vmax}",
                    f"robot_name:={args.robot_name}", f"start_strategy:={args.start_strategy}",
                    f"lidar:={str(not args.no_lidar).lower()}", f"follower:={args.follower}",
-                   f"timing:={args.timing}",
+                   f"timing:={args.timing}", f"hold:={args.hold or ''}",
                    # bash does not export HOSTNAME: pass the host's name when it is unset
                    f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
         if args.print_command:
@@ -128,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
         str(Path(args.record).resolve()) if args.record else "",
         plan.duration + START_ALLOWANCE,
         tuple((t.length, t.width, t.max_speed) for t in placement.types),
-        args.follower, args.timing)
+        args.follower, args.timing, args.hold or "")
     if args.print_command:
         print(text, end="")
         return EXIT_OK

@@ -97,16 +97,17 @@ class DelayedPublisher:
             self.publisher.publish(message)
 
 
-def sync_publisher(role: str, stream: int) -> DelayedPublisher:
-    """The /sync publisher of a node, wrapped for the test-only ``~sync_delay`` and
-    ``~sync_loss`` parameters; ``stream`` separates the random draws of a robot's nodes."""
+def sync_publisher(role: str, stream: int, topic: str | None = None) -> DelayedPublisher:
+    """The /sync publisher of a node (or one of ``topic``, std_msgs/String: the formation's
+    /hold), wrapped for the test-only ``~sync_delay`` and ``~sync_loss`` parameters;
+    ``stream`` separates the random draws of a robot's nodes and topics."""
     import rospy
     from std_msgs.msg import String
 
     from dancebots.ros1.naming import SYNC_TOPIC
 
     seed = int(rospy.get_param("~sync_seed", zlib.crc32(role.encode())))
-    return DelayedPublisher(rospy.Publisher(SYNC_TOPIC, String, queue_size=100),
+    return DelayedPublisher(rospy.Publisher(topic or SYNC_TOPIC, String, queue_size=100),
                             float(rospy.get_param("~sync_delay", 0.0)),
                             float(rospy.get_param("~sync_loss", 0.0)), seed + stream)
 

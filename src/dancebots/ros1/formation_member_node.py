@@ -9,7 +9,9 @@ default, "tracking" or "thesis"; docs/control.md) and ``~timing`` ("feasible", t
 or "thesis"; the same on every robot: it sets the plan's timing); ``~actuator_lag`` (s,
 default 0: the time constant with which the robot's speeds follow its commands; the
 tracking and path followers lead their feedforward by it); ``~lidar`` (default true:
-read ``obstacles`` and stop for them); ``~max_speed`` and ``~max_angular_speed`` (default:
+read ``obstacles`` and stop for them); ``~hold`` ("together", the default, or "alone", the
+default with the thesis follower: whether the formation shares one show clock, below);
+``~max_speed`` and ``~max_angular_speed`` (default:
 the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
 ``obstacle_detection`` node through the roslaunch API, as the thesis does);
 ``~sync_delay``/``~sync_loss``/``~sync_seed`` (test only, see network_test). Robot size from
@@ -23,6 +25,16 @@ Publishes ``[/robot_name]/nav/cmd_vel`` (geometry_msgs/Twist) at 20 Hz (the brai
 10 Hz; the robots ignore commands slower than 10 Hz), ``/sync`` proposals at 10 Hz,
 ``[/robot_name]/robotsound`` (sound_play/SoundRequest: the stop sentence, beeps) and
 ``[/robot_name]/events`` (std_msgs/String: every safety event as "kind: text").
+
+The formation waits together (``~hold`` together, ``sync.hold``): from the agreed start every
+formation_member publishes a hold message on ``/hold`` at 10 Hz (std_msgs/String,
+``hold ROLE STAMP SHOW_TIME HOLDS X Y``: its clock, its show time, whether it holds the show,
+where it stands in the show frame) and keeps the shared show clock from the others': its
+show time stops while any robot holds the show or has not been heard from for 1 s (a robot
+that is lost, or whose link is cut, stops the show: safe, not the other way round), and all
+resume together. With ``alone`` (thesis 4.2) its show time is the time since the start.
+Bad /hold texts are logged at most every 5 s and ignored; ``~sync_delay``/``~sync_loss`` act
+on /hold too.
 
 Faults: a malformed cloud on ``obstacles`` counts as a scan that did not arrive (after 0.3 s
 without a readable one the robot stops for good, thesis 5.1), and is logged at most every
@@ -40,6 +52,7 @@ import threading
 import time
 from typing import Any, cast
 
+import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist
@@ -58,7 +71,7 @@ from dancebots.ros1.common import (
     sync_publisher,
 )
 from dancebots.ros1.convert import MalformedCloudError, cloud_points, obstacle_cloud
-from dancebots.ros1.naming import SYNC_TOPIC, RobotNames, robot_type_for_host
+from dancebots.ros1.naming import HOLD_TOPIC, SYNC_TOPIC, RobotNames, robot_type_for_host
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
     StartAgreement,
@@ -70,6 +83,15 @@ from dancebots.sync import (
     new_agreement,
     show_time,
 )
+from dancebots.sync.hold import (
+    HOLD_STRATEGIES,
+    HoldMessage,
+    ShowClock,
+    clock_receive,
+    clock_tick,
+    new_clock,
+)
+from dancebots.sync.messages import HoldMessageError, format_hold, parse_hold
 from dancebots.world import RobotType
 
 CONTROL_HZ = 10.0
@@ -101,6 +123,10 @@ def main() -> None:
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
         follower = cast(Follower, str(rospy.get_param("~follower", "path")))
+        hold = str(rospy.get_param("~hold", "")) or (
+            "alone" if follower == "thesis" else "together")
+        if hold not in HOLD_STRATEGIES:
+            raise ValueError(f"unknown ~hold {hold!r}; choose from {', '.join(HOLD_STRATEGIES)}")
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks follower
             follower=follower, lidar=use_lidar,
             actuator_lag=float(rospy.get_param("~actuator_lag", 0.0))))
@@ -112,7 +138,7 @@ def main() -> None:
         detector = _launch_detector(names)
         life.take_signals()  # roslaunch's process class installed handlers of its own
     try:
-        _run(life, log, role, names, agreement, brain, use_lidar)
+        _run(life, log, role, names, agreement, brain, use_lidar, hold == "together")
     finally:
         if detector is not None:
             detector.stop([])  # SIGINT, then SIGTERM, then SIGKILL: bounded
@@ -122,12 +148,15 @@ def main() -> None:
 
 
 def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
-         agreement: StartAgreement, brain: RobotBrain, use_lidar: bool) -> None:
+         agreement: StartAgreement, brain: RobotBrain, use_lidar: bool,
+         together: bool) -> None:
     """The node's loop: subscriptions, then a 20 Hz wall-clock loop until ``life`` ends; the
-    robot's last command is zero."""
+    robot's last command is zero. ``together``: the formation's shared show clock."""
     lock = threading.Lock()
     latest_cloud: list[tuple[float, Any]] = []
+    inbox: list[HoldMessage] = []  # hold messages heard since the last tick
     sync = sync_publisher(role, 1)
+    hold_out = sync_publisher(role, 2, HOLD_TOPIC)
     cmd_vel = rospy.Publisher(names.topic("nav/cmd_vel"), Twist, queue_size=1)
     sound = rospy.Publisher(names.topic("robotsound"), SoundRequest, queue_size=10)
     events_out = rospy.Publisher(names.topic("events"), String, queue_size=10)
@@ -165,7 +194,19 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
             latest_cloud[:] = [(message.header.stamp.to_sec(), points)]
         cloud_seen.set()
 
+    def hold_heard(message: String) -> None:
+        try:
+            parsed = parse_hold(message.data)
+        except HoldMessageError as exc:
+            log.warn(f"{role}: {exc}", every=5.0, key="bad /hold message")
+            return
+        with lock:
+            if len(inbox) < 1000:  # bounded: a flood cannot grow it
+                inbox.append(parsed)
+
     rospy.Subscriber(names.topic("all_ready"), Bool, all_ready, queue_size=1)
+    if together:
+        rospy.Subscriber(HOLD_TOPIC, String, hold_heard, queue_size=100)
     rospy.Subscriber(SYNC_TOPIC, String, heard, queue_size=100)
     if use_lidar:
         rospy.Subscriber(obstacles_topic, PointCloud2, obstacles, queue_size=1)
@@ -186,6 +227,8 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
         return t.x, t.y, wrap_angle(yaw)
 
     state: BrainState = brain.initial_state()
+    clock: ShowClock | None = None
+    waiting_since: float | None = None
     command = Twist()
     status = "waiting"
     start_logged = False
@@ -215,10 +258,29 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
             command = Twist()
             if elapsed is not None:
                 cloud: PointCloud | None = None
-                if arrived is not None:
+                if arrived is not None:  # stamps on the time since the start, as the brain's
                     cloud = obstacle_cloud(arrived[0] - (now - elapsed), arrived[1])
-                state, cmd, happened = brain.step(state, elapsed, look_up_pose(now), cloud)
+                shown, mates_heard = elapsed, None
+                if together:
+                    with lock:
+                        received, inbox[:] = list(inbox), []
+                    before = clock
+                    clock = clock_tick(clock_receive(
+                        before or new_clock(role, brain.plan.robots, now - elapsed),
+                        *received), now, state.holding_the_show)
+                    shown = clock.show_time
+                    mates_heard = np.array([m.position for m in clock.heard.values()
+                                            if m.position is not None],
+                                           dtype=float).reshape(-1, 2)
+                    waiting_since = _report_wait(log, role, clock, before, waiting_since, now)
+                pose = look_up_pose(now)
+                state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,
+                                                  mates_heard=mates_heard)
                 command.linear.x, command.angular.z = cmd.linear, cmd.angular
+                if together:
+                    hold_out.publish(String(format_hold(HoldMessage(
+                        role, now, shown, state.holding_the_show,
+                        None if pose is None else brain.show_position(pose)))))
                 for event in happened:
                     events_out.publish(String(f"{event.kind}: {event.text}"))
                     if event.kind == "speech":
@@ -237,6 +299,27 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
             next_tick = time.monotonic()
         life.wait(next_tick - time.monotonic())
     cmd_vel.publish(Twist())
+
+
+def _report_wait(log: QueuedLog, role: str, clock: ShowClock, before: ShowClock | None,
+                 waiting_since: float | None, now: float) -> float | None:
+    """Log when the shared show clock stops for a second and when it runs again; returns
+    since when (s, the robot's clock) it stands, None while it runs."""
+    advanced = before is None or clock.show_time > before.show_time
+    if advanced:
+        if waiting_since is not None and now - waiting_since >= 1.0:
+            log.info(f"{role}: the show goes on at show time {clock.show_time:.1f} s "
+                     f"(it waited {now - waiting_since:.1f} s)")
+        return None
+    since = now if waiting_since is None else waiting_since
+    if now - since >= 1.0 > now - since - 0.1 - 1e-9:  # once, a second after it stopped
+        why = [m for m in clock.mates if m not in clock.heard
+               or now - clock.heard[m].stamp > 1.0]
+        held = [m for m, message in clock.heard.items() if message.holds]
+        log.info(f"{role}: the show waits at show time {clock.show_time:.1f} s"
+                 + (f" (not heard from {', '.join(why)})" if why else "")
+                 + (f" (held by {', '.join(held)})" if held else ""))
+    return since
 
 
 def _launch_detector(names: RobotNames) -> Any:

@@ -32,10 +32,12 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                       vmax: float = 0.0, profile: str = "ideal", lidar: bool = True,
                       record: str = "", stop_after: float = 0.0,
                       types: tuple[tuple[float, float, float], ...] = (),
-                      follower: str = "thesis", timing: str = "thesis") -> str:
+                      follower: str = "thesis", timing: str = "thesis",
+                      hold: str = "") -> str:
     """The launch file of a ROS simulation: the bridge, and formation.launch per robot with
     its name as prefix; types: per robot (length, width, max speed) of the simulated robot;
-    follower and timing: the strategies (``--follower``, ``--timing``)."""
+    follower, timing and hold: the strategies (``--follower``, ``--timing``, ``--hold``; ""
+    lets the node choose)."""
     def attr(value: object) -> str:
         return quoteattr(str(value))
 
@@ -56,7 +58,7 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
         for key, value in (("scenario", scenario), ("role", robot), ("world", world),
                            ("vmax", vmax), ("robot_name", robot),
                            ("lidar", str(lidar).lower()), ("follower", follower),
-                           ("timing", timing)):
+                           ("timing", timing), ("hold", hold)):
             lines.append(f"    <arg name=\"{key}\" value={attr(value)}/>")
         if types:  # the simulated robot's size and speed, not this host's
             for key, value in zip(("length", "width", "max_speed"), types[i], strict=True):

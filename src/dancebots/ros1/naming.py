@@ -13,9 +13,12 @@ from dataclasses import dataclass
 
 from dancebots.world import BUILTIN_ROBOT_TYPES, RobotType
 
-__all__ = ["HOST_ROBOT_TYPES", "SYNC_TOPIC", "RobotNames", "robot_type_for_host"]
+__all__ = ["HOLD_TOPIC", "HOST_ROBOT_TYPES", "SYNC_TOPIC", "RobotNames", "robot_type_for_host"]
 
 SYNC_TOPIC = "/sync"
+HOLD_TOPIC = "/hold"
+"""The formation's shared show clock (``sync.hold``): every formation_member's hold messages
+(std_msgs/String, ``sync.messages.format_hold``), read by every other one."""
 HOST_ROBOT_TYPES = {"ctu-robot": "TRADR", "husky-robot": "HUSKY"}
 """Thesis ch. 3: the host names of the real robots; any other host is the simulator's."""
 

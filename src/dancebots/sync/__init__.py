@@ -4,15 +4,19 @@
 echo test of the ``network_test`` node) before it says it is ready. ``start``: the robots
 agree on one start time for the virtual leader from proposals each makes when it is ready, ignoring
 implausible ones (a window around the receiver's clock).
-Messages are plain text as they travel on the shared ``/sync`` topic (std_msgs/String).
+Messages are plain text as they travel on the shared ``/sync`` topic (std_msgs/String); the
+formation's shared show clock (``hold``) sends its own on ``/hold``.
 """
 
 from dancebots.sync.messages import (
     EchoMessage,
+    HoldMessageError,
     StartProposal,
     SyncMessageError,
+    format_hold,
     format_message,
     is_role,
+    parse_hold,
     parse_message,
 )
 from dancebots.sync.network_test import NetworkTest, network_test_receive, start_network_test
@@ -37,17 +41,20 @@ __all__ = [
     "START_DELAY",
     "START_STRATEGIES",
     "EchoMessage",
+    "HoldMessageError",
     "NetworkTest",
     "StartAgreement",
     "StartProposal",
     "SyncMessageError",
     "agreement_ready",
     "agreement_receive",
+    "format_hold",
     "format_message",
     "implausible",
     "is_role",
     "network_test_receive",
     "new_agreement",
+    "parse_hold",
     "parse_message",
     "show_time",
     "start_network_test",

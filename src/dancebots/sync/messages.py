@@ -20,8 +20,10 @@ import math
 import re
 from dataclasses import dataclass
 
-__all__ = ["EchoMessage", "StartProposal", "SyncMessageError", "format_message", "is_role",
-           "parse_message"]
+from dancebots.sync.hold import HoldMessage
+
+__all__ = ["EchoMessage", "HoldMessageError", "StartProposal", "SyncMessageError",
+           "format_hold", "format_message", "is_role", "parse_hold", "parse_message"]
 
 _ROLE = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
 _SECONDS = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
@@ -99,6 +101,68 @@ def format_message(message: EchoMessage | StartProposal) -> str:
     if message.echoed_by is None:
         return f"test {message.origin}"
     return f"test {message.origin} {message.echoed_by}"
+
+
+class HoldMessageError(ValueError):
+    """A /hold message that is not ``hold ROLE STAMP SHOW_TIME HOLDS [X Y]``; ``text`` is what
+    was received, ``reason`` why it is refused."""
+
+    def __init__(self, text: str, reason: str) -> None:
+        super().__init__(f"bad /hold message {_shown(text)}: {reason}; expected 'hold ROLE "
+                         "STAMP SHOW_TIME HOLDS [X Y]' (HOLDS 0 or 1)")
+        self.text = text
+        self.reason = reason
+
+
+def parse_hold(text: str) -> HoldMessage:
+    """The :class:`~dancebots.sync.hold.HoldMessage` a /hold text carries (the formation's
+    shared show clock, ``sync.hold``): ``hold ROLE STAMP SHOW_TIME HOLDS [X Y]``, the sender's
+    role, its clock when sending and its show time (s), whether it holds the show (0 or 1)
+    and where it stands in the show frame (m; absent: unknown). Raises
+    :class:`HoldMessageError`, and nothing else, for any other text."""
+    if not isinstance(text, str):
+        raise HoldMessageError(repr(text), f"a {type(text).__name__} is not text")
+    words = text.split()
+    if not words or words[0] != "hold":
+        raise HoldMessageError(text, "it does not start with 'hold'" if words
+                               else "it is empty")
+    rest = words[1:]
+    if len(rest) not in (4, 6):
+        raise HoldMessageError(text, f"'hold' takes 4 or 6 words, not {len(rest)}")
+    if not is_role(rest[0]):
+        raise HoldMessageError(text, f"{_shown(rest[0])} is not a role name (a letter or _, "
+                               "then letters, digits, _, . or -)")
+    if rest[3] not in ("0", "1"):
+        raise HoldMessageError(text, f"HOLDS must be 0 or 1, not {_shown(rest[3])}")
+    stamp, show_time, *position = (_finite(text, word, HoldMessageError)
+                                   for word in (rest[1], rest[2], *rest[4:]))
+    return HoldMessage(rest[0], stamp, show_time, rest[3] == "1",
+                       (position[0], position[1]) if position else None)
+
+
+def format_hold(message: HoldMessage) -> str:
+    """The /hold text of a message (inverse of :func:`parse_hold`; times in full precision);
+    ValueError for a message whose numbers are not finite."""
+    numbers = (message.stamp, message.show_time, *(message.position or ()))
+    if not all(math.isfinite(n) for n in numbers):
+        raise ValueError(f"a hold message's times and position must be finite: {message}")
+    text = (f"hold {message.role} {message.stamp!r} {message.show_time!r} "
+            f"{int(message.holds)}")
+    if message.position is not None:
+        text += f" {message.position[0]!r} {message.position[1]!r}"
+    return text
+
+
+def _finite(text: str, word: str, error: type[HoldMessageError]) -> float:
+    """``word`` as a finite float, else ``error``."""
+    if _NONFINITE.fullmatch(word) is not None:
+        raise error(text, f"{_shown(word)} is not a finite number")
+    if _SECONDS.fullmatch(word) is None:
+        raise error(text, f"{_shown(word)} is not a number")
+    value = float(word)
+    if not math.isfinite(value):
+        raise error(text, f"{_shown(word)} is not a finite number")
+    return value
 
 
 def _check_roles(text: str, roles: list[str]) -> None:
