@@ -80,9 +80,12 @@ def test_show_across_network_namespaces(tmp_path: Path, pull_cable: bool) -> Non
         assert np.all(record.commands[r1, late] == 0.0)
         assert np.any(record.commands[r1, record.times < pulled_at] != 0.0)
         # the formation's shared show clock (the default --hold together): R2 no longer
-        # hears R1, so after the 1 s heartbeat timeout the show stops and R2 stands
+        # hears R1, so after the 1 s heartbeat timeout the show stops; R2 settles on its
+        # place where the show stopped (its heading corrected, at most a few cm) and waits
         stood = record.times > pulled_at + 1.5
-        assert np.all(np.abs(record.commands[r2, stood]) <= 1e-9)
+        drift = np.hypot(*(record.poses[r2, stood, :2] - record.poses[r2, stood.argmax(), :2]).T)
+        assert drift.max() < 0.05
+        assert gap[r2] > 0.5  # it did not drive on alone to the end of its part
         assert "not heard from R1" in show.log("R2")
 
 

@@ -95,11 +95,11 @@ def test_a_robot_whose_nodes_are_killed_stops_and_the_others_wait_or_finish(
         return
     assert "the show waits" in show.log("R2")
     assert "not heard from R1" in show.log("R2")
-    # R2 stands from the heartbeat timeout on (1 s, a tick and the bridge's rule: 1.5 s)
+    # from the heartbeat timeout on (1 s, a tick and the bridge's rule: 1.5 s) R2 settles on
+    # its place where the show stopped (its heading corrected, at most a few cm) and waits
     stood = record.times > killed_at + 1.5
-    assert np.all(np.abs(record.commands[r2, stood]) <= 1e-9)
-    still = np.hypot(*(record.poses[r2, -1, :2] - record.poses[r2, stood.argmax(), :2]))
-    assert still < 0.05
+    drift = np.hypot(*(record.poses[r2, stood, :2] - record.poses[r2, stood.argmax(), :2]).T)
+    assert drift.max() < 0.05
     assert gap > 0.5  # far from the end of its part: it did not drive on alone
 
 
