@@ -181,3 +181,62 @@ def test_a_crowd_that_does_not_fit_is_refused_before_anything_is_written(
             "clear of the robots, obstacles and others: enlarge its area, lower its count or "
             "keep it away from the robots' start poses and the walls") in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_certify_runs_its_seeds_on_a_ray_cluster(examples: Path, data: Path,
+                                                 tmp_path: Path) -> None:
+    """``--ray ADDRESS``: a real Ray head (``ray start --head``, 2 CPUs) in a network
+    namespace of the test's own, where certify connects to it; every seed's summary is the
+    local pool's, and no Ray process outlives the test (the namespace must be empty after
+    ``ray stop``)."""
+    import shutil
+    import tempfile
+
+    from tests.ros1.netns import hosts, netns_missing
+
+    reason = netns_missing()
+    if reason is not None:
+        pytest.fail(reason)
+    world = str(data / "worlds" / "crowd_and_bystander.toml")
+    scenario = str(examples / "thesis_7_1.dance")
+    local = _certify([scenario, "--world", world, "--runs", "3", "--jobs", "2", "--out",
+                      str(tmp_path / "local")])
+    assert local.returncode == 1, local.stderr  # the bystander never leaves: not finished
+    ray = str(Path(sys.executable).parent / "ray")
+    sessions = tempfile.mkdtemp(prefix="dbray", dir="/tmp")  # short: Ray's socket paths
+    env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0")
+    try:
+        with hosts(()) as network:
+            inside = ["ip", "netns", "exec", network.master]
+            address = f"{network.master_address}:6391"
+            started = subprocess.run(
+                [*inside, ray, "start", "--head", f"--node-ip-address="
+                 f"{network.master_address}", "--port=6391", "--num-cpus=2",
+                 "--include-dashboard=false", "--disable-usage-stats",
+                 f"--temp-dir={sessions}"], env=env, capture_output=True, text=True,
+                timeout=180, check=False)
+            try:
+                assert started.returncode == 0, started.stderr[-2000:]
+                done = subprocess.run(
+                    [*inside, sys.executable, "-m", "dancebots.cli", "certify", scenario,
+                     "--world", world, "--runs", "3", "--ray", address, "--out",
+                     str(tmp_path / "ray")], env=env, capture_output=True, text=True,
+                    timeout=600, check=False)
+            finally:
+                subprocess.run([*inside, ray, "stop", "--force"], env=env,
+                               capture_output=True, timeout=120, check=False)
+    finally:
+        shutil.rmtree(sessions, ignore_errors=True)
+    assert done.returncode == 1, done.stderr[-2000:]
+    on_ray = json.loads((tmp_path / "ray" / "certificate.json").read_text())
+    pooled = json.loads((tmp_path / "local" / "certificate.json").read_text())
+    assert on_ray["processes"] == 2  # the cluster's CPUs
+    assert [r["seed"] for r in on_ray["per_run"]] == [0, 1, 2]
+
+    def runs(cert: dict[str, object]) -> list[dict[str, object]]:
+        per_run = cert["per_run"]
+        assert isinstance(per_run, list)
+        return [{k: v for k, v in r.items() if k != "wall"} for r in per_run]
+
+    assert runs(on_ray) == runs(pooled)
+    assert "3 of 3 shows did not finish" in done.stdout

@@ -1,7 +1,9 @@
 """``dancebots certify``: run a show over many seeds among people and write a certificate.
 
 A thin shell: it checks the show once, runs the seeds on a pool of local processes
-(``report.certify.run_seed`` in each), gathers the summaries into a certificate, writes
+(``report.certify.run_seed`` in each), or as Ray tasks on a Ray cluster (``--ray ADDRESS``:
+Ray, the distributed engine, schedules them; every node must see the show's files at the same
+absolute paths and have dancebots installed), gathers the summaries into a certificate, writes
 certificate.json and certificate.png through the output writer of ``cli.common`` and exits 0
 when no moving robot touched a person, no robot touched a robot, wall or obstacle and every
 show finished in every run, 1 otherwise. Ctrl-C and SIGTERM stop the workers; a worker whose
@@ -15,6 +17,7 @@ import json
 import os
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -62,6 +65,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         default=0, metavar="S", help="the seeds are S, S+1, ... (default 0)")
     parser.add_argument("--jobs", type=in_range(1, 1024, integer=True), default=None,
                         metavar="J", help="local processes (default: one per core)")
+    parser.add_argument("--ray", metavar="ADDRESS", default=None,
+                        help="run the seeds as tasks on the Ray cluster at ADDRESS "
+                        "(host:port of its head, as `ray start --head` prints; needs Ray: "
+                        "pip install ray) instead of local processes; every node must see the "
+                        "show's files at the same paths")
     parser.add_argument("--profile", choices=("ideal", "realistic"), default="realistic",
                         help="the simulator's profile (default: realistic)")
     parser.add_argument("--no-lidar", action="store_true",
@@ -94,6 +102,10 @@ def run(args: argparse.Namespace) -> int:
     job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
                      args.timing, not args.no_lidar, args.final_tolerance, args.hold,
                      args.stop_rule)
+    if args.ray is not None:
+        refused = _ray_refusal(args.ray)
+        if refused is not None:
+            return refuse(NAME, args.json, refused)
     show = load_job(job)  # the check and placement every worker repeats, once here first
     if not show.valid or show.report is None or show.report.placement is None:
         return refuse(NAME, args.json, diagnostics=show.diagnostics, sources=show.sources)
@@ -126,14 +138,77 @@ def _terminate(signum: int, frame: object) -> None:
     raise KeyboardInterrupt
 
 
+RAY_CONNECT_TIMEOUT = 5.0
+"""s to wait for a Ray head to accept a connection before certify refuses (ray.init itself
+waits minutes for an address where nothing answers)."""
+
+
+def _ray_refusal(address: str) -> str | None:
+    """Why ``--ray ADDRESS`` cannot be used (None: Ray is installed and something listens
+    there): Ray missing, an address that is not host:port, or nothing answering."""
+    import importlib.util
+    import socket
+
+    if importlib.util.find_spec("ray") is None:
+        return ("certify --ray needs Ray, which is not installed here: pip install ray (or "
+                "run without --ray on local processes)")
+    host, _, port = address.rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        return (f"--ray {address!r} is not HOST:PORT (the address `ray start --head` prints, "
+                "e.g. 127.0.0.1:6379)")
+    try:
+        with socket.create_connection((host, int(port)), timeout=RAY_CONNECT_TIMEOUT):
+            pass
+    except OSError as exc:
+        return (f"no Ray cluster answers at {address} ({exc}); start one with `ray start "
+                "--head` there, or run without --ray")
+    return None
+
+
+def _on_ray(address: str, job: CertifyJob, seeds: list[int],
+            update: Callable[[int, int], None]) -> tuple[list[RunSummary], int]:
+    """The seeds' summaries run as Ray tasks on the cluster at ``address`` (the show's files
+    by absolute path: the tasks run in the workers' own directories), and how many CPUs the
+    cluster has."""
+    from dataclasses import replace
+
+    import ray
+
+    from dancebots.report.certify import run_seed
+
+    remote_job = replace(job, scenario=str(Path(job.scenario).resolve()),
+                         world=str(Path(job.world).resolve()))
+    import logging
+
+    ray.init(address=address, log_to_driver=False, logging_level=logging.ERROR,
+             configure_logging=False)
+    try:
+        task = ray.remote(num_cpus=1, max_retries=0)(run_seed)
+        pending = [task.remote(remote_job, seed) for seed in seeds]
+        cpus = int(ray.cluster_resources().get("CPU", 1))  # type: ignore[no-untyped-call]
+        done: dict[int, RunSummary] = {}
+        try:
+            while pending:
+                ready, pending = ray.wait(pending, num_returns=len(pending), timeout=0.5)
+                for summary in ray.get(ready):
+                    done[summary.seed] = summary
+                update(len(done), len(seeds))
+        except BaseException:
+            for ref in pending:  # a run in progress is not waited for
+                ray.cancel(ref, force=True)
+            raise
+        return [done[seed] for seed in seeds], cpus
+    finally:
+        ray.shutdown()
+
+
 def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
              target: Path) -> ShowOutcome:
     from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 
     from rich.console import Console
 
-    from dancebots.report.certify import certificate, run_seed
-    from dancebots.report.verdict import Verdict
+    from dancebots.report.certify import run_seed
     from dancebots.sim.kernels import kernels_to_compile
 
     console = Console(stderr=True, soft_wrap=True)
@@ -142,6 +217,11 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
                       "only, 10-20 s)", style="yellow", highlight=False)
         run_seed(job, args.first_seed)  # compiled once here, cached on disk for the workers
     seeds = list(range(args.first_seed, args.first_seed + args.runs))
+    if args.ray is not None:
+        started = time.perf_counter()
+        with progress(console, f"certifying  (Ray cluster at {args.ray}, runs)") as update:
+            on_ray, cpus = _on_ray(args.ray, job, seeds, update)
+        return _outcome(job, on_ray, time.perf_counter() - started, cpus, staging, target)
     processes = min(args.jobs or os.cpu_count() or 1, len(seeds))
     summaries: list[RunSummary] = []
     started = time.perf_counter()
@@ -163,7 +243,16 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
             process.terminate()
         raise
     pool.shutdown()
-    cert = certificate(job, summaries, time.perf_counter() - started, processes)
+    return _outcome(job, summaries, time.perf_counter() - started, processes, staging, target)
+
+
+def _outcome(job: CertifyJob, summaries: list[RunSummary], wall: float, processes: int,
+             staging: Path, target: Path) -> ShowOutcome:
+    """The certificate of the runs, written into ``staging``, with its verdict."""
+    from dancebots.report.certify import certificate
+    from dancebots.report.verdict import Verdict
+
+    cert = certificate(job, summaries, wall, processes)
     written = _write(cert, staging)
     failures = _failures(cert)
     return ShowOutcome(written, cert.wall, Verdict(failures), cert.to_json(),
