@@ -245,3 +245,31 @@ def test_the_generated_simulation_launch_loads(tmp_path, monkeypatch) -> None:  
     assert loaded["/R1/length"] == 0.99  # the simulated robot's, not this host's
     assert loaded["/R2/formation_member/max_speed"] == 0.5
     assert loaded["/sim_bridge/stop_after"] == 50.0
+
+
+def test_the_formations_wait_is_logged_once_however_late_the_ticks() -> None:
+    """formation_member logs once when the shared show clock has stood for a second (why:
+    the mate not heard from), however late its ticks come (a loaded machine), and once when
+    it runs again."""
+    from dancebots.ros1.formation_member_node import _report_wait
+    from dancebots.sync.hold import HoldMessage, clock_receive, clock_tick, new_clock
+
+    class Lines:
+        def __init__(self) -> None:
+            self.lines: list[str] = []
+
+        def info(self, text: str) -> None:
+            self.lines.append(text)
+
+    log = Lines()
+    clock = clock_tick(clock_receive(new_clock("R2", ("R1", "R2"), 0.0),
+                                     HoldMessage("R1", 0.0, 0.0, False)), 0.1, False)
+    waiting = None
+    for now in (0.2, 1.35, 2.9, 4.0):  # R1 silent from 0 s: the clock stops (1 s timeout)
+        before, clock = clock, clock_tick(clock, now, False)
+        waiting = _report_wait(log, "R2", clock, before, waiting, now)  # type: ignore[arg-type]
+    assert log.lines == ["R2: the show waits at show time 0.2 s (not heard from R1)"]
+    before, clock = clock, clock_tick(clock_receive(clock, HoldMessage("R1", 4.1, 1.0, False)),
+                                      4.2, False)
+    assert _report_wait(log, "R2", clock, before, waiting, 4.2) is None  # type: ignore[arg-type]
+    assert log.lines[1:] == ["R2: the show goes on at show time 0.4 s (it waited 2.9 s)"]

@@ -228,7 +228,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
 
     state: BrainState = brain.initial_state()
     clock: ShowClock | None = None
-    waiting_since: float | None = None
+    waiting: tuple[float, bool] | None = None
     command = Twist()
     status = "waiting"
     start_logged = False
@@ -272,7 +272,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     mates_heard = np.array([m.position for m in clock.heard.values()
                                             if m.position is not None],
                                            dtype=float).reshape(-1, 2)
-                    waiting_since = _report_wait(log, role, clock, before, waiting_since, now)
+                    waiting = _report_wait(log, role, clock, before, waiting, now)
                 pose = look_up_pose(now)
                 state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,
                                                   mates_heard=mates_heard)
@@ -302,24 +302,25 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
 
 
 def _report_wait(log: QueuedLog, role: str, clock: ShowClock, before: ShowClock | None,
-                 waiting_since: float | None, now: float) -> float | None:
-    """Log when the shared show clock stops for a second and when it runs again; returns
-    since when (s, the robot's clock) it stands, None while it runs."""
-    advanced = before is None or clock.show_time > before.show_time
-    if advanced:
-        if waiting_since is not None and now - waiting_since >= 1.0:
+                 waiting: tuple[float, bool] | None, now: float) -> tuple[float, bool] | None:
+    """Log once when the shared show clock has stood for a second, and when it runs again;
+    ``waiting``: since when (s, the robot's clock) it stands and whether that was logged,
+    None while it runs (returned updated)."""
+    if before is None or clock.show_time > before.show_time:
+        if waiting is not None and waiting[1]:
             log.info(f"{role}: the show goes on at show time {clock.show_time:.1f} s "
-                     f"(it waited {now - waiting_since:.1f} s)")
+                     f"(it waited {now - waiting[0]:.1f} s)")
         return None
-    since = now if waiting_since is None else waiting_since
-    if now - since >= 1.0 > now - since - 0.1 - 1e-9:  # once, a second after it stopped
+    since, told = (now, False) if waiting is None else waiting
+    if not told and now - since >= 1.0:
         why = [m for m in clock.mates if m not in clock.heard
                or now - clock.heard[m].stamp > 1.0]
         held = [m for m, message in clock.heard.items() if message.holds]
         log.info(f"{role}: the show waits at show time {clock.show_time:.1f} s"
                  + (f" (not heard from {', '.join(why)})" if why else "")
                  + (f" (held by {', '.join(held)})" if held else ""))
-    return since
+        told = True
+    return since, told
 
 
 def _launch_detector(names: RobotNames) -> Any:
