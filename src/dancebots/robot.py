@@ -431,6 +431,9 @@ class RobotBrain:
                                            show_time, compose_points(self._own_frame,
                                                                      mates_heard)) or near
             knows_strangers = self.knows_strangers
+            # after the show mates on their final places stand for good (PARKED_GAP)
+            parked = show_time >= self.rest_from and knows_strangers
+            flags = near.flags if parked else seen.flags
             if near.nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -452,8 +455,7 @@ class RobotBrain:
                     if abs(linear) <= SLOWED and not may_turn:
                         # standing, it does not swing a corner out at a person walking up
                         linear = angular = 0.0
-            elif ((flags := near.flags if show_time >= self.rest_from and knows_strangers
-                   else seen.flags).front and linear > 0) or (flags.rear and linear < 0):
+            elif (flags.front and linear > 0) or (flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
                 # (that mate moves on with the show; holding the clock for it would stall)
@@ -461,7 +463,6 @@ class RobotBrain:
                                   or (near.flags.rear and linear < 0))
                 linear = 0.0
             elif sensing.approach_gain > 0:
-                parked = show_time >= self.rest_from and knows_strangers
                 if linear > 0:
                     linear = min(linear, self._approach_limit(
                         seen.front_free, strangers.front_free if strangers else None,
