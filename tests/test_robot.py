@@ -199,17 +199,24 @@ def test_a_robot_that_may_not_turn_beside_a_mate_makes_room_forwards_first() -> 
 
 
 def test_a_robot_makes_room_only_among_mates() -> None:
-    """A robot alone with a stranger 0.2 m beside it (every point is a stranger) never drives
-    off to make room for a turn: a person near is waited for, not pushed past."""
+    """A robot alone, turned 90 deg from its place's heading so that it should turn on the
+    spot, with a stranger 0.2 m beside it (every point of a one-robot show is a stranger):
+    the turn guard leaves it no turn, and it does not drive off to make room for the turn
+    (a person near is waited for, not pushed past); the same points where they leave room
+    ahead would have it make room, were they a mate's (``_make_room`` itself)."""
     from dancebots.perception.cloud import PointCloud
     from dancebots.robot import SensingConfig
 
-    plan = plan_of("robots R1\nrow R1 0 0\nmove 2 -90\n")
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
     brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
     state = brain.initial_state()
-    cloud = PointCloud(0.0, _side_by_side_cloud(0.2))
-    rooms = []
-    for k in range(60):
-        state, _, _ = brain.step(state, 0.1 * k, (0.0, 0.0, 0.0), cloud, clock=0.1 * k)
-        rooms.append(state.making_room)
-    assert rooms == [0.0] * 60
+    beside = _side_by_side_cloud(0.2)
+    turned = (0.0, 0.0, 0.5 * math.pi)  # facing left of its place's way: it must turn right
+    commands = []
+    for k in range(10, 30):
+        state, command, _ = brain.step(state, 0.1 * k, turned, PointCloud(0.1 * k, beside),
+                                       clock=0.1 * k)
+        commands.append(command)
+        assert state.making_room == 0.0
+    assert all(abs(c.linear) < 0.05 and c.angular == 0.0 for c in commands[3:])
+    assert brain._make_room(beside, 0.1, turned, turned, -1.0, 0.0) != 0.0
