@@ -45,8 +45,8 @@ from dancebots.perception.obstacles import (
     Perception,
     StopFlags,
     clear_distances,
-    compensate_motion,
     obstacle_points_from_columns,
+    obstacle_points_now,
     perceive,
     turn_fraction,
     turn_reach,
@@ -537,9 +537,7 @@ class RobotBrain:
                     columns, height_step, detection.crop_half, detection.z_min,
                     detection.z_max, np.array(seen_from), np.array(pose), length, width,
                     linear, angular, detection.turn_margin, detection.turn_horizon, leading))
-            points = obstacle_points_from_columns(columns, height_step, detection)
-            if seen_from != pose:
-                points = compensate_motion(points, seen_from, pose)
+            points = obstacle_points_now(columns, height_step, seen_from, pose, detection)
             if leading:
                 points = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
             return turn_fraction(points, length, width, linear, angular, detection)
@@ -569,9 +567,7 @@ class RobotBrain:
         last tick (``previous``) while any shift that way works, so it does not shuttle."""
         detection = self.sensing.detection
         length, width = self.sensing.length, self.sensing.width
-        points = obstacle_points_from_columns(columns, height_step, detection)
-        if seen_from != pose:
-            points = compensate_motion(points, seen_from, pose)
+        points = obstacle_points_now(columns, height_step, seen_from, pose, detection)
         front, rear = clear_distances(points, length, width, detection)
         for direction in ((previous,) if previous != 0.0 else ()) + (1.0, -1.0):
             free = front if direction > 0.0 else rear
@@ -604,12 +600,11 @@ class RobotBrain:
         from dancebots.perception.tracks import point_motion
 
         sensing, params = self.sensing, self.sensing.ssm
-        points = obstacle_points_from_columns(columns, height_step, self._ssm_detection)
+        points = obstacle_points_now(columns, height_step, seen_from, pose,
+                                     self._ssm_detection)
         if len(points) != len(kind):  # the tracks are of an older cloud: trust nothing
             kind = np.full(len(points), 2, dtype=np.int8)
             velocity = np.zeros((len(points), 2))
-        if seen_from != pose:
-            points = compensate_motion(points, seen_from, pose)
         moving, spread = point_motion(velocity, kind, params.walking_speed, params.speed_margin)
         c, s = math.cos(pose[2]), math.sin(pose[2])
         moving = moving @ np.array([[c, -s], [s, c]])  # own map frame -> base_link axes
@@ -721,8 +716,7 @@ class RobotBrain:
             return Perception(StopFlags(front < detection.stop_distance,
                                         rear < detection.stop_distance),
                               front, rear, nearest, (fx, fy))
-        points = obstacle_points_from_columns(columns, height_step, detection)
-        current = points if seen_from == pose else compensate_motion(points, seen_from, pose)
+        current = obstacle_points_now(columns, height_step, seen_from, pose, detection)
         return perceive(current, sensing.length, sensing.width, detection,
                         sensing.force_radius, FORCE_GAIN)
 

@@ -29,6 +29,7 @@ __all__ = [
     "footprint_clearance",
     "obstacle_points",
     "obstacle_points_from_columns",
+    "obstacle_points_now",
     "perceive",
     "stop_flags",
     "turn_fraction",
@@ -209,6 +210,17 @@ def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, flo
     """Points (M, 2) seen in ``base_link`` at the cloud's stamp, expressed in ``base_link``
     now, from the robot's own poses (odometry, any fixed frame) then and now."""
     return points_to_local(points_to_world(points, pose_at_stamp), pose_now)
+
+
+def obstacle_points_now(columns: FloatArray, height_step: float,
+                        seen_from: tuple[float, float, float], pose: tuple[float, float, float],
+                        params: DetectorParams = DetectorParams()) -> FloatArray:
+    """The obstacle points (M, 2) of a cloud's columns (K, 4) taken in ``base_link`` at the
+    own pose ``seen_from``, in ``base_link`` at the own pose ``pose`` now
+    (:func:`obstacle_points_from_columns`, then :func:`compensate_motion` when the robot
+    moved)."""
+    points = obstacle_points_from_columns(columns, height_step, params)
+    return points if seen_from == pose else compensate_motion(points, seen_from, pose)
 
 
 @dataclass(frozen=True, slots=True)

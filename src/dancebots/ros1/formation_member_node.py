@@ -89,6 +89,7 @@ from dancebots.sync.hold import (
     ShowClock,
     clock_receive,
     clock_tick,
+    heard_positions,
     new_clock,
 )
 from dancebots.sync.messages import HoldMessageError, format_hold, parse_hold
@@ -269,9 +270,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                         before or new_clock(role, brain.plan.robots, now - elapsed),
                         *received), now, state.holding_the_show)
                     shown = clock.show_time
-                    mates_heard = np.array([m.position for m in clock.heard.values()
-                                            if m.position is not None],
-                                           dtype=float).reshape(-1, 2)
+                    mates_heard = np.array(heard_positions(clock), dtype=float).reshape(-1, 2)
                     waiting = _report_wait(log, role, clock, before, waiting, now)
                 pose = look_up_pose(now)
                 state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,

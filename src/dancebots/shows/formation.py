@@ -37,6 +37,7 @@ from dancebots.sync.hold import (
     HoldStrategy,
     clock_receive,
     clock_tick,
+    heard_positions,
     new_clock,
 )
 
@@ -297,8 +298,7 @@ class _Crew:
         message of each; None without the shared clock."""
         if not self.together:
             return None
-        said = [m.position for m in self.clocks[robot].heard.values() if m.position is not None]
-        return np.array(said, dtype=float).reshape(-1, 2)
+        return np.array(heard_positions(self.clocks[robot]), dtype=float).reshape(-1, 2)
 
     def _tell(self, now: float, poses: list[tuple[float, float, float] | None]) -> None:
         """Every robot tells the others its show time, whether it holds the show and where it

@@ -32,7 +32,7 @@ from types import MappingProxyType
 from typing import Literal, get_args
 
 __all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "HoldMessage", "HoldParams", "HoldStrategy",
-           "ShowClock", "clock_receive", "clock_tick", "new_clock"]
+           "ShowClock", "clock_receive", "clock_tick", "heard_positions", "new_clock"]
 
 HoldStrategy = Literal["together", "alone"]
 HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
@@ -128,3 +128,9 @@ def clock_tick(clock: ShowClock, now: float, holds: bool,
     if not waiting and min(show_time + elapsed, ceiling) > show_time + ADVANCE_MIN:
         show_time = min(show_time + elapsed, ceiling)
     return ShowClock(clock.role, clock.mates, show_time, now, clock.heard)
+
+
+def heard_positions(clock: ShowClock) -> tuple[tuple[float, float], ...]:
+    """Where the mates said they stand (show frame, m) in their latest messages that say it:
+    what the brain leaves out as no stranger (``RobotBrain.step``'s ``mates_heard``)."""
+    return tuple(m.position for m in clock.heard.values() if m.position is not None)

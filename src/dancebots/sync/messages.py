@@ -82,11 +82,9 @@ def parse_message(text: str) -> EchoMessage | StartProposal:
         if len(rest) != 2:
             raise SyncMessageError(text, f"'sync' takes a role and a time, not {len(rest)} words")
         _check_roles(text, rest[:1])
-        if _NONFINITE.fullmatch(rest[1]) is not None:
-            raise SyncMessageError(text, f"{_shown(rest[1])} is not a finite time")
-        if _SECONDS.fullmatch(rest[1]) is None:
+        start = _number(rest[1])
+        if start is None:
             raise SyncMessageError(text, f"{_shown(rest[1])} is not a time in seconds")
-        start = float(rest[1])
         if not math.isfinite(start):
             raise SyncMessageError(text, f"{_shown(rest[1])} is not a finite time")
         return StartProposal(rest[0], start)
@@ -134,8 +132,15 @@ def parse_hold(text: str) -> HoldMessage:
                                "then letters, digits, _, . or -)")
     if rest[3] not in ("0", "1"):
         raise HoldMessageError(text, f"HOLDS must be 0 or 1, not {_shown(rest[3])}")
-    stamp, show_time, *position = (_finite(text, word, HoldMessageError)
-                                   for word in (rest[1], rest[2], *rest[4:]))
+    numbers = []
+    for word in (rest[1], rest[2], *rest[4:]):
+        value = _number(word)
+        if value is None:
+            raise HoldMessageError(text, f"{_shown(word)} is not a number")
+        if not math.isfinite(value):
+            raise HoldMessageError(text, f"{_shown(word)} is not a finite number")
+        numbers.append(value)
+    stamp, show_time, *position = numbers
     return HoldMessage(rest[0], stamp, show_time, rest[3] == "1",
                        (position[0], position[1]) if position else None)
 
@@ -153,16 +158,12 @@ def format_hold(message: HoldMessage) -> str:
     return text
 
 
-def _finite(text: str, word: str, error: type[HoldMessageError]) -> float:
-    """``word`` as a finite float, else ``error``."""
+def _number(word: str) -> float | None:
+    """``word`` as a float: a plain decimal number (then finite, or inf for a huge exponent),
+    a spelled-out nan or infinity (not finite), or None for anything else."""
     if _NONFINITE.fullmatch(word) is not None:
-        raise error(text, f"{_shown(word)} is not a finite number")
-    if _SECONDS.fullmatch(word) is None:
-        raise error(text, f"{_shown(word)} is not a number")
-    value = float(word)
-    if not math.isfinite(value):
-        raise error(text, f"{_shown(word)} is not a finite number")
-    return value
+        return math.nan
+    return float(word) if _SECONDS.fullmatch(word) is not None else None
 
 
 def _check_roles(text: str, roles: list[str]) -> None:
