@@ -398,12 +398,10 @@ class RobotBrain:
             seen = CLEAR
             strangers: Perception | None = None  # the points that are no mate on its place
             if sensing.lidar and len(obstacles):
-                seen = self._perceive(obstacles, height_step, seen_from or pose, pose)
-                if self._mates is not None:
-                    strangers = self._without_mates(obstacles, height_step, seen_from or pose,
-                                                    pose, show_time)
-                    if strangers is not None:
-                        seen = replace(seen, force=strangers.force)
+                seen, strangers = self._perceive_all(obstacles, height_step, seen_from or pose,
+                                                     pose, show_time)
+                if strangers is not None:
+                    seen = replace(seen, force=strangers.force)
             reference_speed = 0.0
             behind = 0.0  # m from its place (the tracking and path followers)
             if self.follower != "thesis":
@@ -673,6 +671,39 @@ class RobotBrain:
         cruise = reference_speed + sensing.approach_gain * (free - stop - MATE_GAP)
         return max(limit, min(cruise, sensing.approach_gain * max(strangers_free - stop, 0.0)))
 
+    def _perceive_all(self, columns: np.ndarray, height_step: float,
+                      seen_from: tuple[float, float, float], pose: tuple[float, float, float],
+                      show_time: float, heard: np.ndarray | None = None,
+                      ) -> tuple[Perception, Perception | None]:
+        """:meth:`_perceive` of the cloud's columns and, for a robot that knows its mates'
+        places, :meth:`_without_mates` (else None), in one compiled pass unless
+        ``SensingConfig.compiled`` is off (same results)."""
+        if self._mates is None:
+            return self._perceive(columns, height_step, seen_from, pose), None
+        if not self.sensing.compiled:
+            return (self._perceive(columns, height_step, seen_from, pose),
+                    self._without_mates(columns, height_step, seen_from, pose, show_time,
+                                        heard))
+        from dancebots.perception.fast import perceive_columns_split  # imports numba
+
+        sensing, detection = self.sensing, self.sensing.detection
+        where = self.mates_at(show_time) if heard is None else np.concatenate(
+            [self.mates_at(show_time), heard])
+        everything, strangers, left_out = perceive_columns_split(
+            columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
+            np.array(seen_from), np.array(pose), sensing.length, sensing.width,
+            detection.stop_distance, detection.corridor_margin, sensing.force_radius,
+            FORCE_GAIN, where, self.mate_radius)
+        return (self._perception(*everything),
+                self._perception(*strangers) if left_out else None)
+
+    def _perception(self, front: float, rear: float, nearest: float, fx: float,
+                    fy: float) -> Perception:
+        """The perception of the compiled kernels' figures (free distances ahead and behind,
+        nearest point to the footprint, m; force)."""
+        stop = self.sensing.detection.stop_distance
+        return Perception(StopFlags(front < stop, rear < stop), front, rear, nearest, (fx, fy))
+
     def _without_mates(self, columns: np.ndarray, height_step: float,
                        seen_from: tuple[float, float, float],
                        pose: tuple[float, float, float], show_time: float,
@@ -683,17 +714,15 @@ class RobotBrain:
         mate on its place is part of the plan: its force and the approach limit,
         :meth:`_approach_limit`, leave it out; the stop flags and the turn guard still see
         every point). ``heard`` (K, 2), own map frame: more mates, where they said they are."""
+        if self.sensing.compiled:
+            return self._perceive_all(columns, height_step, seen_from, pose, show_time,
+                                      heard)[1]
         where = self.mates_at(show_time) if heard is None else np.concatenate(
             [self.mates_at(show_time), heard])
         mates = points_to_local(where, seen_from)  # (M, 2) base_link
-        if self.sensing.compiled:
-            from dancebots.perception.fast import far_from_all  # imports numba
-
-            keep = far_from_all(columns, mates, self.mate_radius)
-        else:
-            gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
-                            columns[:, None, 1] - mates[None, :, 1])  # (K, M)
-            keep = gaps.min(axis=1) > self.mate_radius
+        gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
+                        columns[:, None, 1] - mates[None, :, 1])  # (K, M)
+        keep = gaps.min(axis=1) > self.mate_radius
         if keep.all():
             return None
         return self._perceive(columns[keep], height_step, seen_from, pose)
@@ -708,14 +737,11 @@ class RobotBrain:
         if sensing.compiled:
             from dancebots.perception.fast import perceive_columns  # imports numba
 
-            front, rear, nearest, fx, fy = perceive_columns(
+            return self._perception(*perceive_columns(
                 columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
                 np.array(seen_from), np.array(pose), sensing.length, sensing.width,
                 detection.stop_distance, detection.corridor_margin, sensing.force_radius,
-                FORCE_GAIN)
-            return Perception(StopFlags(front < detection.stop_distance,
-                                        rear < detection.stop_distance),
-                              front, rear, nearest, (fx, fy))
+                FORCE_GAIN))
         current = obstacle_points_now(columns, height_step, seen_from, pose, detection)
         return perceive(current, sensing.length, sensing.width, detection,
                         sensing.force_radius, FORCE_GAIN)

@@ -268,3 +268,28 @@ def test_far_from_all_is_the_numpy_mask(seed: int, points: int, centres: int,
                     columns[:, None, 1] - mates[None, :, 1])
     expected = (gaps > radius).all(axis=1)
     assert far_from_all(columns, mates, radius).tolist() == expected.tolist()
+
+
+@settings(max_examples=80, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), points=st.integers(0, 60), centres=st.integers(0, 6),
+       radius=st.sampled_from([0.0, 1e-300, 0.3, 0.85, 5.0]))
+def test_the_split_perception_is_perceive_columns_with_and_without_the_mates(
+        seed: int, points: int, centres: int, radius: float) -> None:
+    """The fused kernel gives exactly what perceiving every column and then the columns
+    ``far_from_all`` keeps (mates moved into ``base_link`` by ``points_to_local``) gives,
+    and says whether any column was left out."""
+    from dancebots.geometry import points_to_local
+    from dancebots.perception.fast import far_from_all, perceive_columns, perceive_columns_split
+
+    rng = np.random.default_rng(seed)
+    columns = np.column_stack([rng.uniform(-3.0, 3.0, (points, 2)),
+                               rng.uniform(-0.2, 0.4, points), rng.uniform(0.0, 2.0, points)])
+    mates = rng.uniform(-3.0, 3.0, (centres, 2))
+    seen_from = rng.uniform(-1.0, 1.0, 3)
+    pose = seen_from + rng.uniform(-0.05, 0.05, 3)
+    common = (0.1, 2.0, 0.05, 1.0, seen_from, pose, LENGTH, WIDTH, 0.55, 0.1, 1.0, 0.02)
+    everything, strangers, left_out = perceive_columns_split(columns, *common, mates, radius)
+    keep = far_from_all(columns, points_to_local(mates, tuple(seen_from)), radius)
+    assert everything == perceive_columns(columns, *common)
+    assert left_out == (not keep.all())
+    assert strangers == perceive_columns(columns[keep], *common)

@@ -4,8 +4,10 @@ network does."""
 from __future__ import annotations
 
 import itertools
+import math
 import random
 
+import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -15,6 +17,10 @@ from dancebots.sync.hold import (
     ShowClock,
     clock_receive,
     clock_tick,
+    formation_clocks,
+    formation_receive,
+    formation_tick,
+    heard_positions,
     new_clock,
 )
 
@@ -139,3 +145,49 @@ def test_hearing_messages_together_is_hearing_them_one_by_one() -> None:
     assert dict(together.heard) == dict(one_by_one.heard)
     assert together.heard["R2"].stamp == 1.0  # the older R2 message did not replace it
     assert together.heard["R3"].show_time == 0.6
+
+
+@settings(max_examples=60, deadline=None)
+@given(count=st.integers(1, 5), seed=st.integers(0, 2**32 - 1),
+       delay_ticks=st.integers(0, 12), loss=st.sampled_from([0.0, 0.2, 0.6, 0.95]),
+       hostile=st.sampled_from([0.0, math.nan, math.inf, -math.inf, 1e308, -1e308, 1e-300]))
+def test_the_formations_clocks_are_every_robots_clock_at_once(
+        count: int, seed: int, delay_ticks: int, loss: float, hostile: float) -> None:
+    """The simulator's vectorised clocks give every robot exactly the show time (and the mates'
+    positions) its own :class:`ShowClock` gets from the same messages: random holds, delays
+    (up to beyond the heartbeat timeout), losses, unknown positions and hostile stamps and show
+    times (ignored where not finite)."""
+    rng = np.random.default_rng(seed)
+    roles = tuple(f"R{i + 1}" for i in range(count))
+    clocks = [new_clock(r, roles, 0.0) for r in roles]
+    together = formation_clocks(count, 0.0)
+    in_flight: list[tuple[int, list[HoldMessage], tuple[np.ndarray, ...]]] = []
+    for k in range(80):
+        now = k * TICK
+        for _due, messages, batch in [m for m in in_flight if m[0] <= k]:
+            clocks = [clock_receive(clock, *messages) for clock in clocks]
+            together = formation_receive(together, *batch)
+        in_flight = [m for m in in_flight if m[0] > k]
+        holds = rng.random(count) < 0.15
+        clocks = [clock_tick(clock, now, bool(h)) for clock, h in zip(clocks, holds, strict=True)]
+        together = formation_tick(together, now, holds)
+        assert together.show_time.tolist() == [clock.show_time for clock in clocks]
+        for i, clock in enumerate(clocks):
+            said = ~np.isnan(together.position).all(axis=1)
+            said[i] = False
+            # the same positions (in the senders' order, not the order first heard)
+            assert sorted(together.position[said].tolist()) == sorted(
+                list(p) for p in heard_positions(clock))
+        sent = rng.random(count) >= loss
+        stamps = np.full(count, now)
+        show = together.show_time.copy()
+        if rng.random() < 0.1:  # a hostile number in one message
+            (stamps if rng.random() < 0.5 else show)[rng.integers(count)] = hostile
+        position = rng.uniform(-5.0, 5.0, (count, 2))
+        position[rng.random(count) < 0.3] = np.nan  # a robot that does not know where it is
+        messages = [HoldMessage(r, float(stamps[i]), float(show[i]), bool(holds[i]),
+                                None if np.isnan(position[i, 0]) else
+                                (float(position[i, 0]), float(position[i, 1])))
+                    for i, r in enumerate(roles) if sent[i]]
+        in_flight.append((k + 1 + delay_ticks, messages,
+                          (sent, stamps, show, holds.copy(), position)))

@@ -13,7 +13,8 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["far_from_all", "perceive_columns", "perceive_moved", "turn_fraction_columns"]
+__all__ = ["far_from_all", "perceive_columns", "perceive_columns_split", "perceive_moved",
+           "turn_fraction_columns"]
 
 
 @njit(cache=True)
@@ -166,8 +167,45 @@ def far_from_all(points: NDArray[np.float64], centres: NDArray[np.float64],
     keep = np.ones(points.shape[0], dtype=np.bool_)
     for i in range(points.shape[0]):
         for j in range(centres.shape[0]):
-            distance = math.hypot(points[i, 0] - centres[j, 0], points[i, 1] - centres[j, 1])
+            dx, dy = points[i, 0] - centres[j, 0], points[i, 1] - centres[j, 1]
+            if (abs(dx) > radius or abs(dy) > radius) and dx == dx and dy == dy:
+                continue  # hypot >= either: far, cheaply (a NaN leaves it to hypot)
+            distance = math.hypot(dx, dy)
             if not distance > radius:  # NaN too, as NumPy's min(...) > radius
                 keep[i] = False
                 break
     return keep
+
+
+@njit(cache=True)
+def perceive_columns_split(columns: NDArray[np.float64], height_step: float, crop_half: float,
+                           z_min: float, z_max: float, seen_from: NDArray[np.float64],
+                           pose: NDArray[np.float64], length: float, width: float,
+                           stop_distance: float, corridor_margin: float,
+                           force_radius: float, force_gain: float,
+                           mates: NDArray[np.float64], mate_radius: float,
+                           ) -> tuple[tuple[float, float, float, float, float],
+                                      tuple[float, float, float, float, float], bool]:
+    """:func:`perceive_columns` twice in one pass: of every obstacle point of the cloud's
+    columns (K, 4), and of those more than ``mate_radius`` m from every centre of ``mates``
+    (M, 2), given in the parent frame of ``seen_from`` (the robot's own map frame), as
+    ``RobotBrain._without_mates`` leaves them out (any column, kept or not); third, whether
+    any column was left out (else the second is the first).
+    Same results as ``perceive_columns(columns)`` and ``perceive_columns(columns[
+    far_from_all(columns, points_to_local(mates, seen_from), mate_radius)])``."""
+    c, s = math.cos(seen_from[2]), math.sin(seen_from[2])
+    local = np.empty((mates.shape[0], 2))
+    for j in range(mates.shape[0]):  # as geometry.points_to_local
+        dx, dy = mates[j, 0] - seen_from[0], mates[j, 1] - seen_from[1]
+        local[j, 0] = c * dx + s * dy
+        local[j, 1] = -s * dx + c * dy
+    keep = far_from_all(columns, local, mate_radius)
+    everything = perceive_columns(columns, height_step, crop_half, z_min, z_max, seen_from,
+                                  pose, length, width, stop_distance, corridor_margin,
+                                  force_radius, force_gain)
+    if keep.all():
+        return everything, everything, False
+    strangers = perceive_columns(columns[keep], height_step, crop_half, z_min, z_max,
+                                 seen_from, pose, length, width, stop_distance,
+                                 corridor_margin, force_radius, force_gain)
+    return everything, strangers, True

@@ -32,13 +32,11 @@ from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.sync.hold import (
     ADVANCE_MIN,
-    HoldMessage,
     HoldParams,
     HoldStrategy,
-    clock_receive,
-    clock_tick,
-    heard_positions,
-    new_clock,
+    formation_clocks,
+    formation_receive,
+    formation_tick,
 )
 
 __all__ = ["STATUS", "CollisionEvent", "Fault", "FaultKind", "RobotEvent", "RunResult", "SimConfig",
@@ -266,8 +264,12 @@ class _Crew:
         self.brains, self.robots, self.stage = brains, robots, stage
         self.states: list[BrainState] = [brain.initial_state() for brain in brains]
         self.together = hold_strategy(config) == "together"
-        self.clocks = [new_clock(role, robots, 0.0) for role in robots]
-        self.in_flight: list[tuple[float, HoldMessage]] = []
+        self.clocks = formation_clocks(count, 0.0)
+        # messages sent but not yet heard: (due time, per robot: sent (not lost), stamp, show
+        # time, holds, position), in the order sent
+        self.in_flight: list[tuple[float, tuple[np.ndarray, ...]]] = []
+        # each robot's frame of the show: where it tells its mates it stands
+        self.show_frames = np.array([[b.slot0.x, b.slot0.y, b.slot0.theta] for b in brains])
         self.delay, self.loss = config.hold_delay, config.hold_loss
         self.message_rng = np.random.default_rng([config.seed, 104_729])
         self.show_times = np.zeros(count)
@@ -286,19 +288,22 @@ class _Crew:
         if not self.together:
             self.show_times[:] = now
             return
-        due = [m for at, m in self.in_flight if at <= now + 1e-9]
-        self.in_flight = [(at, m) for at, m in self.in_flight if at > now + 1e-9]
-        for i, clock in enumerate(self.clocks):
-            self.clocks[i] = clock_tick(clock_receive(clock, *due), now,
-                                        self.states[i].holding_the_show)
-            self.show_times[i] = self.clocks[i].show_time
+        clocks = self.clocks
+        for _, batch in (m for m in self.in_flight if m[0] <= now + 1e-9):
+            clocks = formation_receive(clocks, *batch)
+        self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
+        self.clocks = formation_tick(clocks, now, np.array(
+            [state.holding_the_show for state in self.states]))
+        self.show_times[:] = self.clocks.show_time
 
     def _mates_heard(self, robot: int) -> np.ndarray | None:
         """(K, 2) where ``robot``'s mates said they stand (show frame), from the latest
         message of each; None without the shared clock."""
         if not self.together:
             return None
-        return np.array(heard_positions(self.clocks[robot]), dtype=float).reshape(-1, 2)
+        said = np.any(~np.isnan(self.clocks.position), axis=1)
+        said[robot] = False  # its own echo
+        return self.clocks.position[said]
 
     def _tell(self, now: float, poses: list[tuple[float, float, float] | None]) -> None:
         """Every robot tells the others its show time, whether it holds the show and where it
@@ -306,14 +311,16 @@ class _Crew:
         it does not say)."""
         if not self.together:
             return
-        lost = self.message_rng.random(len(self.robots)) < self.loss if self.loss > 0 else (
-            np.zeros(len(self.robots), dtype=bool))
-        for i, role in enumerate(self.robots):
-            pose = poses[i]
-            if not lost[i]:
-                self.in_flight.append((now + self.delay, HoldMessage(
-                    role, now, float(self.show_times[i]), self.states[i].holding_the_show,
-                    None if pose is None else self.brains[i].show_position(pose))))
+        count = len(self.robots)
+        lost = self.message_rng.random(count) < self.loss if self.loss > 0 else (
+            np.zeros(count, dtype=bool))
+        known = np.array([pose is not None for pose in poses])
+        own = np.array([pose[:2] if pose is not None else (np.nan, np.nan) for pose in poses])
+        # where each stands in the show frame (``RobotBrain.show_position``, all at once)
+        position = np.where(known[:, None], compose_points(self.show_frames, own), np.nan)
+        self.in_flight.append((now + self.delay, (
+            ~lost, np.full(count, now), self.show_times.copy(),
+            np.array([state.holding_the_show for state in self.states]), position)))
 
     def step(self, now: float) -> Tick:
         stage, states = self.stage, self.states

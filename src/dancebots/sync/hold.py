@@ -31,8 +31,12 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Literal, get_args
 
-__all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "HoldMessage", "HoldParams", "HoldStrategy",
-           "ShowClock", "clock_receive", "clock_tick", "heard_positions", "new_clock"]
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "FormationClocks", "HoldMessage", "HoldParams",
+           "HoldStrategy", "ShowClock", "clock_receive", "clock_tick", "formation_clocks",
+           "formation_receive", "formation_tick", "heard_positions", "new_clock"]
 
 HoldStrategy = Literal["together", "alone"]
 HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
@@ -134,3 +138,75 @@ def heard_positions(clock: ShowClock) -> tuple[tuple[float, float], ...]:
     """Where the mates said they stand (show frame, m) in their latest messages that say it:
     what the brain leaves out as no stranger (``RobotBrain.step``'s ``mates_heard``)."""
     return tuple(m.position for m in clock.heard.values() if m.position is not None)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FormationClocks:
+    """Every robot's :class:`ShowClock` at once, for a formation whose robots all hear the
+    same messages (the simulator's in-process network: a message reaches every robot or,
+    lost, none): per robot r, ``show_time`` (R,) and ``updated`` (R,) s; per sender s, the
+    latest message heard from it, ``stamp`` (R,) s (NaN: none yet), ``sent_show_time``
+    (R,) s, ``holds`` (R,) and ``position`` (R, 2) m, show frame (NaN: not said). Robot r
+    ignores its own messages. The same show times as a :class:`ShowClock` per robot fed the
+    same messages (tested), in O(R) array operations per tick instead of O(R^2) calls."""
+
+    show_time: NDArray[np.float64]
+    updated: NDArray[np.float64]
+    stamp: NDArray[np.float64]
+    sent_show_time: NDArray[np.float64]
+    holds: NDArray[np.bool_]
+    position: NDArray[np.float64]
+
+
+def formation_clocks(count: int, start: float) -> FormationClocks:
+    """The clocks of a formation of ``count`` robots at the agreed start (every clock
+    ``start`` s, show time 0, nothing heard: :func:`new_clock` for each)."""
+    return FormationClocks(np.zeros(count), np.full(count, float(start)),
+                           np.full(count, np.nan), np.zeros(count), np.zeros(count, dtype=bool),
+                           np.full((count, 2), np.nan))
+
+
+def formation_receive(clocks: FormationClocks, sent: NDArray[np.bool_],
+                      stamp: NDArray[np.float64], show_time: NDArray[np.float64],
+                      holds: NDArray[np.bool_], position: NDArray[np.float64],
+                      ) -> FormationClocks:
+    """``clocks`` after every robot hears one message from each sender where ``sent`` (R,):
+    stamp, show time, holds (R,) and position (R, 2) (NaN: unknown) per sender. As
+    :func:`clock_receive`: messages with a non-finite stamp or show time, and those not
+    newer than the latest heard from their sender, are ignored."""
+    new = (sent & np.isfinite(stamp) & np.isfinite(show_time)
+           & ~(clocks.stamp >= stamp))  # NaN (nothing heard yet) compares False
+    if not new.any():
+        return clocks
+    return FormationClocks(clocks.show_time, clocks.updated,
+                           np.where(new, stamp, clocks.stamp),
+                           np.where(new, show_time, clocks.sent_show_time),
+                           np.where(new, holds, clocks.holds),
+                           np.where(new[:, None], position, clocks.position))
+
+
+def formation_tick(clocks: FormationClocks, now: float, holds: NDArray[np.bool_],
+                   params: HoldParams = HoldParams()) -> FormationClocks:
+    """Every robot's clock at ``now`` (s), each robot holding the show or not (``holds``
+    (R,)): :func:`clock_tick` of each, from the latest messages of its mates."""
+    count = len(clocks.show_time)
+    age = now - clocks.stamp
+    heard = ~np.isnan(clocks.stamp) & ~(age > params.heartbeat_timeout)
+    bad = ~heard | clocks.holds  # a mate that makes the others wait
+    # where a heard mate's show time stands now: the show time it sent, run on unless it holds
+    reach = np.where(heard, clocks.sent_show_time + np.where(
+        clocks.holds, 0.0, np.maximum(age, 0.0)), math.inf)
+    others_bad = (np.count_nonzero(bad) - bad) > 0  # any mate but itself
+    # the smallest reach of the others: the smallest of all unless that is its own
+    order = np.argsort(reach, kind="stable")
+    ceiling = np.full(count, reach[order[0]] if count else math.inf)
+    if count > 1:
+        ceiling[order[0]] = reach[order[1]]
+    else:
+        ceiling[:] = math.inf
+    waiting = holds | others_bad
+    elapsed = np.maximum(now - clocks.updated, 0.0)
+    ahead = np.minimum(clocks.show_time + elapsed, ceiling)
+    runs = ~waiting & (ahead > clocks.show_time + ADVANCE_MIN)
+    return FormationClocks(np.where(runs, ahead, clocks.show_time), np.full(count, now),
+                           clocks.stamp, clocks.sent_show_time, clocks.holds, clocks.position)
