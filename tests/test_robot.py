@@ -201,11 +201,12 @@ def test_a_robot_that_may_not_turn_beside_a_mate_makes_room_forwards_first() -> 
 def test_a_robot_makes_room_only_among_mates() -> None:
     """A robot alone, turned 90 deg from its place's heading so that it should turn on the
     spot, with a stranger 0.2 m beside it (every point of a one-robot show is a stranger):
-    the turn guard leaves it no turn, and it does not drive off to make room for the turn
-    (a person near is waited for, not pushed past); the same points where they leave room
-    ahead would have it make room, were they a mate's (``_make_room`` itself)."""
+    the turn guard and the corner cap leave it at most a slow part of the turn (its corners
+    at CORNER_SPEED or less), and it does not drive off to make room for the turn (a person
+    near is waited for, not pushed past); the same points where they leave room ahead would
+    have it make room, were they a mate's (``_make_room`` itself)."""
     from dancebots.perception.cloud import PointCloud
-    from dancebots.robot import SensingConfig
+    from dancebots.robot import CORNER_SPEED, SensingConfig
 
     plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
     brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
@@ -218,5 +219,77 @@ def test_a_robot_makes_room_only_among_mates() -> None:
                                        clock=0.1 * k)
         commands.append(command)
         assert state.making_room == 0.0
-    assert all(abs(c.linear) < 0.05 and c.angular == 0.0 for c in commands[3:])
+    half_diagonal = 0.5 * math.hypot(brain.sensing.length, brain.sensing.width)
+    assert all(abs(c.linear) < 0.05 for c in commands[3:])
+    assert all(abs(c.angular) * half_diagonal <= CORNER_SPEED for c in commands[3:])
     assert brain._make_room(beside, 0.1, turned, turned, -1.0, 0.0) != 0.0
+
+
+def test_near_a_stranger_a_robot_turns_slowly_enough_for_its_corners() -> None:
+    """A robot alone (every point is a stranger) that should turn on the spot towards its
+    place's heading: with nothing near it turns as fast as its tracking law says; with a
+    person's points 0.8 m beside it (NEAR_GAP) its corners move at CORNER_SPEED at most;
+    with the person 1.5 m away it turns freely again. Left more than SLOW_TURN_LAG behind its
+    place by the slow turn, it holds the formation's show clock."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import CORNER_SPEED, NEAR_GAP, SLOW_TURN_LAG, SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
+    turned = (0.0, 0.0, 0.5 * math.pi)
+    half_diagonal = 0.5 * math.hypot(brain.sensing.length, brain.sensing.width)
+
+    def turn_with_person_at(gap: float | None, start: int = 10) -> tuple[float, bool]:
+        columns = np.zeros((0, 4)) if gap is None else np.array(
+            [[x, -(0.3 + gap), 0.0, 1.7] for x in np.linspace(-0.1, 0.1, 5)])
+        state = brain.initial_state()
+        for k in range(start, start + 3):  # the cloud arrives and is seen
+            state, command, _ = brain.step(state, 0.1 * k, turned, PointCloud(0.1 * k, columns),
+                                           clock=0.1 * k)
+        return command.angular, state.holds_show
+
+    free, _ = turn_with_person_at(None)
+    assert abs(free) > 1.0
+    near, holds = turn_with_person_at(0.8 * NEAR_GAP)
+    assert 0.0 < abs(near) * half_diagonal <= CORNER_SPEED + 1e-12
+    assert turn_with_person_at(1.5 * NEAR_GAP)[0] == free
+    # its place is more than SLOW_TURN_LAG ahead by then: the formation waits for its turn
+    assert math.hypot(*brain.slot_at(1.2).pose[:2]) > SLOW_TURN_LAG
+    assert holds
+    # at the start its place is where it stands: its slow turn holds no one
+    assert not turn_with_person_at(0.8 * NEAR_GAP, start=0)[1]
+
+
+
+def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:
+    """After the plan's end nothing is late: a robot 0.5 m short of its final slot with a
+    person 0.8 m beside it (NEAR_GAP) stands, held and holding the show (it asks for room);
+    with the person gone it drives to its slot. During the show the same person does not
+    stop it."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import NEAR_GAP, SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
+    person = np.array([[x, -(0.3 + 0.8 * NEAR_GAP), 0.0, 1.7]
+                       for x in np.linspace(-0.1, 0.1, 5)])
+
+    def step_at(show_time: float, columns: np.ndarray) -> tuple[Command, bool]:
+        final = brain.slot_at(plan.duration).pose
+        pose = (final[0] - 0.5, final[1], final[2]) if show_time >= plan.duration else (
+            brain.slot_at(show_time).pose)
+        state = brain.initial_state()
+        for k in range(3):
+            now = show_time + 0.1 * k
+            state, command, _ = brain.step(state, now, pose, PointCloud(now, columns),
+                                           clock=now)
+        return command, state.holds_show and state.held
+
+    after = plan.duration + 1.0
+    assert step_at(after, person) == (Command(0.0, 0.0), True)
+    moving, holds = step_at(after, np.zeros((0, 4)))
+    assert moving.linear > 0.1
+    assert not holds
+    during, holds = step_at(2.0, person)
+    assert during.linear > 0.1
+    assert not holds

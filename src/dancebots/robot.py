@@ -118,6 +118,21 @@ stands (an addition; ``RobotBrain._make_room``)."""
 MAKE_ROOM_SHIFTS = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6)
 """m: the straight shifts, forwards and backwards, that ``RobotBrain._make_room`` tries, the
 nearest first: up to a little more than a SIM robot's length (1.2 m) beside a neighbour."""
+NEAR_GAP = 1.0
+"""m: with a stranger (a point that is no mate on its place: a person, a wall) this near its
+footprint, a robot of the tracking and path followers under the ``fixed`` stop rule turns
+at most so fast that its corners move at :data:`CORNER_SPEED` (an addition: a child who
+runs up at 2 m/s covers this in the half second a robot needs to see it and stop its turn;
+at full turn rate a corner swings at 1-2 m/s: the open-day certification's contacts), and
+after the show (the plan's end) it does not move at all: it goes to its final slot once no
+stranger is this near (a child running round a parking robot met it backing up)."""
+CORNER_SPEED = 0.25
+"""m/s: the fastest a robot's corners move as it turns with a stranger within
+:data:`NEAR_GAP` (ISO 10218-1's reduced speed for working beside people, 250 mm/s)."""
+SLOW_TURN_LAG = 0.3
+"""m: a robot this far from its place whose turn :data:`CORNER_SPEED` slows holds the
+formation's shared show clock (``sync.hold``), so that its mates do not drive on into the
+corners it still swings."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -422,7 +437,8 @@ class RobotBrain:
             near = strangers if strangers is not None else seen
             if mates_heard is not None and len(mates_heard) and self._mates is not None and (
                     seen.flags.front or seen.flags.rear or behind > HOLD_LAG
-                    or near.nearest < self.sweep_reach):
+                    or near.nearest < (NEAR_GAP if sensing.stop_rule == "fixed"
+                                       else self.sweep_reach)):
                 # (only where a rule below may use it:) a mate off its place, where it said
                 # it is, is no stranger either
                 near = self._without_mates(obstacles, height_step, seen_from or pose, pose,
@@ -437,6 +453,13 @@ class RobotBrain:
                 # stands in it: the stop zones ahead and behind do not see it): it stays
                 # still until the person leaves (the thesis follower, which knows no mates'
                 # places, would freeze beside a mate it touches: not for it)
+                held = holds_show = True
+                linear = angular = 0.0
+            elif (show_time >= self.plan.duration and knows_strangers
+                  and sensing.stop_rule == "fixed" and near.nearest < NEAR_GAP
+                  and (linear != 0.0 or angular != 0.0)):
+                # after the show nothing is late: a robot still parking waits, asking for
+                # room, until no stranger is near (a child running round it)
                 held = holds_show = True
                 linear = angular = 0.0
             elif sensing.stop_rule == "ssm":
@@ -469,6 +492,11 @@ class RobotBrain:
                     linear = max(linear, -self._approach_limit(
                         seen.rear_free, strangers.rear_free if strangers else None,
                         reference_speed, parked))
+            slow_corners = (sensing.stop_rule == "fixed" and knows_strangers
+                            and near.nearest < NEAR_GAP)
+            if slow_corners:
+                top = CORNER_SPEED / (0.5 * math.hypot(sensing.length, sensing.width))
+                angular = min(max(angular, -top), top)  # its corners at CORNER_SPEED at most
             making_room = 0.0
             if angular != 0.0 and seen.nearest < turn_reach(
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
@@ -489,8 +517,9 @@ class RobotBrain:
                 free = near.front_free if wanted[0] >= 0.0 else near.rear_free
                 by_stranger = (stranger_limit if stranger_limit is not None else
                                self._approach_limit(free, None, 0.0)) < abs(wanted[0]) - SLOWED
-                turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and near.nearest < turn_reach(
-                    sensing.length, sensing.width, linear, sensing.detection)
+                turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and (
+                    (slow_corners and behind > SLOW_TURN_LAG) or near.nearest < turn_reach(
+                        sensing.length, sensing.width, linear, sensing.detection))
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
             command = Command(linear, angular)
         else:

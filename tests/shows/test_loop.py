@@ -52,3 +52,16 @@ def test_a_settling_show_ends_once_everything_stood_still() -> None:
     # still from 2.1 s (the first step without a command has stopped the robots) for STILL s
     assert recorder.times[-1] == pytest.approx(2.1 + STILL)
     assert reports == [(0.0, 30.0), (1.0, 30.0), (2.0, 30.0), (3.0, 30.0), (30.0, 30.0)]
+
+
+def test_a_show_with_a_robot_waiting_to_move_has_not_settled() -> None:
+    """Robots that stand because a person holds one (``Tick.waiting``) keep the show going
+    until it no longer waits, then it settles after STILL s; without that it would end
+    STILL s after they stood."""
+    stage = FakeStage()
+
+    def step(now: float) -> Tick:
+        return Tick(np.zeros((2, 2)), {"poses": stage.pose}, waiting=now < 5.0)
+
+    recorder = run_show(stage, step, Clock(0.1, 30.0, settle_from=1.0))  # type: ignore[arg-type]
+    assert recorder.times[-1] == pytest.approx(5.0 + STILL)

@@ -200,3 +200,62 @@ def test_a_corner_of_a_border_pushes_once() -> None:
     assert abs(float(np.hypot(*accel)) - expected) < 1e-9
     doubled = social_acceleration(corner, WALLS, NO_ROBOTS, NONE, NONE, params)[0]
     assert float(np.hypot(*doubled)) > 1.4 * expected  # every edge a border: pushed twice
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), count=st.integers(1, 25), robots=st.integers(0, 4),
+       obstacle=st.booleans(), per_segment=st.booleans())
+def test_the_compiled_social_forces_are_the_numpy_ones(seed: int, count: int, robots: int,
+                                                        obstacle: bool,
+                                                        per_segment: bool) -> None:
+    """``sim.crowd_jit``'s loops give the forces of ``social_acceleration`` and the wall
+    distances of ``_wall_distance`` to 1e-9 for random crowds (walking and pausing, some
+    inside a robot's footprint or on top of each other), robots, a room with an obstacle's
+    ring or every segment a border."""
+    from dancebots.sim.crowd import _wall_distance, wall_rings
+    from dancebots.sim.crowd_jit import social_acceleration_loops, wall_distances
+    from dancebots.world.model import Obstacle
+
+    rng = np.random.default_rng(seed)
+    obstacles = (Obstacle("box", np.array([[4.0, 4.0], [5.0, 4.0], [5.0, 5.0], [4.0, 5.0]]),
+                          1.0, 1),) if obstacle else ()
+    walls = wall_segments(ROOM, obstacles)
+    rings = np.arange(len(walls)) if per_segment else wall_rings(ROOM, obstacles)
+    state = _state(rng.uniform(0.2, 9.8, (count, 2)).tolist(),
+                   rng.uniform(0.5, 9.5, (count, 2)).tolist(),
+                   rng.uniform(-1.5, 1.5, (count, 2)).tolist())
+    state = dataclasses.replace(state, pause=np.where(rng.random(count) < 0.3, 1.0, 0.0),
+                                preferred=rng.uniform(0.5, 2.0, count))
+    if count > 1 and seed % 4 == 0:
+        state.position[1] = state.position[0]  # two on one spot
+    poses = np.column_stack([rng.uniform(1.0, 9.0, (robots, 2)),
+                             rng.uniform(-math.pi, math.pi, robots)])
+    lengths, widths = rng.uniform(0.5, 1.2, robots), rng.uniform(0.4, 0.8, robots)
+    if robots:
+        state.position[0] = poses[0, :2]  # one inside a footprint
+    params = SocialForceParams()
+    expected = social_acceleration(state, walls, poses, lengths, widths, params,
+                                   None if per_segment else rings)
+    got = social_acceleration_loops(
+        state.position, state.velocity, state.goal, state.pause <= 0.0, state.preferred,
+        state.column("robot_range"), walls, rings, poses, lengths, widths, params.relaxation,
+        params.pedestrian_strength, params.pedestrian_range, params.border_strength,
+        params.border_range, params.step_time, math.cos(params.sight), params.out_of_sight)
+    np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(wall_distances(state.position, walls),
+                               _wall_distance(state.position, walls), rtol=1e-12, atol=0)
+
+
+def test_a_compiled_crowd_walks_as_the_numpy_one() -> None:
+    """Ten seconds of a crowd of children stepped with the compiled forces and with NumPy's
+    from the same start and seed: the same people within a millimetre."""
+    crowd = dataclasses.replace(_crowd(12, "child"), area=ROOM.copy())
+    states = []
+    for compiled in (False, True):
+        rng = np.random.default_rng(7)
+        state = crowd_start([crowd], NO_ROBOTS, NONE, None, WALLS, rng)
+        for _ in range(100):
+            state = crowd_step(state, 0.1, [ROOM], WALLS, NO_ROBOTS, NONE, NONE, rng,
+                               compiled=compiled)
+        states.append(state.position)
+    np.testing.assert_allclose(states[1], states[0], atol=1e-3)

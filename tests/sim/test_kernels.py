@@ -15,7 +15,8 @@ LIST = "from dancebots.sim.kernels import kernels_to_compile; print(*kernels_to_
 
 
 def test_every_kernel_is_cached_on_disk() -> None:
-    kernels = [value for module in kernel_modules() for value in vars(module).values()
+    kernels = [value for module in kernel_modules(crowds=True)
+               for value in vars(module).values()
                if hasattr(value, "_cache") and hasattr(value, "py_func")]
     assert len(kernels) >= 9
     assert {type(kernel._cache).__name__ for kernel in kernels} == {"FunctionCache"}  # not

@@ -161,7 +161,7 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     arena, placement = prepare_show(report.placement)
     console = Console(stderr=True, soft_wrap=True)
     compiled = size > COMPILED_FROM
-    compile_first = kernels_to_compile() if compiled else ()
+    compile_first = kernels_to_compile(crowds=bool(arena.crowds)) if compiled else ()
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)

@@ -350,7 +350,7 @@ class _Crew:
                                    "commands": self.command, "status": self.status,
                                    "spectators": stage.discs[:, :2],
                                    "show_times": self.show_times, "holds": self.holding},
-                    float(self.show_times.min()))
+                    float(self.show_times.min()), bool(self.holding.any()))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,

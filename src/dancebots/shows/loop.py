@@ -59,11 +59,13 @@ class Tick:
     stage, issued at the tick; record: the values to record at the tick, by name (the same
     names at every tick; copied when recorded); show_time: the show's own time at the tick
     when it paused (a formation whose shared clock stops while a robot is held), s (None:
-    the loop's time)."""
+    the loop's time); waiting: a robot waits to move (held by a person), so the show has
+    not settled even where every robot stands."""
 
     commands: FloatArray
     record: Mapping[str, NDArray[Any]]
     show_time: float | None = None
+    waiting: bool = False
 
 
 Step = Callable[[float], Tick]
@@ -99,7 +101,7 @@ def run_show(stage: Stage, step: Step, clock: Clock,
                 last_report = now
             if clock.settle_from is not None:
                 moving = (np.abs(stage.velocity).max() > STILL_SPEED
-                          or np.abs(commands).max() > STILL_COMMAND)
+                          or np.abs(commands).max() > STILL_COMMAND or tick.waiting)
                 if show_time >= clock.settle_from and not moving:
                     still_since = now if still_since is None else still_since
                     if now - still_since >= STILL:

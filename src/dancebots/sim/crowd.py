@@ -363,13 +363,14 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
                rng: np.random.Generator,
                params: SocialForceParams = SocialForceParams(),
                speaking: NDArray[np.bool_] | None = None,
-               rings: IntArray | None = None) -> CrowdState:
+               rings: IntArray | None = None, compiled: bool = False) -> CrowdState:
     """The crowd ``dt`` s later: people near a robot that stopped for people and speaks
     (``speaking`` (R,)) heed it at their kind's rate and step away; goals reached start a
     pause, pauses that end and children who change their mind pick new goals (``areas``:
     each crowd's polygon), then the social forces (:func:`social_acceleration`) move
     everyone in substeps of ``params.substep``, speeds capped at ``max_speed_factor`` times
-    the preferred speed (H&M eq. 7)."""
+    the preferred speed (H&M eq. 7). ``compiled``: the forces as the numba loops of
+    ``sim.crowd_jit`` (the same to 1e-9), else as NumPy arrays."""
     count = len(state.position)
     if count == 0:
         return state
@@ -395,19 +396,35 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     h = dt / steps
     position, velocity = moving.position, moving.velocity
     cap = params.max_speed_factor * moving.preferred
+    if compiled:
+        from dancebots.sim import crowd_jit  # imports numba
+
+        borders = rings if rings is not None else np.arange(len(walls))
     for _ in range(steps):
-        # the walls' nearest points, once per substep: the walls' push and the step's check
-        vectors = _nearest_on_segments(position, walls) if len(walls) else None
-        accel = social_acceleration(replace(moving, position=position, velocity=velocity),
-                                    walls, robot_poses, robot_lengths, robot_widths, params,
-                                    rings, vectors)
+        if compiled:
+            accel = crowd_jit.social_acceleration_loops(
+                position, velocity, moving.goal, moving.pause <= 0.0, moving.preferred,
+                moving.column("robot_range"), walls, borders, robot_poses, robot_lengths,
+                robot_widths, params.relaxation, params.pedestrian_strength,
+                params.pedestrian_range, params.border_strength, params.border_range,
+                params.step_time, math.cos(params.sight), params.out_of_sight)
+            before = crowd_jit.wall_distances(position, walls) if len(walls) else None
+        else:
+            # the walls' nearest points, once per substep: the walls' push and the step's
+            # check
+            vectors = _nearest_on_segments(position, walls) if len(walls) else None
+            accel = social_acceleration(replace(moving, position=position, velocity=velocity),
+                                        walls, robot_poses, robot_lengths, robot_widths,
+                                        params, rings, vectors)
+            before = (None if vectors is None
+                      else np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1))
         velocity = velocity + h * accel
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         velocity = velocity * np.minimum(1.0, cap / np.maximum(speed, 1e-12))[:, None]
         ahead = position + h * velocity
-        if vectors is not None:  # no step through a wall: a disc that would touch one stands
-            before = np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1)
-            after = _wall_distance(ahead, walls)
+        if before is not None:  # no step through a wall: a disc that would touch one stands
+            after = (crowd_jit.wall_distances(ahead, walls) if compiled
+                     else _wall_distance(ahead, walls))
             touch = (after < moving.radius) & (after < before)
             ahead[touch] = position[touch]
             velocity[touch] = 0.0

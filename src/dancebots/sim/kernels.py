@@ -14,18 +14,24 @@ from types import ModuleType
 __all__ = ["kernel_modules", "kernels_to_compile"]
 
 
-def kernel_modules() -> tuple[ModuleType, ...]:
-    """The modules that hold numba kernels (importing them imports numba)."""
+def kernel_modules(crowds: bool = False) -> tuple[ModuleType, ...]:
+    """The modules that hold numba kernels (importing them imports numba): those every
+    formation show runs, and with ``crowds`` the crowds' social forces too."""
     from dancebots.perception import fast
     from dancebots.sim import collision_jit, raycast_jit
 
+    if crowds:
+        from dancebots.sim import crowd_jit
+
+        return (raycast_jit, collision_jit, fast, crowd_jit)
     return (raycast_jit, collision_jit, fast)
 
 
-def kernels_to_compile() -> tuple[str, ...]:
-    """``module.function`` of every kernel with no compiled code in numba's disk cache."""
+def kernels_to_compile(crowds: bool = False) -> tuple[str, ...]:
+    """``module.function`` of every kernel with no compiled code in numba's disk cache (of a
+    show with ``crowds`` too: :func:`kernel_modules`)."""
     missing = []
-    for module in kernel_modules():
+    for module in kernel_modules(crowds):
         for name, value in vars(module).items():
             cache = getattr(value, "_cache", None)
             cache_file = getattr(cache, "_cache_file", None)

@@ -255,7 +255,8 @@ class Stage:
         if crowd is not None:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
                                self.pose, self.lengths, self.widths, self.crowd_rng,
-                               speaking=self.speaking, rings=self.wall_rings)
+                               speaking=self.speaking, rings=self.wall_rings,
+                               compiled=self.compiled)
             stands = self._steps_into_robots(crowd.position, moved.position, crowd.radius)
             if stands.any():
                 position, velocity = moved.position.copy(), moved.velocity.copy()
