@@ -293,3 +293,27 @@ def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_nea
     during, holds = step_at(2.0, person)
     assert during.linear > 0.1
     assert not holds
+
+
+def test_after_the_show_a_robot_waits_for_a_stranger_only_so_long() -> None:
+    """A stranger that stays within NEAR_GAP after the show (a wall, a person who does not
+    leave) holds a robot short of its final slot for AFTER_SHOW_WAIT s, not for good: then
+    it drives to its slot, no longer waiting."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import AFTER_SHOW_WAIT, NEAR_GAP, SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
+    wall = np.array([[x, -(0.3 + 0.8 * NEAR_GAP), 0.0, 1.7] for x in np.linspace(-1, 1, 21)])
+    final = brain.slot_at(plan.duration).pose
+    pose = (final[0] - 0.5, final[1], final[2])
+    state = brain.initial_state()
+    start = plan.duration + 1.0
+    waited = []
+    for k in range(round((AFTER_SHOW_WAIT + 1.0) / 0.1)):
+        now = start + 0.1 * k
+        state, command, _ = brain.step(state, now, pose, PointCloud(now, wall), clock=now)
+        waited.append(state.waiting)
+    assert all(waited[1:round(AFTER_SHOW_WAIT / 0.1) - 1])
+    assert not state.waiting
+    assert command.linear > 0.1

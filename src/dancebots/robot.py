@@ -121,14 +121,20 @@ nearest first: up to a little more than a SIM robot's length (1.2 m) beside a ne
 NEAR_GAP = 1.0
 """m: with a stranger (a point that is no mate on its place: a person, a wall) this near its
 footprint, a robot of the tracking and path followers under the ``fixed`` stop rule turns
-at most so fast that its corners move at :data:`CORNER_SPEED` (an addition: a child who
+at most so fast that its corners swing at :data:`CORNER_SPEED` about its centre (its
+speed along its way is the stop rule's; an addition: a child who
 runs up at 2 m/s covers this in the half second a robot needs to see it and stop its turn;
 at full turn rate a corner swings at 1-2 m/s: the open-day certification's contacts), and
 after the show (the plan's end) it does not move at all: it goes to its final slot once no
-stranger is this near (a child running round a parking robot met it backing up)."""
+stranger is this near, or :data:`AFTER_SHOW_WAIT` after one came near (a child running round
+a parking robot met it backing up)."""
 CORNER_SPEED = 0.25
 """m/s: the fastest a robot's corners move as it turns with a stranger within
 :data:`NEAR_GAP` (ISO 10218-1's reduced speed for working beside people, 250 mm/s)."""
+AFTER_SHOW_WAIT = 10.0
+"""s: the longest a robot waits after the show for strangers within :data:`NEAR_GAP` to
+leave before it goes to its final slot anyway (with the corner cap and the stop flags): a
+wall or a person who stays must not hold it for good."""
 SLOW_TURN_LAG = 0.3
 """m: a robot this far from its place whose turn :data:`CORNER_SPEED` slows holds the
 formation's shared show clock (``sync.hold``), so that its mates do not drive on into the
@@ -182,7 +188,9 @@ class SensingConfig:
 class BrainState:
     """What a brain carries from one tick to the next: the follower's queue, the safety
     state, the latest cloud's columns (K, 4) in ``base_link`` at the pose ``seen_from`` (own
-    map frame) with their height step, and the recent own poses (t, x, y, theta)."""
+    map frame) with their height step, and the recent own poses (t, x, y, theta); after the
+    show, since when (its clock, s) a stranger is within :data:`NEAR_GAP` and whether it
+    waits for it to leave (``waiting``)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -198,6 +206,8 @@ class BrainState:
     point_kind: np.ndarray | None = None
     cloud_stamp: float | None = None
     making_room: float = 0.0
+    stranger_near_since: float | None = None
+    waiting: bool = False
 
     @property
     def holding_the_show(self) -> bool:
@@ -382,6 +392,8 @@ class RobotBrain:
         instead of driving on with the speeds the plan has there."""
         now = show_time if clock is None else clock
         sensing = self.sensing
+        if mates_heard is not None and len(mates_heard):  # a NaN place would hide everything
+            mates_heard = mates_heard[np.isfinite(mates_heard).all(axis=1)]
         history = state.history
         obstacles, seen_from = state.obstacles, state.seen_from
         height_step = state.height_step
@@ -406,7 +418,8 @@ class RobotBrain:
                     sensing.tracks or TrackParams(), tracks or ObstacleTracks(), points,
                     cloud.stamp)
         command = STOP
-        held = holds_show = False
+        held = holds_show = waiting = False
+        near_since: float | None = None  # after the show: since when a stranger is near
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
         paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
         if pose is not None and show_time >= 0.0:
@@ -448,6 +461,10 @@ class RobotBrain:
             # after the show mates on their final places stand for good (PARKED_GAP)
             parked = show_time >= self.rest_from and knows_strangers
             flags = near.flags if parked else seen.flags
+            if (show_time >= self.plan.duration and knows_strangers
+                    and sensing.stop_rule == "fixed" and near.nearest < NEAR_GAP):
+                near_since = now if state.stranger_near_since is None else (
+                    state.stranger_near_since)
             if near.nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -455,12 +472,11 @@ class RobotBrain:
                 # places, would freeze beside a mate it touches: not for it)
                 held = holds_show = True
                 linear = angular = 0.0
-            elif (show_time >= self.plan.duration and knows_strangers
-                  and sensing.stop_rule == "fixed" and near.nearest < NEAR_GAP
+            elif (near_since is not None and now - near_since < AFTER_SHOW_WAIT
                   and (linear != 0.0 or angular != 0.0)):
                 # after the show nothing is late: a robot still parking waits, asking for
-                # room, until no stranger is near (a child running round it)
-                held = holds_show = True
+                # room, until no stranger is near (a child running round it), for a while
+                held = holds_show = waiting = True
                 linear = angular = 0.0
             elif sensing.stop_rule == "ssm":
                 if point_velocity is not None and point_kind is not None:
@@ -535,7 +551,8 @@ class RobotBrain:
                                tracks=tracks, point_velocity=point_velocity,
                                point_kind=point_kind, cloud_stamp=cloud_stamp,
                                making_room=making_room if may_move and command != STOP
-                               else 0.0)
+                               else 0.0, stranger_near_since=near_since,
+                               waiting=waiting)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

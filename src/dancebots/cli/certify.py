@@ -208,11 +208,11 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
 
     from rich.console import Console
 
-    from dancebots.report.certify import run_seed
+    from dancebots.report.certify import job_has_crowds, run_seed
     from dancebots.sim.kernels import kernels_to_compile
 
     console = Console(stderr=True, soft_wrap=True)
-    if kernels_to_compile(crowds=True):
+    if kernels_to_compile(crowds=job_has_crowds(job)):
         console.print("compiling the simulator's kernels (numba; first run on this machine "
                       "only, 10-20 s)", style="yellow", highlight=False)
         run_seed(job, args.first_seed)  # compiled once here, cached on disk for the workers

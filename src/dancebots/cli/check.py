@@ -160,7 +160,8 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
 
     arena, placement = prepare_show(report.placement)
     console = Console(stderr=True, soft_wrap=True)
-    compiled = size > COMPILED_FROM
+    # a crowd walks differently on the compiled forces (chaotic runs): as ``run`` has it
+    compiled = size > COMPILED_FROM or bool(arena.crowds)
     compile_first = kernels_to_compile(crowds=bool(arena.crowds)) if compiled else ()
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "

@@ -20,7 +20,8 @@ if TYPE_CHECKING:
     from dancebots.loading import LoadedShow
     from dancebots.report.metrics import RunMetrics
 
-__all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "load_job", "run_seed",
+__all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "job_has_crowds", "load_job",
+           "run_seed",
            "summarise"]
 
 
@@ -97,6 +98,12 @@ def _loaded(job: CertifyJob) -> tuple[object, object, object]:
         raise ValueError("; ".join(d.message for d in show.diagnostics))
     arena, placement = prepare_show(show.report.placement)
     return show.plan, arena, placement
+
+
+def job_has_crowds(job: CertifyJob) -> bool:
+    """Whether the job's world declares crowds (their forces are numba kernels of their own:
+    ``sim.kernels.kernel_modules``)."""
+    return bool(getattr(_loaded(job)[1], "crowds", ()))
 
 
 def run_seed(job: CertifyJob, seed: int) -> RunSummary:

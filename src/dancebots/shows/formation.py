@@ -79,10 +79,12 @@ class SimConfig:
     faults: injected sensor failures.
     record_lidar: keep every scan's hits in the result (for drawing; memory grows with
         robots x rays x time).
-    compiled: run the LIDAR, the perception and the collision tests as numba-compiled
-        loops (the default: fast per tick; ``lidar.compiled`` and ``brain.compiled`` can
-        still turn theirs off), else all as their NumPy references (same results; no numba
-        to import and start, about 0.75 s: faster for a short show).
+    compiled: run the LIDAR, the perception, the collision tests and a crowd's forces as
+        numba-compiled loops (the default: fast per tick; ``lidar.compiled`` and
+        ``brain.compiled`` can still turn theirs off), else all as their NumPy references
+        (the same results, but with crowds: their forces agree to 1e-9, and a run among a
+        crowd is chaotic, so it takes another course; no numba to import and start, about
+        0.75 s: faster for a short show).
     hold: ``together``: the formation shares one show clock that stops while any robot is
         held by something that is not a mate on its place (``sync.hold``), so the others wait
         on their places; ``alone`` (thesis 4.2): each robot's show time is the time since the
@@ -350,7 +352,7 @@ class _Crew:
                                    "commands": self.command, "status": self.status,
                                    "spectators": stage.discs[:, :2],
                                    "show_times": self.show_times, "holds": self.holding},
-                    float(self.show_times.min()), bool(self.holding.any()))
+                    float(self.show_times.min()), any(state.waiting for state in states))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,

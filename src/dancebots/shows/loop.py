@@ -59,8 +59,9 @@ class Tick:
     stage, issued at the tick; record: the values to record at the tick, by name (the same
     names at every tick; copied when recorded); show_time: the show's own time at the tick
     when it paused (a formation whose shared clock stops while a robot is held), s (None:
-    the loop's time); waiting: a robot waits to move (held by a person), so the show has
-    not settled even where every robot stands."""
+    the loop's time); waiting: a robot waits to move (for a person to leave after the
+    show: ``BrainState.waiting``), so the show has not settled even where every robot
+    stands."""
 
     commands: FloatArray
     record: Mapping[str, NDArray[Any]]
