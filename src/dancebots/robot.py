@@ -760,15 +760,17 @@ class RobotBrain:
         mate on its place is part of the plan: its force and the approach limit,
         :meth:`_approach_limit`, leave it out; the stop flags and the turn guard still see
         every point). ``heard`` (K, 2), own map frame: more mates, where they said they are."""
-        if self.sensing.compiled:
-            return self._perceive_all(columns, height_step, seen_from, pose, show_time,
-                                      heard)[1]
         where = self.mates_at(show_time) if heard is None else np.concatenate(
             [self.mates_at(show_time), heard])
         mates = points_to_local(where, seen_from)  # (M, 2) base_link
-        gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
-                        columns[:, None, 1] - mates[None, :, 1])  # (K, M)
-        keep = gaps.min(axis=1) > self.mate_radius
+        if self.sensing.compiled:
+            from dancebots.perception.fast import far_from_all  # imports numba
+
+            keep = far_from_all(columns, mates, self.mate_radius)
+        else:
+            gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
+                            columns[:, None, 1] - mates[None, :, 1])  # (K, M)
+            keep = gaps.min(axis=1) > self.mate_radius
         if keep.all():
             return None
         return self._perceive(columns[keep], height_step, seen_from, pose)

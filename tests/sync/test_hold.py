@@ -155,8 +155,9 @@ def test_the_formations_clocks_are_every_robots_clock_at_once(
         count: int, seed: int, delay_ticks: int, loss: float, hostile: float) -> None:
     """The simulator's vectorised clocks give every robot exactly the show time (and the mates'
     positions) its own :class:`ShowClock` gets from the same messages: random holds, delays
-    (up to beyond the heartbeat timeout), losses, unknown positions and hostile stamps and show
-    times (ignored where not finite)."""
+    (up to beyond the heartbeat timeout, each tick's its own, so that later messages
+    overtake earlier ones), losses, unknown positions and hostile stamps and show times
+    (ignored where not finite)."""
     rng = np.random.default_rng(seed)
     roles = tuple(f"R{i + 1}" for i in range(count))
     clocks = [new_clock(r, roles, 0.0) for r in roles]
@@ -189,5 +190,6 @@ def test_the_formations_clocks_are_every_robots_clock_at_once(
                                 None if np.isnan(position[i, 0]) else
                                 (float(position[i, 0]), float(position[i, 1])))
                     for i, r in enumerate(roles) if sent[i]]
-        in_flight.append((k + 1 + delay_ticks, messages,
+        # each tick's messages take their own delay: later ones may overtake them
+        in_flight.append((k + 1 + int(rng.integers(0, delay_ticks + 1)), messages,
                           (sent, stamps, show, holds.copy(), position)))
