@@ -121,16 +121,16 @@ nearest first: up to a little more than a SIM robot's length (1.2 m) beside a ne
 NEAR_GAP = 1.0
 """m: with a stranger (a point that is no mate on its place: a person, a wall) this near its
 footprint, a robot of the tracking and path followers under the ``fixed`` stop rule turns
-at most so fast that its corners swing at :data:`CORNER_SPEED` about its centre (its
-speed along its way is the stop rule's; an addition: a child who
-runs up at 2 m/s covers this in the half second a robot needs to see it and stop its turn;
-at full turn rate a corner swings at 1-2 m/s: the open-day certification's contacts), and
+at most so fast that its corners swing at :data:`CORNER_SPEED` about its centre (its speed
+along its way is the stop rule's; an addition: a child who runs up at 2 m/s covers this in
+the half second a robot needs to see it and stop its turn; at full turn rate a corner
+swings at 1-2 m/s: the open-day certification's contacts), and
 after the show (the plan's end) it does not move at all: it goes to its final slot once no
 stranger is this near, or :data:`AFTER_SHOW_WAIT` after one came near (a child running round
 a parking robot met it backing up)."""
 CORNER_SPEED = 0.25
-"""m/s: the fastest a robot's corners move as it turns with a stranger within
-:data:`NEAR_GAP` (ISO 10218-1's reduced speed for working beside people, 250 mm/s)."""
+"""m/s: the fastest a robot's corners swing about its centre as it turns with a stranger
+within :data:`NEAR_GAP` (ISO 10218-1's reduced speed for working beside people, 250 mm/s)."""
 AFTER_SHOW_WAIT = 10.0
 """s: the longest a robot waits after the show for strangers within :data:`NEAR_GAP` to
 leave before it goes to its final slot anyway (with the corner cap and the stop flags): a
@@ -461,8 +461,10 @@ class RobotBrain:
             # after the show mates on their final places stand for good (PARKED_GAP)
             parked = show_time >= self.rest_from and knows_strangers
             flags = near.flags if parked else seen.flags
-            if (show_time >= self.plan.duration and knows_strangers
-                    and sensing.stop_rule == "fixed" and near.nearest < NEAR_GAP):
+            # a stranger within NEAR_GAP: slow corners, and after the show a wait
+            stranger_near = (sensing.stop_rule == "fixed" and knows_strangers
+                             and near.nearest < NEAR_GAP)
+            if stranger_near and show_time >= self.plan.duration:
                 near_since = now if state.stranger_near_since is None else (
                     state.stranger_near_since)
             if near.nearest <= OVERLAP and knows_strangers:
@@ -508,11 +510,9 @@ class RobotBrain:
                     linear = max(linear, -self._approach_limit(
                         seen.rear_free, strangers.rear_free if strangers else None,
                         reference_speed, parked))
-            slow_corners = (sensing.stop_rule == "fixed" and knows_strangers
-                            and near.nearest < NEAR_GAP)
-            if slow_corners:
+            if stranger_near:
                 top = CORNER_SPEED / (0.5 * math.hypot(sensing.length, sensing.width))
-                angular = min(max(angular, -top), top)  # its corners at CORNER_SPEED at most
+                angular = min(max(angular, -top), top)  # corners swing at CORNER_SPEED at most
             making_room = 0.0
             if angular != 0.0 and seen.nearest < turn_reach(
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
@@ -534,7 +534,7 @@ class RobotBrain:
                 by_stranger = (stranger_limit if stranger_limit is not None else
                                self._approach_limit(free, None, 0.0)) < abs(wanted[0]) - SLOWED
                 turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and (
-                    (slow_corners and behind > SLOW_TURN_LAG) or near.nearest < turn_reach(
+                    (stranger_near and behind > SLOW_TURN_LAG) or near.nearest < turn_reach(
                         sensing.length, sensing.width, linear, sensing.detection))
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
             command = Command(linear, angular)
@@ -719,8 +719,7 @@ class RobotBrain:
 
     def _perceive_all(self, columns: np.ndarray, height_step: float,
                       seen_from: tuple[float, float, float], pose: tuple[float, float, float],
-                      show_time: float, heard: np.ndarray | None = None,
-                      ) -> tuple[Perception, Perception | None]:
+                      show_time: float) -> tuple[Perception, Perception | None]:
         """:meth:`_perceive` of the cloud's columns and, for a robot that knows its mates'
         places, :meth:`_without_mates` (else None), in one compiled pass unless
         ``SensingConfig.compiled`` is off (same results)."""
@@ -728,18 +727,15 @@ class RobotBrain:
             return self._perceive(columns, height_step, seen_from, pose), None
         if not self.sensing.compiled:
             return (self._perceive(columns, height_step, seen_from, pose),
-                    self._without_mates(columns, height_step, seen_from, pose, show_time,
-                                        heard))
+                    self._without_mates(columns, height_step, seen_from, pose, show_time))
         from dancebots.perception.fast import perceive_columns_split  # imports numba
 
         sensing, detection = self.sensing, self.sensing.detection
-        where = self.mates_at(show_time) if heard is None else np.concatenate(
-            [self.mates_at(show_time), heard])
         everything, strangers, left_out = perceive_columns_split(
             columns, height_step, detection.crop_half, detection.z_min, detection.z_max,
             np.array(seen_from), np.array(pose), sensing.length, sensing.width,
             detection.stop_distance, detection.corridor_margin, sensing.force_radius,
-            FORCE_GAIN, where, self.mate_radius)
+            FORCE_GAIN, self.mates_at(show_time), self.mate_radius)
         return (self._perception(*everything),
                 self._perception(*strangers) if left_out else None)
 

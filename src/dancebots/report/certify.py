@@ -18,11 +18,12 @@ import numpy as np
 
 if TYPE_CHECKING:
     from dancebots.loading import LoadedShow
+    from dancebots.plan.planner import Plan
     from dancebots.report.metrics import RunMetrics
+    from dancebots.sim.setup import Arena, Placement
 
 __all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "job_has_crowds", "load_job",
-           "run_seed",
-           "summarise"]
+           "run_seed", "summarise"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,7 +89,7 @@ def load_job(job: CertifyJob) -> LoadedShow:
 
 
 @cache
-def _loaded(job: CertifyJob) -> tuple[object, object, object]:
+def _loaded(job: CertifyJob) -> tuple[Plan, Arena, Placement]:
     """The job's plan, arena and placement, loaded once per process (the shell refuses a
     show :func:`load_job` finds invalid before any worker starts; ValueError otherwise)."""
     from dancebots.sim.setup import prepare_show
@@ -97,13 +98,14 @@ def _loaded(job: CertifyJob) -> tuple[object, object, object]:
     if not show.valid or show.report is None or show.report.placement is None:
         raise ValueError("; ".join(d.message for d in show.diagnostics))
     arena, placement = prepare_show(show.report.placement)
+    assert show.plan is not None  # a valid show has one
     return show.plan, arena, placement
 
 
 def job_has_crowds(job: CertifyJob) -> bool:
     """Whether the job's world declares crowds (their forces are numba kernels of their own:
     ``sim.kernels.kernel_modules``)."""
-    return bool(getattr(_loaded(job)[1], "crowds", ()))
+    return bool(_loaded(job)[1].crowds)
 
 
 def run_seed(job: CertifyJob, seed: int) -> RunSummary:
@@ -125,7 +127,7 @@ def run_seed(job: CertifyJob, seed: int) -> RunSummary:
                                           stop_rule=job.stop_rule),  # type: ignore[arg-type]
                        hold=job.hold)  # type: ignore[arg-type]
     started = time.perf_counter()
-    result = simulate(plan, arena, placement, config)  # type: ignore[arg-type]
+    result = simulate(plan, arena, placement, config)
     metrics = run_metrics(result)
     verdict = run_verdict(metrics, job.final_tolerance)
     return summarise(seed, metrics, verdict.failures, time.perf_counter() - started)

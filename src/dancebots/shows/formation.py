@@ -294,8 +294,7 @@ class _Crew:
         for _, batch in (m for m in self.in_flight if m[0] <= now + 1e-9):
             clocks = formation_receive(clocks, *batch)
         self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
-        self.clocks = formation_tick(clocks, now, np.array(
-            [state.holding_the_show for state in self.states]))
+        self.clocks = formation_tick(clocks, now, self.holding)  # each one's at the last tick
         self.show_times[:] = self.clocks.show_time
 
     def _mates_heard(self, robot: int) -> np.ndarray | None:
@@ -321,8 +320,8 @@ class _Crew:
         # where each stands in the show frame (``RobotBrain.show_position``, all at once)
         position = np.where(known[:, None], compose_points(self.show_frames, own), np.nan)
         self.in_flight.append((now + self.delay, (
-            ~lost, np.full(count, now), self.show_times.copy(),
-            np.array([state.holding_the_show for state in self.states]), position)))
+            ~lost, np.full(count, now), self.show_times.copy(), self.holding.copy(),
+            position)))
 
     def step(self, now: float) -> Tick:
         stage, states = self.stage, self.states
