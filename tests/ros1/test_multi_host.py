@@ -4,11 +4,13 @@ one master). The show runs across them; a robot whose cable is pulled is at zero
 within 0.3 s (the robots' 10 Hz rule at the bridge), and the others, which no longer hear its
 hold messages, stop 1 s later and wait (the formation's shared show clock: a robot cut off
 while it holds, or at any time, stops the show). Its formation_member, cut off from the
-master, idles (no busy loop) and ends on SIGTERM."""
+master, idles (no busy loop) and ends on SIGTERM. A robot whose cable is pulled while it
+holds the show for a visitor keeps the show waiting: its silence holds as its message did."""
 
 from __future__ import annotations
 
 import os
+import re
 import signal
 import time
 from pathlib import Path
@@ -87,6 +89,91 @@ def test_show_across_network_namespaces(tmp_path: Path, pull_cable: bool) -> Non
         assert drift.max() < 0.05
         assert gap[r2] > 0.5  # it did not drive on alone to the end of its part
         assert "not heard from R1" in show.log("R2")
+
+
+VISITOR_WORLD = """\
+# listing 7.1's row in a 12 m room; a visitor stands in R1's lane 2.8 m ahead for good
+[room]
+size = 12.0
+
+[[robots]]
+name = "R1"
+x = 3.0
+y = 6.6
+yaw = 0.0
+
+[[robots]]
+name = "R2"
+x = 3.0
+y = 5.4
+yaw = 0.0
+
+[[spectators]]
+name = "visitor"
+path = [[5.8, 6.6]]
+"""
+WATCHED = 12.0
+"""s the test watches the formation after R1's cable is pulled while it holds."""
+
+
+def test_a_robot_cut_off_while_it_holds_keeps_the_show_waiting(tmp_path: Path) -> None:
+    """R1 stops for a visitor in its lane and holds the show; R2 waits (its log says held by
+    R1). Then R1's cable is pulled: R2 no longer hears R1, and a silent mate counts as a
+    hold, so R2 keeps waiting where it stood (it must not take the silence for a release
+    and drive on alone); R1, cut off from its clouds, stays at zero command."""
+    require_ros()
+    reason = netns_missing()
+    if reason is not None:
+        if os.environ.get("DANCEBOTS_REQUIRE_ROS") == "1":
+            pytest.fail(reason)
+        pytest.skip(reason)
+    world = tmp_path / "visitor.toml"
+    world.write_text(VISITOR_WORLD)
+    with hosts(("R1", "R2")) as network:
+        master, roscore = start_master(tmp_path, network.master_address, network.master)
+        show = RosShow(master, tmp_path)
+        try:
+            show.launch("bridge", ["dancebots_ros", "sim_bridge.launch",
+                                   f"scenario:={SCENARIO_7_1}", f"world:={world}",
+                                   f"record:={tmp_path / 'record.npz'}",
+                                   f"stop_after:={START_ALLOWANCE + 60}"],
+                        network.master, dict(master.env))
+            for robot in ("R1", "R2"):
+                env = dict(master.env, ROS_IP=network.addresses[robot])
+                show.start_robot(SCENARIO_7_1, robot, network.robots[robot], env,
+                                 extra=(f"world:={world}",))
+            wait_until(lambda: "(held by R1)" in show.log("R2"), START_ALLOWANCE + 30,
+                       "R2 waiting for R1")
+            time.sleep(2.0)
+            pulled_at = time.time()
+            network.take_down("R1")
+            time.sleep(WATCHED)
+            watched_until = time.time()
+            r2_log = show.log("R2")
+        finally:
+            show.stop_all()
+            stop(roscore)
+    record = Record.load(tmp_path / "record.npz")
+    r1, r2 = record.index("R1"), record.index("R2")
+    assert len(record.contacts) == 0
+    before = record.times < pulled_at
+    assert np.any(record.commands[r1, before] != 0.0)  # it drove before it was held
+    late = (record.times > pulled_at + 0.3) & (record.times < watched_until)
+    assert late.sum() > 10 * (WATCHED - 1)  # the bridge recorded the whole watch (10 Hz)
+    assert np.all(record.commands[r1, late] == 0.0)
+    # R2 stood where the hold stopped it, through the cut and after it
+    held = (record.times > pulled_at - 2.0) & (record.times < watched_until)
+    drift = np.hypot(*(record.poses[r2, held, :2] - record.poses[r2, held.argmax(), :2]).T)
+    assert drift.max() < 0.05
+    assert not [line for line in r2_log.splitlines() if "the show goes on" in line
+                and _logged_at(line) > pulled_at], r2_log
+
+
+def _logged_at(line: str) -> float:
+    """The wall-clock stamp (s) of a rospy log line ``[INFO] [1795719589.849273]: ...``."""
+    match = re.search(r"\[(\d+\.\d+)\]", line)
+    assert match is not None, line
+    return float(match.group(1))
 
 
 IDLE_CPU = 0.3
