@@ -38,6 +38,7 @@ from dancebots.control.tracking import (
     tracking_step,
 )
 from dancebots.geometry import Pose, compose_points, points_to_local, points_to_world, wrap_angle
+from dancebots.perception.closing import ClosingParams, closing_speeds, sector_gaps, too_near
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.obstacles import (
     CLEAR,
@@ -71,14 +72,16 @@ FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
 Kanayama's tracking law, ``control/tracking.py``); ``path`` (an addition: the same law on
 the robot's place on its leader's path, ``control.tracking.path_references``)."""
 
-StopRule = Literal["fixed", "ssm"]
+StopRule = Literal["fixed", "closing", "ssm"]
 STOP_RULES: tuple[StopRule, ...] = get_args(StopRule)
 """When a robot stops for what it sees: ``fixed`` (thesis 5.2): a point within 0.55 m ahead
 of the front (behind the rear) in the corridor the robot sweeps stops it driving that way,
-and the approach limit slows it before; ``ssm`` (an addition, ISO/TS 15066's speed and
-separation monitoring: ``perception.ssm``): its speed is limited so that it can stop before
-any point, approaching at its tracked speed (``perception.tracks``) or at walking speed,
-comes nearer than a margin to the area it sweeps until it stands."""
+and the approach limit slows it before; ``closing`` (an addition): ``fixed``, and the robot
+stands while a stranger approaches it faster than it could stop (its approach measured
+between scans, S_p of ISO/TS 15066: ``perception.closing``); ``ssm`` (an addition, ISO/TS
+15066's speed and separation monitoring: ``perception.ssm``): its speed is limited so that
+it can stop before any point, approaching at its tracked speed (``perception.tracks``) or at
+walking speed, comes nearer than a margin to the area it sweeps until it stands."""
 
 Detector = Literal["thesis", "compensated"]
 DETECTORS: tuple[Detector, ...] = get_args(Detector)
@@ -181,6 +184,7 @@ class SensingConfig:
     safety: SafetyParams = field(default_factory=SafetyParams)
     stop_rule: StopRule = "fixed"
     ssm: SsmParams = field(default_factory=SsmParams)
+    closing: ClosingParams = field(default_factory=ClosingParams)
     tracks: TrackParams | None = None
 
 
@@ -190,7 +194,10 @@ class BrainState:
     state, the latest cloud's columns (K, 4) in ``base_link`` at the pose ``seen_from`` (own
     map frame) with their height step, and the recent own poses (t, x, y, theta); after the
     show, since when (its clock, s) a stranger is within :data:`NEAR_GAP` and whether it
-    waits for it to leave (``waiting``)."""
+    waits for it to leave (``waiting``); with the ``closing`` stop rule, the strangers'
+    points of the latest cloud (N, 2) in the own map frame and whether one of them closes in
+    (``closing``: each bearing sector's gap (S,) m, moved to the pose at that cloud, and
+    how fast it closed since the cloud before (S,) m/s)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -208,6 +215,8 @@ class BrainState:
     making_room: float = 0.0
     stranger_near_since: float | None = None
     waiting: bool = False
+    strangers_seen: np.ndarray | None = None
+    closing: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def holding_the_show(self) -> bool:
@@ -401,6 +410,7 @@ class RobotBrain:
             history = (*history[-HISTORY_LENGTH:], (now, *pose))
         tracks, point_velocity, point_kind = state.tracks, state.point_velocity, state.point_kind
         cloud_stamp = state.cloud_stamp
+        strangers_seen, closing = state.strangers_seen, state.closing
         if cloud is not None and sensing.lidar:
             obstacles = cloud.columns  # filtered at every tick, with the pose of that tick
             height_step = cloud.height_step
@@ -417,6 +427,10 @@ class RobotBrain:
                 tracks, point_velocity, point_kind = track_step(
                     sensing.tracks or TrackParams(), tracks or ObstacleTracks(), points,
                     cloud.stamp)
+            if sensing.stop_rule == "closing" and taken_at is not None and pose is not None:
+                strangers_seen, closing = self._closing(
+                    state, obstacles, height_step, taken_at, pose, show_time, cloud.stamp,
+                    mates_heard)
         command = STOP
         held = holds_show = waiting = False
         near_since: float | None = None  # after the show: since when a stranger is near
@@ -450,7 +464,7 @@ class RobotBrain:
             near = strangers if strangers is not None else seen
             if mates_heard is not None and len(mates_heard) and self._mates is not None and (
                     seen.flags.front or seen.flags.rear or behind > HOLD_LAG
-                    or near.nearest < (NEAR_GAP if sensing.stop_rule == "fixed"
+                    or near.nearest < (NEAR_GAP if sensing.stop_rule != "ssm"
                                        else self.sweep_reach)):
                 # (only where a rule below may use it:) a mate off its place, where it said
                 # it is, is no stranger either
@@ -462,7 +476,7 @@ class RobotBrain:
             parked = show_time >= self.rest_from and knows_strangers
             flags = near.flags if parked else seen.flags
             # a stranger within NEAR_GAP: slow corners, and after the show a wait
-            stranger_near = (sensing.stop_rule == "fixed" and knows_strangers
+            stranger_near = (sensing.stop_rule != "ssm" and knows_strangers
                              and near.nearest < NEAR_GAP)
             if stranger_near and show_time >= self.plan.duration:
                 near_since = now if state.stranger_near_since is None else (
@@ -479,6 +493,15 @@ class RobotBrain:
                 # after the show nothing is late: a robot still parking waits, asking for
                 # room, until no stranger is near (a child running round it), for a while
                 held = holds_show = waiting = True
+                linear = angular = 0.0
+            elif (closing is not None and (linear != 0.0 or angular != 0.0)
+                  and too_near(*closing, linear,
+                               now - (now if cloud_stamp is None else cloud_stamp),
+                               sensing.ssm.reaction_time + self.feedforward_lead,
+                               sensing.ssm.deceleration, sensing.closing)):
+                # a stranger closes in faster than the robot could stop: it stands (neither
+                # driving nor turning a corner out) and speaks until the approach ends
+                held = holds_show = True
                 linear = angular = 0.0
             elif sensing.stop_rule == "ssm":
                 if point_velocity is not None and point_kind is not None:
@@ -552,7 +575,8 @@ class RobotBrain:
                                point_kind=point_kind, cloud_stamp=cloud_stamp,
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
-                               waiting=waiting)
+                               waiting=waiting, strangers_seen=strangers_seen,
+                               closing=closing)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
@@ -686,6 +710,60 @@ class RobotBrain:
                                 0.5 * math.hypot(sensing.length, sensing.width), latency,
                                 reaction + settle)
         return everything, strangers, may_turn
+
+    def _closing(self, state: BrainState, columns: np.ndarray, height_step: float,
+                 seen_from: tuple[float, float, float], pose: tuple[float, float, float],
+                 show_time: float, stamp: float, heard: np.ndarray | None,
+                 ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
+        """The ``closing`` stop rule at a new cloud (columns (K, 4) in ``base_link`` at
+        ``seen_from``, taken at ``stamp`` s): the strangers' points (N, 2) in the own map
+        frame, and, from them and the last cloud's (``state``'s), both moved to ``pose``,
+        each bearing sector's gap (S,) m and how fast it closed (S,) m/s
+        (``perception.closing``); None for the first cloud."""
+        points = self._stranger_points(columns, height_step, seen_from, show_time, heard)
+        before = state.strangers_seen
+        elapsed = stamp - state.cloud_stamp if state.cloud_stamp is not None else 0.0
+        if before is None or not elapsed > 0.0:
+            return points, None
+        sensing, params = self.sensing, self.sensing.closing
+        length, width, sectors = sensing.length, sensing.width, params.sectors
+        if sensing.compiled:
+            from dancebots.perception.closing_jit import sector_gaps_moved  # imports numba
+
+            at = np.array(pose)
+            gaps_before = sector_gaps_moved(before, at, length, width, sectors)
+            gaps = sector_gaps_moved(points, at, length, width, sectors)
+        else:
+            gaps_before = sector_gaps(points_to_local(before, pose), length, width, sectors)
+            gaps = sector_gaps(points_to_local(points, pose), length, width, sectors)
+        return points, (gaps, closing_speeds(gaps_before, gaps, elapsed, params.max_speed))
+
+    def _stranger_points(self, columns: np.ndarray, height_step: float,
+                         seen_from: tuple[float, float, float], show_time: float,
+                         heard: np.ndarray | None) -> np.ndarray:
+        """The obstacle points (N, 2) of the cloud's columns (``base_link`` at ``seen_from``)
+        in SSM's wider square (``SsmParams.reach``), in the own map frame, without those
+        within ``mate_radius`` of where a mate should be or said it is (``heard``, show
+        frame; none for a robot that knows no mates' places)."""
+        mates = np.zeros((0, 2))
+        if self._mates is not None:
+            mates = self.mates_at(show_time)
+            if heard is not None and len(heard):
+                mates = np.concatenate([mates, compose_points(self._own_frame, heard)])
+        detection = self._ssm_detection
+        if self.sensing.compiled:
+            from dancebots.perception.closing_jit import stranger_points_columns  # imports numba
+
+            return stranger_points_columns(columns, height_step, detection.crop_half,
+                                           detection.z_min, detection.z_max,
+                                           np.array(seen_from), mates, self.mate_radius)
+        local = points_to_local(mates, seen_from)
+        if len(local):
+            far = np.hypot(columns[:, None, 0] - local[None, :, 0],
+                           columns[:, None, 1] - local[None, :, 1]).min(axis=1) > self.mate_radius
+            columns = columns[far]
+        return points_to_world(obstacle_points_from_columns(columns, height_step, detection),
+                               seen_from)
 
     def mates_at(self, show_time: float) -> np.ndarray:
         """(M, 2) where the other robots should be at ``show_time`` s (their followers'

@@ -1,6 +1,7 @@
 """Speed and separation monitoring in the simulator (issue 13): a robot with ``--stop-rule
-ssm`` is standing when a person walking towards it arrives, where the thesis's fixed 0.55 m
-leaves it driving into them (realistic profile: the robot's speed lags its command)."""
+ssm`` or ``closing`` is standing when a person walking or running towards it arrives, where
+the thesis's fixed 0.55 m leaves it driving into them (realistic profile: the robot's speed
+lags its command)."""
 
 from __future__ import annotations
 
@@ -39,14 +40,18 @@ def _moving_contacts(result: RunResult) -> list[float]:
     return [c.time for c in result.collisions if c.kind == "spectator" and c.moving]
 
 
-@pytest.mark.parametrize(("speed", "across"), [(1.0, False), (1.6, False), (1.0, True)])
-def test_a_robot_is_standing_when_a_walking_person_reaches_it(speed: float,
+@pytest.mark.parametrize("rule", ["ssm", "closing"])
+@pytest.mark.parametrize(("speed", "across"), [(1.0, False), (1.6, False), (2.0, False),
+                                               (1.0, True), (2.0, True)])
+def test_a_robot_is_standing_when_a_walking_person_reaches_it(rule: StopRule, speed: float,
                                                               across: bool) -> None:
-    result = _walker_run("ssm", speed, across)
+    result = _walker_run(rule, speed, across)
     assert _moving_contacts(result) == []
     assert np.any(result.status[0] == 1)  # it stopped for them (and spoke: thesis 5.2)
 
 
 def test_the_thesis_fixed_distance_drives_into_a_person_walking_head_on() -> None:
-    """The comparison the stop rules are for: the same walker at 1 m/s, the fixed 0.55 m."""
+    """The comparison the stop rules are for: the same walker at 1 and 2 m/s, the fixed
+    0.55 m."""
     assert _moving_contacts(_walker_run("fixed", 1.0, False))
+    assert _moving_contacts(_walker_run("fixed", 2.0, False))

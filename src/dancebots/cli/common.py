@@ -553,7 +553,7 @@ def add_timing_argument(parser: argparse.ArgumentParser) -> None:
                         "turn; thesis: the leader's speeds as the thesis gives them")
 
 
-STOP_RULES = ("fixed", "ssm")
+STOP_RULES = ("fixed", "closing", "ssm")
 """``robot.STOP_RULES`` (the CLI imports only the standard library at start-up)."""
 
 
@@ -561,7 +561,9 @@ def add_stop_rule_argument(parser: argparse.ArgumentParser) -> None:
     """--stop-rule: when a robot stops for what it sees (``BrainOptions.stop_rule``)."""
     parser.add_argument("--stop-rule", choices=STOP_RULES, default="fixed",
                         help="fixed (default, thesis 5.2): a robot stops when a point is within "
-                        "0.55 m ahead of it (behind, reversing); ssm: speed and separation "
+                        "0.55 m ahead of it (behind, reversing); closing: fixed, and a robot "
+                        "stands while a person approaches it (at 0.5 m/s or more, measured "
+                        "between scans) faster than it could stop; ssm: speed and separation "
                         "monitoring (ISO/TS 15066): its speed is limited so that it can stop "
                         "before a person, approaching at the tracked speed or at 1.6 m/s "
                         "when new, comes within 0.25 m of it (docs/safety.md)")

@@ -14,24 +14,30 @@ from types import ModuleType
 __all__ = ["kernel_modules", "kernels_to_compile"]
 
 
-def kernel_modules(crowds: bool = False) -> tuple[ModuleType, ...]:
+def kernel_modules(crowds: bool = False, closing: bool = False) -> tuple[ModuleType, ...]:
     """The modules that hold numba kernels (importing them imports numba): those every
-    formation show runs, and with ``crowds`` the crowds' social forces too."""
+    formation show runs, with ``crowds`` the crowds' social forces too, and with ``closing``
+    the ``closing`` stop rule's."""
     from dancebots.perception import fast
     from dancebots.sim import collision_jit, raycast_jit
 
+    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, fast)
     if crowds:
         from dancebots.sim import crowd_jit
 
-        return (raycast_jit, collision_jit, fast, crowd_jit)
-    return (raycast_jit, collision_jit, fast)
+        modules = (*modules, crowd_jit)
+    if closing:
+        from dancebots.perception import closing_jit
+
+        modules = (*modules, closing_jit)
+    return modules
 
 
-def kernels_to_compile(crowds: bool = False) -> tuple[str, ...]:
+def kernels_to_compile(crowds: bool = False, closing: bool = False) -> tuple[str, ...]:
     """``module.function`` of every kernel with no compiled code in numba's disk cache (of a
-    show with ``crowds`` too: :func:`kernel_modules`)."""
+    show with ``crowds`` too, and the ``closing`` stop rule's: :func:`kernel_modules`)."""
     missing = []
-    for module in kernel_modules(crowds):
+    for module in kernel_modules(crowds, closing):
         for name, value in vars(module).items():
             cache = getattr(value, "_cache", None)
             cache_file = getattr(cache, "_cache_file", None)

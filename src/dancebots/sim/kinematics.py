@@ -24,6 +24,10 @@ class Profile:
     linear_acceleration, angular_acceleration: limits, m/s^2 and rad/s^2 (inf: none).
     linear_noise, angular_noise: standard deviation of the velocity noise added each step
         to robots that are commanded to move, m/s and rad/s, from the run's seeded generator.
+    standstill: (m/s, rad/s) below which a speed commanded to zero is zero: a skid-steer
+        robot's tracks need a breakaway torque to slide, so it does not creep on the lag's
+        exponential tail (without it a robot told to stop at 0.1 m/s still moves at 3 mm/s a
+        second later); (0, 0): no standstill.
     """
 
     name: str
@@ -32,12 +36,13 @@ class Profile:
     angular_acceleration: float = math.inf
     linear_noise: float = 0.0
     angular_noise: float = 0.0
+    standstill: tuple[float, float] = (0.0, 0.0)
 
 
 IDEAL = Profile("ideal")
 """Commands act at once, no noise: the thesis's 2D simulator (ch. 7.1)."""
 REALISTIC = Profile("realistic", lag=0.25, linear_acceleration=1.0, angular_acceleration=4.0,
-                    linear_noise=0.01, angular_noise=0.02)
+                    linear_noise=0.01, angular_noise=0.02, standstill=(0.01, 0.02))
 """Inertia, actuator lag and noise: standing in for the thesis's 3D simulation (ch. 7.2.1)."""
 PROFILES = {profile.name: profile for profile in (IDEAL, REALISTIC)}
 
@@ -51,6 +56,9 @@ def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: flo
         target = command
     limits = np.array([profile.linear_acceleration, profile.angular_acceleration]) * dt
     result: FloatArray = velocity + np.clip(target - velocity, -limits, limits)
+    if profile.standstill != (0.0, 0.0):
+        result = np.where((command == 0.0) & (np.abs(result) < np.array(profile.standstill)),
+                          0.0, result)
     if profile.linear_noise > 0.0 or profile.angular_noise > 0.0:
         # wheels that are told to stand still do not drift: noise only on commanded motion
         noise = rng.normal(0.0, 1.0, size=result.shape)
