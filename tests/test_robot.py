@@ -90,6 +90,21 @@ def test_brain_for_builds_the_same_brain_for_the_simulator_and_ros() -> None:
         husky.length, husky.width, False, "thesis", 0.5)
 
 
+def test_an_unknown_follower_or_stop_rule_is_refused_by_name() -> None:
+    """What a ROS parameter may carry (``~follower``, ``~stop_rule``): a clear error that
+    lists the choices, which formation_member logs as fatal."""
+    from dancebots.robot import BrainOptions, brain_for
+    from dancebots.world import BUILTIN_ROBOT_TYPES
+
+    plan, husky = plan_of(PLAN_TEXT), BUILTIN_ROBOT_TYPES["HUSKY"]
+    with pytest.raises(ValueError) as refused:
+        brain_for(plan, "R2", husky, BrainOptions(stop_rule="nope"))  # type: ignore[arg-type]
+    assert str(refused.value) == "unknown stop rule 'nope'; choose from fixed, closing, ssm"
+    with pytest.raises(ValueError) as refused:
+        brain_for(plan, "R2", husky, BrainOptions(follower="nope"))  # type: ignore[arg-type]
+    assert str(refused.value) == "unknown follower 'nope'; choose from tracking, path, thesis"
+
+
 @pytest.mark.parametrize("follower", ["path", "tracking"])
 def test_a_mate_on_its_place_does_not_push_the_robot_but_a_stranger_does(follower: str,
                                                                            ) -> None:

@@ -264,6 +264,9 @@ class RobotBrain:
         if follower not in FOLLOWERS:
             raise ValueError(f"unknown follower {follower!r}; choose from "
                              f"{', '.join(FOLLOWERS)}")
+        if self.sensing.stop_rule not in STOP_RULES:
+            raise ValueError(f"unknown stop rule {self.sensing.stop_rule!r}; choose from "
+                             f"{', '.join(STOP_RULES)}")
         self.plan = plan
         self.robot = robot
         self.params = params

@@ -55,19 +55,24 @@ def test_simulate_prints_its_launch_file(capsys, record: str) -> None:  # type: 
 
 
 def test_the_strategies_reach_every_node(capsys) -> None:  # type: ignore[no-untyped-def]
-    """--follower and --timing go to formation.launch (formation_member's ~follower, and
-    ~timing, which sets the plan, on every robot) and to the simulation's bridge."""
-    strategies = ["--follower", "tracking", "--timing", "feasible", "--print-command"]
+    """--follower, --timing and --stop-rule go to formation.launch (formation_member's
+    ~follower and ~stop_rule, and ~timing, which sets the plan, on every robot) and to the
+    simulation's bridge."""
+    strategies = ["--follower", "tracking", "--timing", "feasible", "--stop-rule", "closing",
+                  "--print-command"]
     assert main(["ros", "formation", str(EXAMPLE), "--role", "R1", *strategies]) == 0
     words = shlex.split(capsys.readouterr().out)
     assert "follower:=tracking" in words
     assert "timing:=feasible" in words
+    assert "stop_rule:=closing" in words
     assert main(["ros", "simulate", str(EXAMPLE), *strategies]) == 0
     launch = capsys.readouterr().out
     assert launch.count('<arg name="follower" value="tracking"/>') == 2  # R1 and R2
     assert launch.count('<arg name="timing" value="feasible"/>') == 2
+    assert launch.count('<arg name="stop_rule" value="closing"/>') == 2
     assert '<param name="timing" value="feasible"/>' in launch  # the bridge's plan
     package = Path(__file__).parents[2] / "src" / "dancebots" / "ros1" / "package"
     formation = (package / "dancebots_ros" / "launch" / "formation.launch").read_text()
     assert '<param name="follower" value="$(arg follower)"/>' in formation
     assert '<param name="timing" value="$(arg timing)"/>' in formation
+    assert '<param name="stop_rule" value="$(arg stop_rule)"/>' in formation

@@ -238,12 +238,14 @@ def test_the_generated_simulation_launch_loads(tmp_path, monkeypatch) -> None:  
         monkeypatch.setenv(key, value)
     path = tmp_path / "simulation.launch"
     path.write_text(simulation_launch("/s.dance", ("R1", "R2"), stop_after=50.0,
-                                      types=((0.99, 0.67, 1.0), (0.73, 0.6, 0.5))))
+                                      types=((0.99, 0.67, 1.0), (0.73, 0.6, 0.5)),
+                                      stop_rule="closing"))
     loaded = _load(str(path), [])
     assert loaded["nodes"] == ["/R1/formation_member", "/R1/network_test",
                                "/R2/formation_member", "/R2/network_test", "/sim_bridge"]
     assert loaded["/R1/length"] == 0.99  # the simulated robot's, not this host's
     assert loaded["/R2/formation_member/max_speed"] == 0.5
+    assert loaded["/R1/formation_member/stop_rule"] == "closing"
     assert loaded["/sim_bridge/stop_after"] == 50.0
 
 

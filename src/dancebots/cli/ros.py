@@ -24,6 +24,7 @@ from dancebots.cli.common import (
     add_follower_argument,
     add_hold_argument,
     add_show_arguments,
+    add_stop_rule_argument,
     add_timing_argument,
     fail,
     print_diagnostics,
@@ -61,6 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_follower_argument(formation)
     add_timing_argument(formation)
     add_hold_argument(formation)
+    add_stop_rule_argument(formation)
     formation.add_argument("--print-command", action="store_true",
                            help="print what would run (the roslaunch command) and exit")
     formation.set_defaults(subparser=formation)
@@ -75,6 +77,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_follower_argument(simulate)
     add_timing_argument(simulate)
     add_hold_argument(simulate)
+    add_stop_rule_argument(simulate)
     simulate.add_argument("--record", default="", metavar="FILE.npz",
                           help="write the run's poses and commands here")
     simulate.add_argument("--print-command", "--print-launch", dest="print_command",
@@ -116,6 +119,7 @@ def run(args: argparse.Namespace) -> int:
                    f"robot_name:={args.robot_name}", f"start_strategy:={args.start_strategy}",
                    f"lidar:={str(not args.no_lidar).lower()}", f"follower:={args.follower}",
                    f"timing:={args.timing}", f"hold:={args.hold or ''}",
+                   f"stop_rule:={args.stop_rule}",
                    # bash does not export HOSTNAME: pass the host's name when it is unset
                    f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
         if args.print_command:
@@ -131,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
         str(Path(args.record).resolve()) if args.record else "",
         plan.duration + START_ALLOWANCE,
         tuple((t.length, t.width, t.max_speed) for t in placement.types),
-        args.follower, args.timing, args.hold or "")
+        args.follower, args.timing, args.hold or "", args.stop_rule)
     if args.print_command:
         print(text, end="")
         return EXIT_OK

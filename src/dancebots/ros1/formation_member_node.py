@@ -11,7 +11,8 @@ default 0: the time constant with which the robot's speeds follow its commands; 
 tracking and path followers lead their feedforward by it); ``~lidar`` (default true:
 read ``obstacles`` and stop for them); ``~hold`` ("together", the default, or "alone", the
 default with the thesis follower: whether the formation shares one show clock, below);
-``~max_speed`` and ``~max_angular_speed`` (default:
+``~stop_rule`` ("fixed", the default, "closing" or "ssm": when the robot stops for what it
+sees; docs/safety.md); ``~max_speed`` and ``~max_angular_speed`` (default:
 the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
 ``obstacle_detection`` node through the roslaunch API, as the thesis does);
 ``~sync_delay``/``~sync_loss``/``~sync_seed`` (test only, see network_test). Robot size from
@@ -61,7 +62,14 @@ from std_msgs.msg import Bool, String
 
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
-from dancebots.robot import BrainOptions, BrainState, Follower, RobotBrain, brain_for
+from dancebots.robot import (
+    BrainOptions,
+    BrainState,
+    Follower,
+    RobotBrain,
+    StopRule,
+    brain_for,
+)
 from dancebots.ros1.common import (
     NodeLife,
     QueuedLog,
@@ -128,8 +136,9 @@ def main() -> None:
             "alone" if follower == "thesis" else "together")
         if hold not in HOLD_STRATEGIES:
             raise ValueError(f"unknown ~hold {hold!r}; choose from {', '.join(HOLD_STRATEGIES)}")
-        brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks follower
-            follower=follower, lidar=use_lidar,
+        stop_rule = cast(StopRule, str(rospy.get_param("~stop_rule", "fixed")))
+        brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks both
+            follower=follower, lidar=use_lidar, stop_rule=stop_rule,
             actuator_lag=float(rospy.get_param("~actuator_lag", 0.0))))
     except ValueError as exc:
         rospy.logfatal(str(exc))

@@ -33,11 +33,11 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                       record: str = "", stop_after: float = 0.0,
                       types: tuple[tuple[float, float, float], ...] = (),
                       follower: str = "thesis", timing: str = "thesis",
-                      hold: str = "") -> str:
+                      hold: str = "", stop_rule: str = "fixed") -> str:
     """The launch file of a ROS simulation: the bridge, and formation.launch per robot with
     its name as prefix; types: per robot (length, width, max speed) of the simulated robot;
-    follower, timing and hold: the strategies (``--follower``, ``--timing``, ``--hold``; ""
-    lets the node choose)."""
+    follower, timing, hold and stop_rule: the strategies (``--follower``, ``--timing``,
+    ``--hold``, ``--stop-rule``; a hold of "" lets the node choose)."""
     def attr(value: object) -> str:
         return quoteattr(str(value))
 
@@ -58,7 +58,7 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
         for key, value in (("scenario", scenario), ("role", robot), ("world", world),
                            ("vmax", vmax), ("robot_name", robot),
                            ("lidar", str(lidar).lower()), ("follower", follower),
-                           ("timing", timing), ("hold", hold)):
+                           ("timing", timing), ("hold", hold), ("stop_rule", stop_rule)):
             lines.append(f"    <arg name=\"{key}\" value={attr(value)}/>")
         if types:  # the simulated robot's size and speed, not this host's
             for key, value in zip(("length", "width", "max_speed"), types[i], strict=True):
