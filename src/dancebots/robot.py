@@ -118,6 +118,11 @@ that held R1 short of it); strangers keep the stop distance."""
 MAKE_ROOM_SPEED = 0.15
 """m/s: how fast a robot drives straight to make room for a turn it may not make where it
 stands (an addition; ``RobotBrain._make_room``)."""
+MAKE_ROOM_FLOOR = 0.05
+"""m: a robot makes room only while nothing is nearer than this to its footprint: each of
+two robots making room side by side at once takes the other for standing, and if they are
+not parallel they converge (the open-day certification, seed 75: R1 and R2 drove into each
+other at 0.15 m/s at the join, the formation waiting)."""
 MAKE_ROOM_SHIFTS = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6)
 """m: the straight shifts, forwards and backwards, that ``RobotBrain._make_room`` tries, the
 nearest first: up to a little more than a SIM robot's length (1.2 m) beside a neighbour."""
@@ -544,7 +549,8 @@ class RobotBrain:
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):
                 # it may make room for a turn only among mates (not held; no stranger near)
                 may_make_room = (not held and knows_strangers and near.nearest >= turn_reach(
-                    sensing.length, sensing.width, MAKE_ROOM_SPEED, sensing.detection))
+                    sensing.length, sensing.width, MAKE_ROOM_SPEED, sensing.detection)
+                    and seen.nearest >= MAKE_ROOM_FLOOR)
                 linear, angular, making_room = self._guard_turn(
                     obstacles, height_step, seen_from or pose, pose, linear, angular,
                     state.making_room if may_make_room else None)
