@@ -1,6 +1,7 @@
 """Shows among people (issue 13): the figures of its targets, measured.
 
-Run: ``.venv/bin/python benchmarks/eval_people.py [--runs N] [--skip-speedup]``
+Run: ``.venv/bin/python benchmarks/eval_people.py [--runs N] [--skip-speedup]
+[--stop-rule fixed|closing|ssm]`` (the certification's stop rule; default fixed)
 
 Prints:
 1. ``dancebots certify`` of the bundled open-day show among a random crowd
@@ -28,9 +29,10 @@ import tempfile
 from pathlib import Path
 
 
-def certify(runs: int, jobs: int, out: Path) -> dict[str, object]:
+def certify(runs: int, jobs: int, out: Path, stop_rule: str) -> dict[str, object]:
     done = subprocess.run([sys.executable, "-m", "dancebots.cli", "certify", "--runs",
-                           str(runs), "--jobs", str(jobs), "--out", str(out), "--json"],
+                           str(runs), "--jobs", str(jobs), "--out", str(out), "--json",
+                           "--stop-rule", stop_rule],
                           capture_output=True, text=True, check=False)
     if done.returncode not in (0, 1):
         raise SystemExit(f"certify failed ({done.returncode}):\n{done.stderr[-2000:]}")
@@ -57,9 +59,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=40)
     parser.add_argument("--skip-speedup", action="store_true")
+    parser.add_argument("--stop-rule", choices=("fixed", "closing", "ssm"), default="fixed")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
-        two = certify(args.runs, 2, Path(scratch) / "two")
+        two = certify(args.runs, 2, Path(scratch) / "two", args.stop_rule)
         gap, held, apart = two["min_person_gap_m"], two["held_robot_s"], two[
             "held_place_error_m"]
         assert isinstance(gap, dict)
@@ -67,7 +70,7 @@ def main() -> None:
         assert isinstance(apart, dict)
         wall2 = float(two["wall_s"])  # type: ignore[arg-type]
         print(f"certify, bundled open-day show among a crowd, realistic, {args.runs} seeds, "
-              "2 processes:")
+              f"stop rule {args.stop_rule}, 2 processes:")
         print(f"  contacts of a moving robot with a person: {two['contacts_moving']} "
               f"(runs with one: {two['runs_with_contacts_moving']}); with a robot standing "
               f"still: {two['contacts_standing']}; robots with robots/walls: "
@@ -82,7 +85,7 @@ def main() -> None:
         print(f"  wall {wall2:.1f} s: {60 * args.runs / wall2:.1f} runs/min; 1,000 runs "
               f"projected {1000 * wall2 / args.runs / 60:.1f} min (target < 10)")
         if not args.skip_speedup:
-            one = certify(args.runs, 1, Path(scratch) / "one")
+            one = certify(args.runs, 1, Path(scratch) / "one", args.stop_rule)
             wall1 = float(one["wall_s"])  # type: ignore[arg-type]
             same = _without_walls(one) == _without_walls(two)
             print(f"  1 process: {wall1:.1f} s; speed-up of 2 processes {wall1 / wall2:.2f}x; "
