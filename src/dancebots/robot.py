@@ -199,10 +199,11 @@ class BrainState:
     state, the latest cloud's columns (K, 4) in ``base_link`` at the pose ``seen_from`` (own
     map frame) with their height step, and the recent own poses (t, x, y, theta); after the
     show, since when (its clock, s) a stranger is within :data:`NEAR_GAP` and whether it
-    waits for it to leave (``waiting``); with the ``closing`` stop rule, the strangers'
-    points of the latest cloud (N, 2) in the own map frame and whether one of them closes in
-    (``closing``: each bearing sector's gap (S,) m, moved to the pose at that cloud, and
-    how fast it closed since the cloud before (S,) m/s)."""
+    waits for it to leave (``waiting``); with the ``closing`` stop rule, the stamp (s) and
+    the strangers' points (N, 2) in the own map frame of the latest cloud it could use
+    (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
+    gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
+    before (S,) m/s)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -220,8 +221,8 @@ class BrainState:
     making_room: float = 0.0
     stranger_near_since: float | None = None
     waiting: bool = False
-    strangers_seen: np.ndarray | None = None
-    closing: tuple[np.ndarray, np.ndarray] | None = None
+    strangers_seen: tuple[float, np.ndarray] | None = None
+    closing: tuple[float, np.ndarray, np.ndarray] | None = None
 
     @property
     def holding_the_show(self) -> bool:
@@ -437,8 +438,8 @@ class RobotBrain:
                     cloud.stamp)
             if sensing.stop_rule == "closing" and taken_at is not None and pose is not None:
                 strangers_seen, closing = self._closing(
-                    state, obstacles, height_step, taken_at, pose, show_time, cloud.stamp,
-                    mates_heard)
+                    strangers_seen, closing, obstacles, height_step, taken_at, pose,
+                    show_time, cloud.stamp, mates_heard)
         command = STOP
         held = holds_show = waiting = False
         near_since: float | None = None  # after the show: since when a stranger is near
@@ -503,8 +504,9 @@ class RobotBrain:
                 held = holds_show = waiting = True
                 linear = angular = 0.0
             elif (closing is not None and (linear != 0.0 or angular != 0.0)
-                  and too_near(*closing, linear,
-                               now - (now if cloud_stamp is None else cloud_stamp),
+                  and too_near(closing[1], closing[2], linear,
+                               # the data's age, and two lags in which the speed dies away
+                               now - closing[0] + 2.0 * self.feedforward_lead,
                                sensing.ssm.reaction_time + self.feedforward_lead,
                                sensing.ssm.deceleration, sensing.closing)):
                 # a stranger closes in faster than the robot could stop: it stands (neither
@@ -720,32 +722,40 @@ class RobotBrain:
                                 reaction + settle)
         return everything, strangers, may_turn
 
-    def _closing(self, state: BrainState, columns: np.ndarray, height_step: float,
-                 seen_from: tuple[float, float, float], pose: tuple[float, float, float],
-                 show_time: float, stamp: float, heard: np.ndarray | None,
-                 ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
+    def _closing(self, seen: tuple[float, np.ndarray] | None,
+                 closing: tuple[float, np.ndarray, np.ndarray] | None, columns: np.ndarray,
+                 height_step: float, seen_from: tuple[float, float, float],
+                 pose: tuple[float, float, float], show_time: float, stamp: float,
+                 heard: np.ndarray | None,
+                 ) -> tuple[tuple[float, np.ndarray] | None,
+                            tuple[float, np.ndarray, np.ndarray] | None]:
         """The ``closing`` stop rule at a new cloud (columns (K, 4) in ``base_link`` at
-        ``seen_from``, taken at ``stamp`` s): the strangers' points (N, 2) in the own map
-        frame, and, from them and the last cloud's (``state``'s), both moved to ``pose``,
-        each bearing sector's gap (S,) m and how fast it closed (S,) m/s
-        (``perception.closing``); None for the first cloud."""
+        ``seen_from``, taken at ``stamp`` s): (stamp, the strangers' points (N, 2) in the own
+        map frame), and, from them and the last cloud's (``seen``), both moved to ``pose``,
+        (stamp, each bearing sector's gap (S,) m, how fast it closed (S,) m/s)
+        (``perception.closing``); None after the first cloud. A cloud that cannot be used
+        (a stamp that is not finite or not after the last one's, a pose that is not finite)
+        changes nothing: ``seen`` and ``closing`` are returned as they were, so a repeated
+        stamp does not release a robot that a person approaches."""
+        if not (math.isfinite(stamp) and all(map(math.isfinite, (*pose, *seen_from)))) or (
+                seen is not None and not stamp > seen[0]):
+            return seen, closing
         points = self._stranger_points(columns, height_step, seen_from, show_time, heard)
-        before = state.strangers_seen
-        elapsed = stamp - state.cloud_stamp if state.cloud_stamp is not None else 0.0
-        if before is None or not elapsed > 0.0:
-            return points, None
+        if seen is None:
+            return (stamp, points), None
         sensing, params = self.sensing, self.sensing.closing
         length, width, sectors = sensing.length, sensing.width, params.sectors
         if sensing.compiled:
             from dancebots.perception.closing_jit import sector_gaps_moved  # imports numba
 
             at = np.array(pose)
-            gaps_before = sector_gaps_moved(before, at, length, width, sectors)
+            gaps_before = sector_gaps_moved(seen[1], at, length, width, sectors)
             gaps = sector_gaps_moved(points, at, length, width, sectors)
         else:
-            gaps_before = sector_gaps(points_to_local(before, pose), length, width, sectors)
+            gaps_before = sector_gaps(points_to_local(seen[1], pose), length, width, sectors)
             gaps = sector_gaps(points_to_local(points, pose), length, width, sectors)
-        return points, (gaps, closing_speeds(gaps_before, gaps, elapsed, params.max_speed))
+        return (stamp, points), (stamp, gaps, closing_speeds(gaps_before, gaps,
+                                                             stamp - seen[0], params.max_speed))
 
     def _stranger_points(self, columns: np.ndarray, height_step: float,
                          seen_from: tuple[float, float, float], show_time: float,
@@ -753,7 +763,8 @@ class RobotBrain:
         """The obstacle points (N, 2) of the cloud's columns (``base_link`` at ``seen_from``)
         in SSM's wider square (``SsmParams.reach``), in the own map frame, without those
         within ``mate_radius`` of where a mate should be or said it is (``heard``, show
-        frame; none for a robot that knows no mates' places)."""
+        frame; none for a robot that knows no mates' places: the thesis follower's, for which
+        a formation mate is a stranger too)."""
         mates = np.zeros((0, 2))
         if self._mates is not None:
             mates = self.mates_at(show_time)

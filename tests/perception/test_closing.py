@@ -28,20 +28,29 @@ def test_a_sector_holds_the_smallest_gap_of_its_points_to_the_footprint() -> Non
     assert gaps[7] == pytest.approx(1.5)  # atan2(0, -2) = +pi: the last sector
     assert np.isinf(gaps[[0, 1, 2, 3]]).all()
     assert np.isinf(sector_gaps(np.zeros((0, 2)), LENGTH, WIDTH, 8)).all()
+    not_a_number = np.array([[math.nan, 0.0], [1.5, math.inf], [0.9, 0.05]])
+    assert sector_gaps(not_a_number, LENGTH, WIDTH, 8)[4] == pytest.approx(0.4)
 
 
 def test_a_gap_closes_only_by_what_moved_towards_the_robot() -> None:
     inf = math.inf
-    before = np.array([2.0, inf, 1.0, inf, inf, inf])
-    after = np.array([1.8, 0.9, 1.0, inf, 0.5, inf])
-    speeds = closing_speeds(before, after, 0.1, 3.0)
-    # sector 0: 2.0 -> 1.8 but its neighbour 5 had nothing and 1 nothing: 2 m/s;
-    # sector 1: its neighbour 2 had 1.0: 1.0 -> 0.9 is 1 m/s (a person walking round);
-    # sector 2: unchanged; sector 4: nothing near before: no speed known
-    assert speeds.tolist() == pytest.approx([2.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-    assert closing_speeds(before, np.full(6, 0.0), 0.1, 3.0).max() == 3.0  # capped
-    assert closing_speeds(before, after, 0.0, 3.0).tolist() == [0.0] * 6
-    assert closing_speeds(before, after, math.nan, 3.0).tolist() == [0.0] * 6
+    # sector 0: a person 2.0 -> 1.8 m: 2 m/s at 0.1 s; sector 2: unchanged; sector 4: a
+    # person appears from nothing near: no speed known
+    speeds = closing_speeds(np.array([2.0, inf, 1.0, inf, inf, inf]),
+                            np.array([1.8, inf, 1.0, inf, 0.5, inf]), 0.1, 3.0)
+    assert speeds.tolist() == pytest.approx([2.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    # a person walking round the robot from sector 1 into sector 2, 5 cm nearer: sector 1
+    # emptied, so its gap before counts for sector 2 (0.5 m/s), not as a 10 m/s sprint
+    round_robot = closing_speeds(np.array([inf, 1.0, inf, inf]),
+                                 np.array([inf, inf, 0.95, inf]), 0.1, 3.0)
+    assert round_robot.tolist() == pytest.approx([0.0, 0.0, 0.5, 0.0])
+    # a watcher standing in sector 0 hides nothing: the runner in sector 1 closes at 2 m/s
+    beside = closing_speeds(np.array([0.9, 1.7, inf, inf]), np.array([0.9, 1.5, inf, inf]),
+                            0.1, 3.0)
+    assert beside.tolist() == pytest.approx([0.0, 2.0, 0.0, 0.0])
+    assert closing_speeds(np.array([2.0, inf]), np.zeros(2), 0.1, 3.0).max() == 3.0  # capped
+    for elapsed in (0.0, -0.1, math.nan, math.inf):
+        assert closing_speeds(np.array([2.0]), np.array([1.0]), elapsed, 3.0).tolist() == [0.0]
 
 
 def test_an_approach_is_too_near_within_the_protective_separation_distance() -> None:
@@ -49,6 +58,7 @@ def test_an_approach_is_too_near_within_the_protective_separation_distance() -> 
     needed = float(protective_distance(0.3, 1.6, 0.3, 0.35, 1.0, params.margin))
     gaps = np.array([needed - 0.01, needed + 0.01])
     assert too_near(gaps[:1], np.array([1.6]), 0.3, 0.3, 0.35, 1.0, params)
+    assert too_near(gaps[:1], np.array([1.6]), -0.3, 0.3, 0.35, 1.0, params)  # reversing
     assert not too_near(gaps[1:], np.array([1.6]), -0.3, 0.3, 0.35, 1.0, params)
     # a watcher stepping up slowly is left to the fixed stop distance
     assert not too_near(np.array([0.3]), np.array([0.4]), 0.3, 0.3, 0.35, 1.0, params)
@@ -90,6 +100,8 @@ def test_the_compiled_kernels_are_the_numpy_reference(seed: int, points: int, ce
         columns[far | (centres == 0)], 0.1, detection), seen_from)
     np.testing.assert_allclose(compiled, expected, atol=1e-12)
     pose = np.array([*rng.uniform(-1.0, 1.0, 2), rng.uniform(-math.pi, math.pi)])
+    if seed % 5 == 0:
+        pose[seed % 3] = math.nan  # a pose that is not a number leaves no point (both ways)
     np.testing.assert_allclose(
         sector_gaps_moved(expected, pose, LENGTH, WIDTH, sectors),
         sector_gaps(points_to_local(expected, tuple(pose)), LENGTH, WIDTH, sectors),

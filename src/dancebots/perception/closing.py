@@ -7,8 +7,12 @@ clouds, each moved from where it was taken to the robot's pose now (so the robot
 motion cancels and only the people's remains), are reduced to the smallest gap to the
 footprint in each of ``sectors`` bearing sectors around the robot's centre
 (:func:`sector_gaps`). A sector's closing speed is how much that gap shrank per second, the
-gap before taken as the smallest of the sector and its two neighbours (a person walking
-round the robot into the next sector does not count as approaching). A stranger approaching
+gap before taken as the smallest of the sector's and of those neighbours' whose gap grew or
+emptied (a person walking round the robot into the next sector does not count as
+approaching; a person standing in the next sector does not hide one who does). The data's
+age counts two actuator lags more, in which a lagging robot's speed dies away (as ``ssm``
+has it). For the thesis follower, which knows no mates' places, a mate is a stranger too.
+A stranger approaching
 at u (m/s, at least ``min_speed``, at most ``max_speed``) is too near when its gap is within
 ISO/TS 15066's protective separation distance S_p (``perception.ssm.protective_distance``):
 the way it closes over the data's age, the robot's reaction and its braking, plus the
@@ -17,7 +21,8 @@ approach ends: a standing or strolling watcher (below ``min_speed``) is left to 
 stop distance, so people watching from nearby do not stall the show as SSM's assumed
 walking speed does (``docs/safety.md``).
 
-``perception.fast.sector_gaps_columns`` compiles :func:`sector_gaps` for a cloud's columns.
+``perception.closing_jit`` compiles the strangers' points of a cloud's columns and
+:func:`sector_gaps` of points moved to a pose.
 """
 
 from __future__ import annotations
@@ -61,6 +66,7 @@ def sector_gaps(points: FloatArray, length: float, width: float, sectors: int) -
     ``base_link``) and the points (N, 2) in ``base_link`` whose bearing from the centre falls
     in each of ``sectors`` equal sectors, the first starting at -pi; inf where none."""
     gaps = np.full(sectors, math.inf)
+    points = points[np.isfinite(points).all(axis=1)]  # a point that is not a number is none
     if len(points) == 0:
         return gaps
     x, y = points[:, 0], points[:, 1]
@@ -75,11 +81,18 @@ def sector_gaps(points: FloatArray, length: float, width: float, sectors: int) -
 def closing_speeds(before: FloatArray, after: FloatArray, elapsed: float,
                    max_speed: float) -> FloatArray:
     """(S,) how fast (m/s, 0 to ``max_speed``) each sector's gap closed from ``before`` to
-    ``after`` (S,) over ``elapsed`` s, the gap before being the smallest of the sector and
-    its two neighbours (circularly); 0 where either is inf or ``elapsed`` is not positive."""
-    if not elapsed > 0.0:
+    ``after`` (S,) over ``elapsed`` s; the gap before is the smallest of the sector's and
+    those of its two neighbours (circularly) whose gap grew or emptied since (what left a
+    neighbour may have walked into this sector; a neighbour whose gap stayed, a person
+    standing beside, hides nothing approaching here); 0 where either is inf or ``elapsed``
+    is not positive and finite."""
+    if not (elapsed > 0.0 and math.isfinite(elapsed)):
         return np.zeros(len(after))
-    nearby = np.minimum(np.minimum(before, np.roll(before, 1)), np.roll(before, -1))
+    nearby = before.copy()
+    for shift in (1, -1):
+        neighbour_before, neighbour_after = np.roll(before, shift), np.roll(after, shift)
+        nearby = np.minimum(nearby, np.where(neighbour_after > neighbour_before,
+                                             neighbour_before, math.inf))
     with np.errstate(invalid="ignore"):
         speed = (nearby - after) / elapsed
     speed = np.where(np.isfinite(speed), speed, 0.0)

@@ -54,6 +54,8 @@ def sector_gaps_moved(points: NDArray[np.float64], pose: NDArray[np.float64], le
         dx, dy = points[i, 0] - pose[0], points[i, 1] - pose[1]
         x = c * dx + s * dy
         y = -s * dx + c * dy
+        if not (abs(x) < math.inf and abs(y) < math.inf):  # not a number: no point
+            continue
         gap = math.hypot(max(abs(x) - half_l, 0.0), max(abs(y) - half_w, 0.0))
         sector = min(int((math.atan2(y, x) + math.pi) / (2.0 * math.pi) * sectors),
                      sectors - 1)

@@ -209,4 +209,3 @@ def perceive_columns_split(columns: NDArray[np.float64], height_step: float, cro
                                  seen_from, pose, length, width, stop_distance,
                                  corridor_margin, force_radius, force_gain)
     return everything, strangers, True
-

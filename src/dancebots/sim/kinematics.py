@@ -26,7 +26,7 @@ class Profile:
         to robots that are commanded to move, m/s and rad/s, from the run's seeded generator.
     standstill: (m/s, rad/s) below which a speed commanded to zero is zero: a skid-steer
         robot's tracks need a breakaway torque to slide, so it does not creep on the lag's
-        exponential tail (without it a robot told to stop at 0.1 m/s still moves at 3 mm/s a
+        exponential tail (without it a robot told to stop at 0.1 m/s still moves at 2 mm/s a
         second later); (0, 0): no standstill.
     """
 
