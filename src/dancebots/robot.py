@@ -147,6 +147,10 @@ SLOW_TURN_LAG = 0.3
 """m: a robot this far from its place whose turn :data:`CORNER_SPEED` slows holds the
 formation's shared show clock (``sync.hold``), so that its mates do not drive on into the
 corners it still swings."""
+SETTLE_LAGS = 2.0
+"""Actuator lags the ``closing`` rule adds to the data's age: a robot whose speed follows its
+command with a first-order lag still moves for about two lags after it is told to stop, in
+which a person comes on (``ssm`` counts the same)."""
 HISTORY_LENGTH = 15
 """Own poses kept for the lag compensation (1.5 s at 10 Hz: five times the thesis's lag)."""
 
@@ -505,8 +509,8 @@ class RobotBrain:
                 linear = angular = 0.0
             elif (closing is not None and (linear != 0.0 or angular != 0.0)
                   and too_near(closing[1], closing[2], linear,
-                               # the data's age, and two lags in which the speed dies away
-                               now - closing[0] + 2.0 * self.feedforward_lead,
+                               # the data's age, and the lags in which the speed dies away
+                               now - closing[0] + SETTLE_LAGS * self.feedforward_lead,
                                sensing.ssm.reaction_time + self.feedforward_lead,
                                sensing.ssm.deceleration, sensing.closing)):
                 # a stranger closes in faster than the robot could stop: it stands (neither
