@@ -33,14 +33,19 @@ from tests.ros1.test_ros_simulation import FINAL_TOLERANCE
 pytestmark = pytest.mark.ros
 
 
-@pytest.mark.parametrize("pull_cable", [False, True], ids=["clean", "link-down"])
-def test_show_across_network_namespaces(tmp_path: Path, pull_cable: bool) -> None:
+def _require_ros_and_namespaces() -> None:
+    """Skip without ROS or network namespaces; fail instead with DANCEBOTS_REQUIRE_ROS=1."""
     require_ros()
     reason = netns_missing()
     if reason is not None:
         if os.environ.get("DANCEBOTS_REQUIRE_ROS") == "1":
             pytest.fail(reason)
         pytest.skip(reason)
+
+
+@pytest.mark.parametrize("pull_cable", [False, True], ids=["clean", "link-down"])
+def test_show_across_network_namespaces(tmp_path: Path, pull_cable: bool) -> None:
+    _require_ros_and_namespaces()
     duration = plan_of(SCENARIO_7_1).duration
     pure = pure_run(SCENARIO_7_1)
     with hosts(("R1", "R2")) as network:
@@ -121,12 +126,7 @@ def test_a_robot_cut_off_while_it_holds_keeps_the_show_waiting(tmp_path: Path) -
     R1). Then R1's cable is pulled: R2 no longer hears R1, and a silent mate counts as a
     hold, so R2 keeps waiting where it stood (it must not take the silence for a release
     and drive on alone); R1, cut off from its clouds, stays at zero command."""
-    require_ros()
-    reason = netns_missing()
-    if reason is not None:
-        if os.environ.get("DANCEBOTS_REQUIRE_ROS") == "1":
-            pytest.fail(reason)
-        pytest.skip(reason)
+    _require_ros_and_namespaces()
     world = tmp_path / "visitor.toml"
     world.write_text(VISITOR_WORLD)
     with hosts(("R1", "R2")) as network:

@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from dancebots.perception.fast import _kept, far_from_all
+from dancebots.perception.fast import _kept, far_from_all, to_local
 
 __all__ = ["sector_gaps_moved", "stranger_points_columns"]
 
@@ -27,13 +27,8 @@ def stranger_points_columns(columns: NDArray[np.float64], height_step: float, cr
     columns left out as by :func:`perceive_columns_split`, then the crop and height filter.
     NumPy: ``RobotBrain._stranger_points`` with ``SensingConfig.compiled`` off."""
     c, s = math.cos(seen_from[2]), math.sin(seen_from[2])
-    local = np.empty((mates.shape[0], 2))
-    for j in range(mates.shape[0]):  # as geometry.points_to_local
-        dx, dy = mates[j, 0] - seen_from[0], mates[j, 1] - seen_from[1]
-        local[j, 0] = c * dx + s * dy
-        local[j, 1] = -s * dx + c * dy
-    kept = _kept(columns[far_from_all(columns, local, mate_radius)], height_step, crop_half,
-                 z_min, z_max)
+    kept = _kept(columns[far_from_all(columns, to_local(mates, seen_from), mate_radius)],
+                 height_step, crop_half, z_min, z_max)
     world = np.empty_like(kept)
     for i in range(kept.shape[0]):  # as geometry.points_to_world
         world[i, 0] = seen_from[0] + c * kept[i, 0] - s * kept[i, 1]

@@ -14,7 +14,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 __all__ = ["far_from_all", "perceive_columns", "perceive_columns_split", "perceive_moved",
-           "turn_fraction_columns"]
+           "to_local", "turn_fraction_columns"]
 
 
 @njit(cache=True)
@@ -178,6 +178,19 @@ def far_from_all(points: NDArray[np.float64], centres: NDArray[np.float64],
 
 
 @njit(cache=True)
+def to_local(points: NDArray[np.float64], frame: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Points (M, 2) of the parent frame of ``frame`` (x, y, theta) in ``frame``:
+    ``geometry.points_to_local``, which a kernel cannot call."""
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    local = np.empty((points.shape[0], 2))
+    for j in range(points.shape[0]):
+        dx, dy = points[j, 0] - frame[0], points[j, 1] - frame[1]
+        local[j, 0] = c * dx + s * dy
+        local[j, 1] = -s * dx + c * dy
+    return local
+
+
+@njit(cache=True)
 def perceive_columns_split(columns: NDArray[np.float64], height_step: float, crop_half: float,
                            z_min: float, z_max: float, seen_from: NDArray[np.float64],
                            pose: NDArray[np.float64], length: float, width: float,
@@ -193,13 +206,7 @@ def perceive_columns_split(columns: NDArray[np.float64], height_step: float, cro
     any column was left out (else the second is the first).
     Same results as ``perceive_columns(columns)`` and ``perceive_columns(columns[
     far_from_all(columns, points_to_local(mates, seen_from), mate_radius)])``."""
-    c, s = math.cos(seen_from[2]), math.sin(seen_from[2])
-    local = np.empty((mates.shape[0], 2))
-    for j in range(mates.shape[0]):  # as geometry.points_to_local
-        dx, dy = mates[j, 0] - seen_from[0], mates[j, 1] - seen_from[1]
-        local[j, 0] = c * dx + s * dy
-        local[j, 1] = -s * dx + c * dy
-    keep = far_from_all(columns, local, mate_radius)
+    keep = far_from_all(columns, to_local(mates, seen_from), mate_radius)
     everything = perceive_columns(columns, height_step, crop_half, z_min, z_max, seen_from,
                                   pose, length, width, stop_distance, corridor_margin,
                                   force_radius, force_gain)
