@@ -259,3 +259,28 @@ def test_a_compiled_crowd_walks_as_the_numpy_one() -> None:
                                compiled=compiled)
         states.append(state.position)
     np.testing.assert_allclose(states[1], states[0], atol=1e-3)
+
+
+def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None:
+    """A child in the middle of a square of four robots, asked for room by the one behind
+    it: walking straight away from the speaker would take it into the robot opposite; the
+    way out passes between two robots (the widest gap, on the left); a person beside a lone
+    robot walks straight away from it."""
+    from dancebots.sim.crowd import _way_out
+
+    robots = np.array([[10.73, 13.58], [9.34, 13.65], [10.82, 15.17], [9.26, 15.61]])
+    reach = np.array([0.6, 0.6, 0.47, 0.47])  # HUSKY, HUSKY, TRADR, TRADR half diagonals
+    child = np.array([9.72, 14.68])
+    way = _way_out(child, child - robots[3], robots, reach, 0.18)
+    passes = child[None, :] + np.linspace(0.3, 2.0, 40)[:, None] * way[None, :]
+    gaps = np.hypot(passes[:, None, 0] - robots[None, :, 0],
+                    passes[:, None, 1] - robots[None, :, 1]) - reach[None, :]
+    assert gaps.min() > 0.18  # clear of every robot's disc by the child's radius
+    straight = (child - robots[3]) / np.hypot(*(child - robots[3]))
+    straight_passes = child[None, :] + np.linspace(0.3, 2.0, 40)[:, None] * straight[None, :]
+    assert (np.hypot(straight_passes[:, None, 0] - robots[None, :, 0],
+                     straight_passes[:, None, 1] - robots[None, :, 1])
+            - reach[None, :]).min() < 0.0  # straight away runs into R1 or R2
+    alone = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]), np.zeros((1, 2)),
+                     np.array([0.6]), 0.2)
+    assert alone.tolist() == pytest.approx([1.0, 0.0])

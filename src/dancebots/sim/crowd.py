@@ -99,8 +99,7 @@ _BEHAVIOUR_FIELDS = ("watch", "watch_near", "watch_far", "pause_min", "pause_max
 HEARING = 2.0
 """m from a speaking robot's footprint (about) within which people hear it."""
 ROOM_MADE = (1.5, 3.0)
-"""m: how far from a speaking robot a person who heeds it steps (from its centre, further
-away)."""
+"""m: how far a person who heeds a speaking robot walks away (``_make_room``)."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -377,7 +376,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     reach = 0.5 * np.hypot(robot_lengths, robot_widths)
     if speaking is not None and speaking.any():
         state = _make_room(state, robot_poses[speaking], reach[speaking], dt, areas, walls,
-                           rng)
+                           rng, robot_poses, reach)
     arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
                                       < state.column("arrive"))
     low, high = state.column("pause_min"), state.column("pause_max")
@@ -434,11 +433,15 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
 
 def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: float,
                areas: Sequence[FloatArray], walls: FloatArray,
-               rng: np.random.Generator) -> CrowdState:
+               rng: np.random.Generator, robots: FloatArray | None = None,
+               robot_reach: FloatArray | None = None) -> CrowdState:
     """People within :data:`HEARING` of a speaking robot (poses (S, 3), half diagonals (S,))
     heed it with probability heed * dt: they stop pausing and walk to a point
-    :data:`ROOM_MADE` m from the nearest speaker, straight away from it (or, where that
-    leaves their area or nears a wall, anywhere in their area)."""
+    :data:`ROOM_MADE` m from where they stand, away from the nearest speaker by the way that
+    keeps clearest of every robot (poses (R, 3), half diagonals (R,); :func:`_way_out`: a
+    person inside a formation leaves between two robots instead of walking into the one
+    behind the speaker) (or, where that leaves their area or nears a wall, anywhere in their
+    area)."""
     offsets = state.position[:, None, :] - speakers[None, :, :2]  # (P, S, 2)
     distance = np.hypot(offsets[..., 0], offsets[..., 1]) - reach[None, :]
     nearest = np.argmin(distance, axis=1)
@@ -446,17 +449,46 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     heeds = hears & (rng.random(len(hears)) < state.column("heed") * dt)
     if not heeds.any():
         return state
+    if robots is None or robot_reach is None:
+        robots, robot_reach = speakers, reach
     goal, pause = state.goal.copy(), state.pause.copy()
     for a in np.flatnonzero(heeds).tolist():
         away = offsets[a, nearest[a]]
-        norm = float(np.hypot(*away))
-        direction = away / norm if norm > 1e-9 else np.array([1.0, 0.0])
-        spot = speakers[nearest[a], :2] + direction * (reach[nearest[a]] + rng.uniform(
-            *ROOM_MADE))
+        direction = _way_out(state.position[a], away, robots[:, :2], robot_reach,
+                             float(state.radius[a]))
+        spot = state.position[a] + direction * rng.uniform(*ROOM_MADE)
         goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
                            rng, goal[a])
         pause[a] = 0.0
     return replace(state, goal=goal, pause=pause)
+
+
+WAYS_OUT = 16
+"""Directions :func:`_way_out` weighs, evenly spaced."""
+WAY_SPAN = (0.3, 2.0)
+"""m along a way out that :func:`_way_out` keeps clear of the robots (from where the person
+stands: the first 0.3 m are as near the robots as the person is, whichever the way)."""
+
+
+def _way_out(position: FloatArray, away: FloatArray, robots: FloatArray, reach: FloatArray,
+             radius: float) -> FloatArray:
+    """The unit direction (2,) in which a person at ``position`` (2,) of ``radius`` m leaves
+    the robots (centres (R, 2), half diagonals (R,)): of :data:`WAYS_OUT` directions, the one
+    whose :data:`WAY_SPAN` passes furthest from every robot's disc (or leaves room for the
+    person), the nearest to ``away`` (2,) (from the speaker) among those that pass as far to
+    within 5 cm."""
+    angles = np.linspace(-math.pi, math.pi, WAYS_OUT, endpoint=False)
+    ways = np.stack([np.cos(angles), np.sin(angles)], axis=1)  # (D, 2)
+    relative = robots - position[None, :]  # (R, 2)
+    along = np.clip(relative @ ways.T, *WAY_SPAN)  # (R, D) where each way passes nearest
+    closest = along[..., None] * ways[None, :, :] - relative[:, None, :]  # (R, D, 2)
+    clearance = (np.hypot(closest[..., 0], closest[..., 1]) - reach[:, None]).min(axis=0)
+    norm = float(np.hypot(*away))
+    heading = away / norm if norm > 1e-9 else np.array([1.0, 0.0])
+    good = clearance >= min(clearance.max(), radius) - 0.05
+    best = int(np.argmax(np.where(good, ways @ heading, -np.inf)))
+    result: FloatArray = ways[best]
+    return result
 
 
 def _wall_distance(points: FloatArray, walls: FloatArray) -> FloatArray:
