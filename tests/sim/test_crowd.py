@@ -265,7 +265,7 @@ def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None
     """A child in the middle of a square of four robots, asked for room by the one behind
     it: walking straight away from the speaker would take it into the robot opposite; the
     way out passes between two robots (the widest gap, on the left); a person beside a lone
-    robot walks straight away from it."""
+    robot walks straight away from it, and past a robot as far on as it walks."""
     from dancebots.sim.crowd import _way_out
 
     robots = np.array([[10.73, 13.58], [9.34, 13.65], [10.82, 15.17], [9.26, 15.61]])
@@ -281,6 +281,17 @@ def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None
     assert (np.hypot(straight_passes[:, None, 0] - robots[None, :, 0],
                      straight_passes[:, None, 1] - robots[None, :, 1])
             - reach[None, :]).min() < 0.0  # straight away runs into R1 or R2
+    eighth = math.radians(22.5)  # the 16 ways are 22.5 deg apart
+    assert way.tolist() == pytest.approx([-math.cos(eighth), -math.sin(eighth)])
     alone = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]), np.zeros((1, 2)),
                      np.array([0.6]), 0.2)
     assert alone.tolist() == pytest.approx([1.0, 0.0])
+    # a robot 2.8 m further on, as far as the person walks: the way bends 22.5 deg past it
+    # (nearest to straight away among those clear of it), not into it
+    beyond = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]),
+                      np.array([[0.0, 0.0], [3.8, 0.0]]), np.array([0.6, 0.6]), 0.2)
+    assert beyond.tolist() == pytest.approx([math.cos(eighth), -math.sin(eighth)])
+    # a robot whose pose is not known is left out
+    unknown = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]),
+                       np.array([[0.0, 0.0], [math.nan, 0.0]]), np.array([0.6, 0.6]), 0.2)
+    assert unknown.tolist() == pytest.approx([1.0, 0.0])

@@ -465,9 +465,10 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
 
 WAYS_OUT = 16
 """Directions :func:`_way_out` weighs, evenly spaced."""
-WAY_SPAN = (0.3, 2.0)
-"""m along a way out that :func:`_way_out` keeps clear of the robots (from where the person
-stands: the first 0.3 m are as near the robots as the person is, whichever the way)."""
+WAY_SPAN = (0.3, ROOM_MADE[1])
+"""m along a way out that :func:`_way_out` keeps clear of the robots: as far as a person who
+heeds a robot walks (:data:`ROOM_MADE`), from 0.3 m on (the first 0.3 m are as near the
+robots as the person is, whichever the way)."""
 
 
 def _way_out(position: FloatArray, away: FloatArray, robots: FloatArray, reach: FloatArray,
@@ -479,7 +480,11 @@ def _way_out(position: FloatArray, away: FloatArray, robots: FloatArray, reach: 
     within 5 cm."""
     angles = np.linspace(-math.pi, math.pi, WAYS_OUT, endpoint=False)
     ways = np.stack([np.cos(angles), np.sin(angles)], axis=1)  # (D, 2)
-    relative = robots - position[None, :]  # (R, 2)
+    known = np.isfinite(robots).all(axis=1) & np.isfinite(reach)
+    relative = robots[known] - position[None, :]  # (R, 2)
+    reach = reach[known]
+    if len(relative) == 0:  # no robot where it is known: straight away
+        relative, reach = np.zeros((1, 2)) - 1e9, np.zeros(1)
     along = np.clip(relative @ ways.T, *WAY_SPAN)  # (R, D) where each way passes nearest
     closest = along[..., None] * ways[None, :, :] - relative[:, None, :]  # (R, D, 2)
     clearance = (np.hypot(closest[..., 0], closest[..., 1]) - reach[:, None]).min(axis=0)
