@@ -781,12 +781,8 @@ class RobotBrain:
             return stranger_points_columns(columns, height_step, detection.crop_half,
                                            detection.z_min, detection.z_max,
                                            np.array(seen_from), mates, self.mate_radius)
-        local = points_to_local(mates, seen_from)
-        if len(local):
-            far = np.hypot(columns[:, None, 0] - local[None, :, 0],
-                           columns[:, None, 1] - local[None, :, 1]).min(axis=1) > self.mate_radius
-            columns = columns[far]
-        return points_to_world(obstacle_points_from_columns(columns, height_step, detection),
+        kept = columns[self._far_from_mates(columns, seen_from, mates)]
+        return points_to_world(obstacle_points_from_columns(kept, height_step, detection),
                                seen_from)
 
     def mates_at(self, show_time: float) -> np.ndarray:
@@ -860,18 +856,27 @@ class RobotBrain:
         every point). ``heard`` (K, 2), own map frame: more mates, where they said they are."""
         where = self.mates_at(show_time) if heard is None else np.concatenate(
             [self.mates_at(show_time), heard])
-        mates = points_to_local(where, seen_from)  # (M, 2) base_link
-        if self.sensing.compiled:
-            from dancebots.perception.fast import far_from_all  # imports numba
-
-            keep = far_from_all(columns, mates, self.mate_radius)
-        else:
-            gaps = np.hypot(columns[:, None, 0] - mates[None, :, 0],
-                            columns[:, None, 1] - mates[None, :, 1])  # (K, M)
-            keep = gaps.min(axis=1) > self.mate_radius
+        keep = self._far_from_mates(columns, seen_from, where)
         if keep.all():
             return None
         return self._perceive(columns[keep], height_step, seen_from, pose)
+
+    def _far_from_mates(self, columns: np.ndarray, seen_from: tuple[float, float, float],
+                        mates: np.ndarray) -> np.ndarray:
+        """(K,) True for the cloud's columns (``base_link`` at ``seen_from``) more than
+        ``mate_radius`` from every mate's place ``mates`` (M, 2), own map frame (all of them
+        for no mate): compiled (``perception.fast.far_from_all``) unless
+        ``SensingConfig.compiled`` is off."""
+        local = points_to_local(mates, seen_from)  # (M, 2) base_link
+        if self.sensing.compiled:
+            from dancebots.perception.fast import far_from_all  # imports numba
+
+            keep: np.ndarray = far_from_all(columns, local, self.mate_radius)
+            return keep
+        gaps = np.hypot(columns[:, None, 0] - local[None, :, 0],
+                        columns[:, None, 1] - local[None, :, 1])  # (K, M)
+        far: np.ndarray = gaps.min(axis=1, initial=np.inf) > self.mate_radius
+        return far
 
     def _perceive(self, columns: np.ndarray, height_step: float,
                   seen_from: tuple[float, float, float],

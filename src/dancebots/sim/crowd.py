@@ -433,8 +433,8 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
 
 def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: float,
                areas: Sequence[FloatArray], walls: FloatArray,
-               rng: np.random.Generator, robots: FloatArray | None = None,
-               robot_reach: FloatArray | None = None) -> CrowdState:
+               rng: np.random.Generator, robots: FloatArray,
+               robot_reach: FloatArray) -> CrowdState:
     """People within :data:`HEARING` of a speaking robot (poses (S, 3), half diagonals (S,))
     heed it with probability heed * dt: they stop pausing and walk to a point
     :data:`ROOM_MADE` m from where they stand, away from the nearest speaker by the way that
@@ -449,8 +449,6 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     heeds = hears & (rng.random(len(hears)) < state.column("heed") * dt)
     if not heeds.any():
         return state
-    if robots is None or robot_reach is None:
-        robots, robot_reach = speakers, reach
     goal, pause = state.goal.copy(), state.pause.copy()
     for a in np.flatnonzero(heeds).tolist():
         away = offsets[a, nearest[a]]
