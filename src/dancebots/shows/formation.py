@@ -297,14 +297,17 @@ class _Crew:
         self.clocks = formation_tick(clocks, now, self.holding)  # each one's at the last tick
         self.show_times[:] = self.clocks.show_time
 
-    def _mates_heard(self, robot: int) -> np.ndarray | None:
-        """(K, 2) where ``robot``'s mates said they stand (show frame), from the latest
-        message of each; None without the shared clock."""
+    def _mates_heard(self) -> list[np.ndarray | None]:
+        """Per robot, (K, 2) where its mates said they stand (show frame), from the latest
+        message of each (None without the shared clock)."""
         if not self.together:
-            return None
+            return [None] * len(self.robots)
         said = np.any(~np.isnan(self.clocks.position), axis=1)
-        said[robot] = False  # its own echo
-        return self.clocks.position[said]
+        heard = self.clocks.position[said]
+        senders = np.flatnonzero(said).tolist()
+        rows = np.arange(len(heard))
+        return [heard[rows != senders.index(robot)] if robot in senders else heard
+                for robot in range(len(self.robots))]  # without its own echo
 
     def _tell(self, now: float, poses: list[tuple[float, float, float] | None]) -> None:
         """Every robot tells the others its show time, whether it holds the show and where it
@@ -329,6 +332,7 @@ class _Crew:
         own_poses = stage.own_poses().tolist()
         self._show_times(now)
         given: list[tuple[float, float, float] | None] = []
+        heard = self._mates_heard()
         for i, brain in enumerate(self.brains):
             if now >= self.lidar_faults.get(i, math.inf):
                 arrived[i] = None
@@ -337,7 +341,7 @@ class _Crew:
             given.append(seen)
             states[i], cmd, happened = brain.step(states[i], float(self.show_times[i]), seen,
                                                   arrived[i], clock=now,
-                                                  mates_heard=self._mates_heard(i))
+                                                  mates_heard=heard[i])
             self.command[i] = (cmd.linear, cmd.angular)
             self.status[i] = STATUS.index(states[i].status)
             self.holding[i] = states[i].holding_the_show
