@@ -31,3 +31,5 @@ def test_core_cli_and_simulator_need_no_ros(tmp_path: Path) -> None:
     assert result.returncode == 0, result.stderr[-2000:]
     assert "fine without ROS" in result.stdout
     assert (tmp_path / "out" / "metrics.json").exists()
+    # the MCAP log too: its ROS 1 types come from the genpy that mcap-ros1-support carries
+    assert (tmp_path / "out" / "run.mcap").read_bytes()[:8] == b"\x89MCAP0\r\n"

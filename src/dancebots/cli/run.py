@@ -51,8 +51,8 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
                "robot in its error state, a robot far from its final slot or heading, a robot "
                "driving against its slot's direction); 2 when the input is invalid.")
 
-OUTPUT_NAMES = ("log.csv", "speeds_distances.png", "trajectories.png", "animation.gif",
-                "animation.mp4", "sound.wav", "metrics.json")
+OUTPUT_NAMES = ("log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
+                "animation.gif", "animation.mp4", "sound.wav", "metrics.json")
 """Every file a run may write into its output directory (besides the manifest)."""
 PROFILES = ("ideal", "realistic")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
@@ -187,17 +187,20 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, dir
 
     from dancebots.report.animation import animate_run
     from dancebots.report.frames import ffmpeg_available
+    from dancebots.report.mcap_log import write_run_mcap
     from dancebots.report.run_plots import plot_speeds_and_distances, plot_trajectories
     from dancebots.report.runlog import write_log
 
     with open(directory / "log.csv", "w", encoding="utf-8") as handle:
         write_log(result, handle)
+    with progress(console, "run.mcap (ticks)") as update:
+        write_run_mcap(result, str(directory / "run.mcap"), update)
     for name, draw in (("speeds_distances.png", plot_speeds_and_distances),
                        ("trajectories.png", plot_trajectories)):
         figure = draw(result)
         figure.savefig(directory / name, dpi=110)
         plt.close(figure)
-    written = ["log.csv", "speeds_distances.png", "trajectories.png"]
+    written = ["log.csv", "run.mcap", "speeds_distances.png", "trajectories.png"]
     if animation:
         kinds = ["gif"] + (["mp4"] if ffmpeg_available() else [])
         for kind in kinds:
