@@ -18,7 +18,7 @@ from mcap_ros1.decoder import DecoderFactory
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show
 from dancebots.report import mcap_log
-from dancebots.report.mcap_log import write_run_mcap
+from dancebots.report.mcap_log import write_queue_mcap, write_run_mcap
 from dancebots.shows.formation import RobotEvent, RunResult, SimConfig, simulate
 from dancebots.sim import prepare_show
 from dancebots.world import parse_world
@@ -127,3 +127,26 @@ def test_the_types_are_ross_and_the_log_the_same_without_ros(result: RunResult,
         mcap_log._types.cache_clear()
     assert first.read_bytes() == again.read_bytes() == without.read_bytes()
     assert np.isfinite(result.poses).all()
+
+
+def test_a_queue_logs_its_poses_commands_targets_and_leader(tmp_path: Path) -> None:
+    """``follow``'s log: per follower a pose and a command at every tick and a target at
+    every tick its detector has one (the NaN ticks have none), the leader at every tick."""
+    from dancebots.cli.common import bundled
+    from dancebots.shows.queue import QueueConfig, simulate_queue
+    from dancebots.world import load_world
+
+    world = load_world(bundled("follow_crossing.toml"))  # the crossing person hides F1
+    result = simulate_queue(world, QueueConfig(robots=2, detector="a1", controller="pid"))
+    path = tmp_path / "queue.mcap"
+    assert write_queue_mcap(result, str(path)) == len(read(path))
+    counts = Counter(topic for topic, _, _, _ in read(path))
+    ticks = len(result.times)
+    seen = np.isfinite(result.targets).all(axis=2).sum(axis=1)  # (R,) ticks with a target
+    assert 0 < seen[1] < ticks or 0 < seen[0] < ticks  # some ticks without one, some with
+    assert dict(counts) == {
+        "/tf": ticks, "/leader": ticks, "/spectators": ticks,
+        "/F1/pose": ticks, "/F1/cmd_vel": ticks, "/F1/target": int(seen[0]),
+        "/F2/pose": ticks, "/F2/cmd_vel": ticks, "/F2/target": int(seen[1])}
+    leader = [m for topic, _, _, m in read(path) if topic == "/leader"]
+    assert (leader[-1].point.x, leader[-1].point.y) == tuple(result.leader[-1])

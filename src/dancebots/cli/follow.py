@@ -53,7 +53,8 @@ CONTROLLERS = ("pid", "vo")
 LEADERS = ("person", "robot")
 """``shows.queue.LEADERS``."""
 PROFILES = ("ideal", "realistic")
-OUTPUT_NAMES = ("log.csv", "queue.png", "animation.gif", "animation.mp4", "metrics.json")
+OUTPUT_NAMES = ("log.csv", "run.mcap", "queue.png", "animation.gif", "animation.mp4",
+                "metrics.json")
 """Every file a queue run may write into its output directory (besides the manifest)."""
 
 
@@ -145,16 +146,19 @@ def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directo
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from dancebots.report.mcap_log import write_queue_mcap
     from dancebots.report.queue_animation import animate_queue
     from dancebots.report.queue_log import write_queue_log
     from dancebots.report.queue_plots import plot_queue
 
     with open(directory / "log.csv", "w", encoding="utf-8") as handle:
         write_queue_log(result, handle)
+    with progress(console, "run.mcap (ticks)") as update:
+        write_queue_mcap(result, str(directory / "run.mcap"), update)
     figure = plot_queue(result)
     figure.savefig(directory / "queue.png", dpi=110)
     plt.close(figure)
-    written = ["log.csv", "queue.png"]
+    written = ["log.csv", "run.mcap", "queue.png"]
     if animation:
         from dancebots.report.frames import ffmpeg_available
 

@@ -1,9 +1,10 @@
-"""The run as an MCAP log with ROS 1 message types: what Foxglove, PlotJuggler and the ROS
-tools open (docs/run-outputs.md).
+"""A show as an MCAP log with ROS 1 message types: what Foxglove, PlotJuggler and the ROS
+tools open (docs/run-outputs.md, docs/leader-follower.md).
 
 One message per robot per control tick on each of its topics, stamped with the time since
 the start (s, as nanoseconds from the epoch: the log starts on 1 January 1970; nothing here
-reads a clock, so a run's log is the same every time):
+reads a clock, so a run's log is the same every time). A formation show
+(:func:`write_run_mcap`):
 
 * ``/tf`` (``tf2_msgs/TFMessage``): ``world`` -> ``<robot>/base_link`` for every robot;
 * ``/<robot>/pose``, ``/<robot>/desired``, ``/<robot>/virtual_leader``
@@ -14,6 +15,11 @@ reads a clock, so a run's log is the same every time):
 * ``/spectators`` (``geometry_msgs/PoseArray``, frame ``world``): the people, when there are;
 * ``/events`` (``std_msgs/String``): "ROBOT KIND: TEXT" at the time of each event (speech,
   beep, resume, error).
+
+A leader-follower queue (:func:`write_queue_mcap`): ``/tf``, ``/<robot>/pose`` and
+``/<robot>/cmd_vel`` as above, ``/<robot>/target`` (``geometry_msgs/PointStamped``, frame
+``world``: what its detector follows; no message at a tick without one), ``/leader``
+(``geometry_msgs/PointStamped``: the person or robot at the head) and ``/spectators``.
 
 The messages are built from their standard definitions (:data:`DEFINITIONS`, comments left
 out: the same MD5 sums as ROS's) by genpy's dynamic types (ROS's own ``genpy`` where it is
@@ -28,8 +34,9 @@ from functools import cache
 from typing import Any
 
 from dancebots.shows.formation import RunResult
+from dancebots.shows.queue import QueueResult
 
-__all__ = ["DEFINITIONS", "write_run_mcap"]
+__all__ = ["DEFINITIONS", "write_queue_mcap", "write_run_mcap"]
 
 _HEADER = "uint32 seq\ntime stamp\nstring frame_id"
 _POINT = "float64 x\nfloat64 y\nfloat64 z"
@@ -54,6 +61,9 @@ DEFINITIONS: dict[str, str] = {
         "std_msgs/Header header\ngeometry_msgs/Pose[] poses", ("std_msgs/Header", _HEADER),
         ("geometry_msgs/Pose", _POSE), ("geometry_msgs/Point", _POINT),
         ("geometry_msgs/Quaternion", _QUATERNION)),
+    "geometry_msgs/PointStamped": _full(
+        "std_msgs/Header header\ngeometry_msgs/Point point", ("std_msgs/Header", _HEADER),
+        ("geometry_msgs/Point", _POINT)),
     "geometry_msgs/Twist": _full(_TWIST, ("geometry_msgs/Vector3", _POINT)),
     "geometry_msgs/TwistStamped": _full(
         "std_msgs/Header header\ngeometry_msgs/Twist twist", ("std_msgs/Header", _HEADER),
@@ -92,76 +102,128 @@ def _types() -> dict[str, Any]:
     return classes
 
 
+class _Log:
+    """Message constructors of one log (poses, twists, points in ``world``) and the MCAP
+    writer they go to; ``count`` messages written."""
+
+    def __init__(self, writer: Any) -> None:
+        self.writer, self.count = writer, 0
+        types = _types()
+        self.types = types
+        self.time = _genpy().Time
+        self._header, self._point = types["std_msgs/Header"], types["geometry_msgs/Point"]
+        self._pose = types["geometry_msgs/Pose"]
+        self._quaternion = types["geometry_msgs/Quaternion"]
+        self._vector = types["geometry_msgs/Vector3"]
+
+    def write(self, topic: str, message: Any, t: float, sequence: int) -> None:
+        self.writer.write_message(topic, message, log_time=round(max(t, 0.0) * 1e9),
+                                  sequence=sequence)
+        self.count += 1
+
+    def header(self, k: int, t: float, frame: str) -> Any:
+        return self._header(k, self.time.from_sec(max(t, 0.0)), frame)
+
+    def pose(self, x: float, y: float, theta: float) -> Any:
+        return self._pose(self._point(x, y, 0.0), self._quaternion(
+            0.0, 0.0, math.sin(0.5 * theta), math.cos(0.5 * theta)))
+
+    def pose_stamped(self, header: Any, x: float, y: float, theta: float) -> Any:
+        return self.types["geometry_msgs/PoseStamped"](header, self.pose(x, y, theta))
+
+    def point_stamped(self, header: Any, x: float, y: float) -> Any:
+        return self.types["geometry_msgs/PointStamped"](header, self._point(x, y, 0.0))
+
+    def twist(self, linear: float, angular: float) -> Any:
+        return self.types["geometry_msgs/Twist"](self._vector(linear, 0.0, 0.0),
+                                                 self._vector(0.0, 0.0, angular))
+
+    def frames(self, header: Any, robots: tuple[str, ...],
+               poses: list[tuple[float, float, float]]) -> Any:
+        """``/tf``: ``world`` -> ``<robot>/base_link`` at ``poses`` (x, y, theta)."""
+        transform = self.types["geometry_msgs/Transform"]
+        stamped = self.types["geometry_msgs/TransformStamped"]
+        return self.types["tf2_msgs/TFMessage"]([stamped(
+            header, f"{robot}/base_link", transform(self._vector(x, y, 0.0),
+                                                    self.pose(x, y, theta).orientation))
+            for robot, (x, y, theta) in zip(robots, poses, strict=True)])
+
+    def people(self, header: Any, spectators: list[list[list[float]]], k: int) -> Any:
+        """``/spectators``: where the people (C, T, 2) are at tick ``k``."""
+        return self.types["geometry_msgs/PoseArray"](
+            header, [self.pose(p[k][0], p[k][1], 0.0) for p in spectators])
+
+
 def write_run_mcap(result: RunResult, path: str,
                    progress: Callable[[int, int], None] | None = None) -> int:
-    """Write the run ``result`` as an MCAP file at ``path`` (module docstring); returns the
-    number of messages. ``progress(done, total)`` is called once per control tick."""
+    """Write the formation run ``result`` as an MCAP file at ``path`` (module docstring);
+    returns the number of messages. ``progress(done, total)`` is called once per tick."""
     from mcap_ros1.writer import Writer  # type: ignore[import-untyped,unused-ignore]
-
-    types = _types()
-    pose_stamped, pose_array = types["geometry_msgs/PoseStamped"], types["geometry_msgs/PoseArray"]
-    twist, twist_stamped = types["geometry_msgs/Twist"], types["geometry_msgs/TwistStamped"]
-    tf_message, transform = types["tf2_msgs/TFMessage"], types["geometry_msgs/TransformStamped"]
-    string, header = types["std_msgs/String"], types["std_msgs/Header"]
-    pose_type, point, quaternion = (types["geometry_msgs/Pose"], types["geometry_msgs/Point"],
-                                    types["geometry_msgs/Quaternion"])
-    vector = types["geometry_msgs/Vector3"]
-
-    time_type = _genpy().Time
-
-    def stamp(t: float) -> Any:
-        return time_type.from_sec(max(t, 0.0))
-
-    def pose_of(x: float, y: float, theta: float) -> Any:
-        return pose_type(point(x, y, 0.0),
-                         quaternion(0.0, 0.0, math.sin(0.5 * theta), math.cos(0.5 * theta)))
 
     robots, times = result.robots, result.times.tolist()
     poses, desired, leader = result.poses.tolist(), result.desired.tolist(), result.leader.tolist()
     velocities, commands = result.velocities.tolist(), result.commands.tolist()
     spectators = result.spectators.tolist()
     events = sorted(result.events, key=lambda e: e.time)
-    count = 0
     with open(path, "wb") as handle, Writer(handle) as writer:
-        def write(topic: str, message: Any, t: float, sequence: int) -> None:
-            nonlocal count
-            writer.write_message(topic, message, log_time=round(max(t, 0.0) * 1e9),
-                                 sequence=sequence)
-            count += 1
+        log = _Log(writer)
+        string, twist_stamped = (log.types["std_msgs/String"],
+                                 log.types["geometry_msgs/TwistStamped"])
 
-        next_event = 0
+        def say(index: int) -> None:
+            event = events[index]
+            log.write("/events", string(f"{event.robot} {event.kind}: {event.text}".strip()),
+                      event.time, index)
+
+        said = 0
         for k, t in enumerate(times):
-            while next_event < len(events) and events[next_event].time <= t + 1e-9:
-                event = events[next_event]
-                write("/events", string(f"{event.robot} {event.kind}: {event.text}".strip()),
-                      event.time, next_event)
-                next_event += 1
-            when = stamp(t)
-            world = header(k, when, "world")
-            frames = []
+            while said < len(events) and events[said].time <= t + 1e-9:
+                say(said)
+                said += 1
+            world = log.header(k, t, "world")
             for i, robot in enumerate(robots):
-                x, y, theta = poses[i][k]
-                frames.append(transform(world, f"{robot}/base_link", types[
-                    "geometry_msgs/Transform"](vector(x, y, 0.0), pose_of(x, y, theta)
-                                               .orientation)))
-                write(f"/{robot}/pose", pose_stamped(world, pose_of(x, y, theta)), t, k)
-                write(f"/{robot}/desired", pose_stamped(world, pose_of(*desired[i][k])), t, k)
-                write(f"/{robot}/virtual_leader", pose_stamped(world, pose_of(*leader[i][k])),
-                      t, k)
-                v, w = commands[i][k]
-                write(f"/{robot}/cmd_vel", twist(vector(v, 0.0, 0.0), vector(0.0, 0.0, w)), t, k)
-                v, w = velocities[i][k]
-                write(f"/{robot}/velocity", twist_stamped(
-                    header(k, when, f"{robot}/base_link"),
-                    twist(vector(v, 0.0, 0.0), vector(0.0, 0.0, w))), t, k)
-            write("/tf", tf_message(frames), t, k)
+                log.write(f"/{robot}/pose", log.pose_stamped(world, *poses[i][k]), t, k)
+                log.write(f"/{robot}/desired", log.pose_stamped(world, *desired[i][k]), t, k)
+                log.write(f"/{robot}/virtual_leader", log.pose_stamped(world, *leader[i][k]),
+                          t, k)
+                log.write(f"/{robot}/cmd_vel", log.twist(*commands[i][k]), t, k)
+                log.write(f"/{robot}/velocity", twist_stamped(
+                    log.header(k, t, f"{robot}/base_link"), log.twist(*velocities[i][k])),
+                    t, k)
+            log.write("/tf", log.frames(world, robots, [p[k] for p in poses]), t, k)
             if spectators:
-                write("/spectators", pose_array(world, [pose_of(p[k][0], p[k][1], 0.0)
-                                                        for p in spectators]), t, k)
+                log.write("/spectators", log.people(world, spectators, k), t, k)
             if progress is not None:
                 progress(k + 1, len(times))
-        for event in events[next_event:]:  # after the last tick (none, as the loop records)
-            write("/events", string(f"{event.robot} {event.kind}: {event.text}".strip()),
-                  event.time, next_event)
-            next_event += 1
-    return count
+        for index in range(said, len(events)):  # after the last tick (none: it records them)
+            say(index)
+    return log.count
+
+
+def write_queue_mcap(result: QueueResult, path: str,
+                     progress: Callable[[int, int], None] | None = None) -> int:
+    """Write the leader-follower queue ``result`` as an MCAP file at ``path`` (module
+    docstring); returns the number of messages. ``progress(done, total)``: once per tick."""
+    from mcap_ros1.writer import Writer  # type: ignore[import-untyped,unused-ignore]
+
+    robots, times = result.robots, result.times.tolist()
+    poses, commands = result.poses.tolist(), result.commands.tolist()
+    targets, leader = result.targets.tolist(), result.leader.tolist()
+    spectators = result.spectators.tolist()
+    with open(path, "wb") as handle, Writer(handle) as writer:
+        log = _Log(writer)
+        for k, t in enumerate(times):
+            world = log.header(k, t, "world")
+            for i, robot in enumerate(robots):
+                log.write(f"/{robot}/pose", log.pose_stamped(world, *poses[i][k]), t, k)
+                log.write(f"/{robot}/cmd_vel", log.twist(*commands[i][k]), t, k)
+                if all(map(math.isfinite, targets[i][k])):
+                    log.write(f"/{robot}/target", log.point_stamped(world, *targets[i][k]),
+                              t, k)
+            log.write("/leader", log.point_stamped(world, *leader[k]), t, k)
+            log.write("/tf", log.frames(world, robots, [p[k] for p in poses]), t, k)
+            if spectators:
+                log.write("/spectators", log.people(world, spectators, k), t, k)
+            if progress is not None:
+                progress(k + 1, len(times))
+    return log.count
