@@ -13,7 +13,13 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from dancebots.report.frames import blit_frames, ffmpeg_available, frame_ticks, write_frames
+from dancebots.report.frames import (
+    blit_frames,
+    ffmpeg_available,
+    frame_ticks,
+    write_animation,
+    write_frames,
+)
 
 TIMES = np.arange(201) * 0.05  # 10 s sampled at 20 Hz
 
@@ -106,3 +112,38 @@ def test_no_frames_is_an_error(tmp_path: Path) -> None:
         write_frames(blit_frames(figure, update, []), str(tmp_path / "none.gif"), fps=10,
                      count=0)
     assert not plt.fignum_exists(figure.number)
+
+
+def test_one_rendering_goes_to_the_gif_and_the_mp4(tmp_path: Path) -> None:
+    """Every frame is drawn once however many files it goes to; the GIF has every frame with
+    one palette, and a colour that only a later frame shows (a person, here a purple square
+    from frame 3 on) keeps its colour: the palette holds the accent colours too."""
+    figure, _, update = moving_dot()
+    square = figure.axes[0].plot([], [], "s", color="purple", markersize=12)[0]
+    drawn: list[int] = []
+
+    def counted(k: int) -> list[Any]:
+        drawn.append(k)
+        square.set_data(([8.0], [0.8]) if k >= 30 else ([], []))
+        return [*update(k), square]
+
+    keys = [0, 10, 20, 30, 40]
+    paths = [str(tmp_path / "dot.gif")] + (
+        [str(tmp_path / "dot.mp4")] if ffmpeg_available() else [])
+    assert write_animation(blit_frames(figure, counted, keys), paths, fps=10, count=5) == 5
+    assert drawn == [0, *keys]  # the background once, then each frame once
+    with Image.open(paths[0]) as image:
+        assert image.n_frames == 5
+        image.seek(4)
+        rgb = np.asarray(image.convert("RGB"))
+    purple = np.all(np.abs(rgb.astype(int) - [128, 0, 128]) <= 12, axis=-1)
+    assert np.count_nonzero(purple) > 20  # the square, still purple
+    if len(paths) > 1:
+        assert Path(paths[1]).read_bytes()[4:8] == b"ftyp"
+
+
+def test_no_file_to_write_is_an_error() -> None:
+    figure, _, update = moving_dot()
+    with pytest.raises(ValueError, match="no file"):
+        write_animation(blit_frames(figure, update, [0]), [], fps=10, count=1)
+    plt.close(figure)

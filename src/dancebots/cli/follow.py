@@ -162,10 +162,10 @@ def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directo
     if animation:
         from dancebots.report.frames import ffmpeg_available
 
-        for kind in ["gif"] + (["mp4"] if ffmpeg_available() else []):
-            with progress(console, f"animation.{kind} (frames)") as update:
-                animate_queue(result, str(directory / f"animation.{kind}"), progress=update)
-            written.append(f"animation.{kind}")
+        names = ["animation.gif"] + (["animation.mp4"] if ffmpeg_available() else [])
+        with progress(console, f"{' and '.join(names)} (frames)") as update:
+            animate_queue(result, [str(directory / name) for name in names], progress=update)
+        written.extend(names)
     (directory / "metrics.json").write_text(json.dumps(
         {**metrics.to_json(), "verdict": verdict.to_json()}, indent=2) + "\n", encoding="utf-8")
     return [*written, "metrics.json"]

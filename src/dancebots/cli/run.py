@@ -202,12 +202,11 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, dir
         plt.close(figure)
     written = ["log.csv", "run.mcap", "speeds_distances.png", "trajectories.png"]
     if animation:
-        kinds = ["gif"] + (["mp4"] if ffmpeg_available() else [])
-        for kind in kinds:
-            with progress(console, f"animation.{kind} (frames)") as update:
-                animate_run(result, str(directory / f"animation.{kind}"),
-                            progress=lambda done, total: update(done, total))
-            written.append(f"animation.{kind}")
+        names = ["animation.gif"] + (["animation.mp4"] if ffmpeg_available() else [])
+        with progress(console, f"{' and '.join(names)} (frames)") as update:
+            animate_run(result, [str(directory / name) for name in names],
+                        progress=lambda done, total: update(done, total))
+        written.extend(names)
     if sound:
         from dancebots.report.sound import render_events_wav
 

@@ -9,7 +9,7 @@ blitting, GIF with Pillow, MP4 through ffmpeg).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.report.drawing import draw_arena
-from dancebots.report.frames import blit_frames, frame_ticks, write_frames
+from dancebots.report.frames import blit_frames, frame_ticks, write_animation
 from dancebots.shows.formation import RunResult
 
 __all__ = ["animate_run", "render_frames"]
@@ -129,9 +129,11 @@ def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
     return len(ticks), blit_frames(fig, update, ticks.tolist())
 
 
-def animate_run(result: RunResult, path: str, *, speedup: float = 5.0, fps: int = 10,
-                progress: Callable[[int, int], None] | None = None) -> None:
-    """Write the animation to ``path``: ``.mp4`` through ffmpeg, anything else as a GIF;
-    ``progress(frame, frames)`` after each frame, from 1."""
+def animate_run(result: RunResult, path: str | Sequence[str], *, speedup: float = 5.0,
+                fps: int = 10, progress: Callable[[int, int], None] | None = None) -> None:
+    """Write the animation to ``path`` (or to each of several paths, every frame rendered
+    once): ``.mp4`` through ffmpeg, anything else as a GIF; ``progress(frame, frames)`` after
+    each frame, from 1."""
     count, frames = render_frames(result, speedup=speedup, fps=fps)
-    write_frames(frames, path, fps=fps, count=count, progress=progress)
+    write_animation(frames, [path] if isinstance(path, str) else path, fps=fps, count=count,
+                    progress=progress)

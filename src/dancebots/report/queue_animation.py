@@ -9,13 +9,13 @@ through ffmpeg).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.report.frames import blit_frames, frame_ticks, write_frames
+from dancebots.report.frames import blit_frames, frame_ticks, write_animation
 from dancebots.report.queue_plots import draw_room
 from dancebots.shows.queue import LEADER, QueueResult
 
@@ -86,10 +86,11 @@ def render_queue_frames(result: QueueResult, *, speedup: float = 5.0, fps: int =
     return len(ticks), blit_frames(figure, update, ticks.tolist())
 
 
-def animate_queue(result: QueueResult, path: str, *, speedup: float = 5.0,
+def animate_queue(result: QueueResult, path: str | Sequence[str], *, speedup: float = 5.0,
                   fps: int = 10, progress: Callable[[int, int], None] | None = None) -> int:
-    """Write the run as a GIF, or an MP4 when ``path`` ends in .mp4 (needs ffmpeg), at
-    ``speedup`` x real time; ``progress(frame, frames)`` after each frame, from 1. Returns
-    the number of frames."""
+    """Write the run as a GIF, or an MP4 when ``path`` ends in .mp4 (needs ffmpeg), or to
+    each of several paths with every frame rendered once, at ``speedup`` x real time;
+    ``progress(frame, frames)`` after each frame, from 1. Returns the number of frames."""
     count, frames = render_queue_frames(result, speedup=speedup, fps=fps)
-    return write_frames(frames, path, fps=fps, count=count, progress=progress)
+    return write_animation(frames, [path] if isinstance(path, str) else path, fps=fps,
+                           count=count, progress=progress)
