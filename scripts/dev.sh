@@ -4,7 +4,7 @@
 #   run every test:    bash scripts/dev.sh test
 # Works on a fresh Debian 12 as root; installs python3-venv, ffmpeg and espeak-ng with apt-get
 # if they are missing, and for the tests Debian's ROS 1 packages (a real roscore for the ROS
-# tests), iproute2 (network namespaces) and procps.
+# tests), iproute2 (network namespaces), procps and Chromium (show.html in a real browser).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=/usr/bin/python3
@@ -31,6 +31,7 @@ ros_install() {  # the ROS tests run a real roscore and real nodes
     2>/dev/null || missing+=("${ROS_PACKAGES[@]}")
   command -v ip >/dev/null || missing+=(iproute2)
   command -v ps >/dev/null || missing+=(procps)
+  command -v chromium >/dev/null || missing+=(chromium)  # show.html, tested in a real browser
   if [ ${#missing[@]} -gt 0 ] && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     echo "dancebots: installing ${missing[*]} (apt-get)" >&2
     apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
@@ -38,6 +39,7 @@ ros_install() {  # the ROS tests run a real roscore and real nodes
   fi
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     export DANCEBOTS_REQUIRE_ROS=1  # ROS could be installed: its tests must run, not skip
+    export DANCEBOTS_REQUIRE_BROWSER=1  # and Chromium: the replay's test must run too
   fi
 }
 

@@ -159,7 +159,7 @@ def test_a_rerun_replaces_only_its_own_files(capsys: Capture, tmp_path: Path) ->
     after = snapshot(out)
     assert {k: after[k] for k in mine} == mine
     manifest = json.loads((out / MANIFEST).read_text())
-    assert sorted(manifest["files"]) == ["log.csv", "metrics.json", "run.mcap",
+    assert sorted(manifest["files"]) == ["log.csv", "metrics.json", "run.mcap", "show.html",
                                          "speeds_distances.png", "trajectories.png"]
     assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no staging left
 

@@ -21,7 +21,7 @@ def test_run_writes_every_output(capsys: Capture, examples: Path, tmp_path: Path
     assert status == 0
     names = {p.name for p in out.iterdir()}
     assert {"metrics.json", "speeds_distances.png", "trajectories.png", "log.csv",
-            "run.mcap", "animation.gif"} <= names
+            "run.mcap", "show.html", "animation.gif"} <= names
     assert (out / "animation.gif").read_bytes()[:6] == b"GIF89a"
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["collisions"] == 0

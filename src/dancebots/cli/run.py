@@ -51,7 +51,7 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
                "robot in its error state, a robot far from its final slot or heading, a robot "
                "driving against its slot's direction); 2 when the input is invalid.")
 
-OUTPUT_NAMES = ("log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
+OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
                 "animation.gif", "animation.mp4", "sound.wav", "metrics.json")
 """Every file a run may write into its output directory (besides the manifest)."""
 PROFILES = ("ideal", "realistic")
@@ -173,13 +173,15 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
     metrics = run_metrics(result)
     verdict = run_verdict(metrics, args.final_tolerance or FINAL_SLOT_TOLERANCE)
     written = _write_outputs(result, metrics, verdict, staging, console,
-                             not args.no_animation, args.sound)
+                             not args.no_animation, args.sound,
+                             show.sources.get(plan.scenario.path))
     return ShowOutcome(written, wall, verdict, metrics.to_json(), lambda: _summary(
         result, metrics, verdict, wall, target, written))
 
 
 def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, directory: Path,
-                   console: Console, animation: bool, sound: bool = False) -> list[str]:
+                   console: Console, animation: bool, sound: bool = False,
+                   source_lines: list[str] | None = None) -> list[str]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -188,6 +190,7 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, dir
     from dancebots.report.animation import animate_run
     from dancebots.report.frames import ffmpeg_available
     from dancebots.report.mcap_log import write_run_mcap
+    from dancebots.report.replay import write_replay_html
     from dancebots.report.run_plots import plot_speeds_and_distances, plot_trajectories
     from dancebots.report.runlog import write_log
 
@@ -200,7 +203,8 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, dir
         figure = draw(result)
         figure.savefig(directory / name, dpi=110)
         plt.close(figure)
-    written = ["log.csv", "run.mcap", "speeds_distances.png", "trajectories.png"]
+    write_replay_html(result, str(directory / "show.html"), source_lines)
+    written = ["show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png"]
     if animation:
         names = ["animation.gif"] + (["animation.mp4"] if ffmpeg_available() else [])
         with progress(console, f"{' and '.join(names)} (frames)") as update:

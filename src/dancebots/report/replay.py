@@ -1,0 +1,110 @@
+"""``show.html``: a formation run as one self-contained web page that replays it (issue 14).
+
+No server and no network: the run's samples and the player (``replay.html``, plain
+JavaScript on a canvas) are inlined in the file, which opens from the output directory in any
+browser. The player draws the room and obstacles, every robot's footprint with its heading
+and name, where it believes its desired pose (dashed) and its virtual leader (+) are, trails,
+and the people; it plays and pauses, at 1-20x, and scrubs on a timeline that marks each
+choreography instruction (its line and text) while its formation's leader executes it and
+each event (speech, beep, resume, error: click one to jump to it). ``show.html#t=12.5`` opens
+at show time 12.5 s.
+
+The samples are float32 arrays (poses to well under a millimetre in a 100 m room), base64
+in a JSON block: 100 robots for 10 minutes are about 30 MB, and a frame draws only the robots,
+their trails and the people of one tick. The page keeps its state in ``document.body``'s data
+attributes (``data-time``, ``data-tick``, ``data-playing``, ``data-robots``, ``data-people``,
+``data-ready``) and in ``window.dancebotsReplay`` (``seek(t)``, ``state()``): what the tests
+read from a real browser.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+from collections.abc import Sequence
+from importlib import resources
+from typing import Any
+
+import numpy as np
+
+from dancebots.shows.formation import STATUS, RunResult
+
+__all__ = ["replay_data", "write_replay_html"]
+
+PLACEHOLDER = "/*DANCEBOTS_DATA*/null"
+"""Where the template takes the run's data (a JSON object literal)."""
+
+
+def _packed(array: np.ndarray[Any, Any], dtype: str = "<f4") -> str:
+    """``array`` as little-endian ``dtype`` bytes in base64 (a JavaScript typed array)."""
+    return base64.b64encode(np.ascontiguousarray(array, dtype=dtype).tobytes()).decode()
+
+
+def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
+                ) -> dict[str, Any]:
+    """What the page draws, as JSON-ready values: times (T,) s; per robot its name, footprint
+    (m) and colour; poses, desired poses and leaders (R, T, 3) world frame and status codes
+    (R, T) packed; people (C, T, 2) with radii; the room and obstacle polygons; the
+    instructions (line, text from ``source_lines`` or the instruction's kind, start and end
+    s of each formation change and of each move or circle as its leader ran it, and the
+    formation's index: its lane on the timeline) and the events."""
+    from matplotlib.colors import to_hex
+
+    from dancebots.report.run_plots import robot_colours
+
+    plan, placement, arena = result.plan, result.placement, result.arena
+
+    def text(line: int, fallback: str) -> str:
+        if source_lines is not None and 0 < line <= len(source_lines):
+            return source_lines[line - 1].strip()
+        return fallback
+
+    instructions = []
+    for lane, formation in enumerate(plan.formations):  # a lane per formation on the page
+        line = formation.span.line
+        instructions.append({"line": line, "start": formation.start,
+                             "end": formation.timings[0].start if formation.timings
+                             else formation.start,
+                             "text": text(line, "formation"), "lane": lane})
+        for timing in formation.timings:
+            instructions.append({"line": timing.span.line, "start": timing.start,
+                                 "end": timing.end, "lane": lane, "text": text(
+                                     timing.span.line, type(timing.instruction).__name__.lower())})
+    instructions.sort(key=lambda item: (item["start"], item["line"]))
+    colours = robot_colours(len(result.robots))
+    return {
+        "title": plan.scenario.path,
+        "profile": result.config.profile.name,
+        "duration": plan.duration,
+        "count": len(result.times),
+        "times": _packed(result.times),
+        "robots": [{"name": name, "length": kind.length, "width": kind.width,
+                    "colour": to_hex(colours[i])}
+                   for i, (name, kind) in enumerate(zip(placement.robots, placement.types,
+                                                        strict=True))],
+        "poses": _packed(result.poses),
+        "desired": _packed(result.desired),
+        "leaders": _packed(result.leader),
+        "status": _packed(result.status, "u1"),
+        "status_names": list(STATUS),
+        "people": _packed(result.spectators),
+        "radii": result.spectator_radii.tolist(),
+        "room": np.asarray(arena.room).tolist(),
+        "obstacles": [np.asarray(o.polygon).tolist() for o in arena.obstacles],
+        "instructions": instructions,
+        "events": [{"t": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
+                   for e in sorted(result.events, key=lambda e: e.time)],
+    }
+
+
+def write_replay_html(result: RunResult, path: str,
+                      source_lines: Sequence[str] | None = None) -> None:
+    """Write the run's replay page to ``path`` (module docstring)."""
+    template = resources.files("dancebots.report").joinpath("replay.html").read_text(
+        encoding="utf-8")
+    assert template.count(PLACEHOLDER) == 1, "the replay template lost its data slot"
+    # "</" never appears inside the script block: a text could otherwise close it
+    data = json.dumps(replay_data(result, source_lines), separators=(",", ":"),
+                      allow_nan=False).replace("</", "<\\/")
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(template.replace(PLACEHOLDER, data))

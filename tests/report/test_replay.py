@@ -1,0 +1,113 @@
+"""show.html (report/replay.py): the run's data as the page gets it, and the page itself in a
+real browser (Debian's headless Chromium) scrubbed to chosen times, read from the state the
+page keeps in its DOM for the purpose."""
+
+from __future__ import annotations
+
+import base64
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from dancebots.check import CheckOptions
+from dancebots.loading import load_show
+from dancebots.report.replay import replay_data, write_replay_html
+from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.sim import prepare_show
+
+ROOT = Path(__file__).parents[2]
+SHOW = ROOT / "examples" / "row_bystander.dance"
+WORLD = ROOT / "examples" / "worlds" / "row_bystander.toml"
+
+
+@pytest.fixture(scope="module")
+def run() -> tuple[RunResult, list[str]]:
+    show = load_show(str(SHOW), str(WORLD), None, check=CheckOptions())
+    assert show.report is not None
+    assert show.report.placement is not None
+    arena, placement = prepare_show(show.report.placement)
+    result = simulate(show.report.placement.plan, arena, placement, SimConfig())
+    return result, SHOW.read_text(encoding="utf-8").splitlines()
+
+
+def unpacked(text: str, dtype: str) -> np.ndarray[Any, Any]:
+    return np.frombuffer(base64.b64decode(text), dtype=dtype)
+
+
+def test_the_page_gets_the_runs_samples_instructions_and_events(
+        run: tuple[RunResult, list[str]]) -> None:
+    result, lines = run
+    data = replay_data(result, lines)
+    count, robots = len(result.times), len(result.robots)
+    assert data["count"] == count
+    np.testing.assert_array_equal(unpacked(data["poses"], "<f4").reshape(robots, count, 3),
+                                  result.poses.astype(np.float32))
+    np.testing.assert_array_equal(unpacked(data["status"], "u1").reshape(robots, count),
+                                  result.status)
+    assert [r["name"] for r in data["robots"]] == list(result.robots)
+    for instruction in data["instructions"]:  # the line's own text, as the file has it
+        assert instruction["text"] == lines[instruction["line"] - 1].strip()
+        assert instruction["start"] <= instruction["end"]
+    assert {i["line"] for i in data["instructions"]} == {
+        n for n, text in enumerate(lines, start=1)
+        if text.strip().split(" ")[0] in ("row", "column", "square", "move", "circle")}
+    assert [(e["t"], e["robot"], e["kind"]) for e in data["events"]] == [
+        (e.time, e.robot, e.kind) for e in result.events]
+    assert any(e["kind"] == "speech" for e in data["events"])  # the bystander stops R1
+
+
+def browser() -> str:
+    found = shutil.which("chromium")
+    if found is None:
+        if os.environ.get("DANCEBOTS_REQUIRE_BROWSER") == "1":
+            pytest.fail("chromium is not installed (scripts/dev.sh test installs it)")
+        pytest.skip("chromium is not installed (scripts/dev.sh test installs it)")
+    return found
+
+
+def open_in_browser(page: Path, fragment: str, profile: Path) -> tuple[str, str]:
+    """The page's DOM after its scripts ran (headless Chromium) and the browser's log."""
+    done = subprocess.run(
+        [browser(), "--headless", "--no-sandbox", "--disable-gpu", f"--user-data-dir={profile}",
+         "--enable-logging=stderr", "--v=0", "--virtual-time-budget=5000",
+         "--window-size=1200,800", "--dump-dom", f"{page.as_uri()}#{fragment}"],
+        capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return done.stdout, done.stderr
+
+
+def body_state(dom: str) -> dict[str, str]:
+    body = re.search(r"<body([^>]*)>", dom)
+    assert body is not None, dom[:500]
+    return dict(re.findall(r'data-([a-z]+)="([^"]*)"', body.group(1)))
+
+
+def test_the_page_scrubbed_in_a_real_browser_shows_that_moment(
+        run: tuple[RunResult, list[str]], tmp_path: Path) -> None:
+    """From the output directory, with no network: at each time asked for in the address
+    (show.html#t=...), the page shows that tick, the instructions active then, every robot
+    and person, and logs nothing to its console (no error)."""
+    result, lines = run
+    page = tmp_path / "show.html"
+    write_replay_html(result, str(page), lines)
+    data = replay_data(result, lines)
+    for wanted in (0.0, 12.3, float(result.times[-1])):
+        dom, log = open_in_browser(page, f"t={wanted}", tmp_path / "profile")
+        state = body_state(dom)
+        tick = int(np.searchsorted(result.times, wanted + 1e-6) - 1)
+        active = {str(i["line"]) for i in data["instructions"]
+                  if i["start"] <= result.times[tick] + 1e-6 < i["end"]}
+        shown = state.pop("instruction")
+        assert set(filter(None, shown.split(","))) == active
+        assert state == {"ready": "1", "time": f"{result.times[tick]:.1f}", "tick": str(tick),
+                         "robots": str(len(result.robots)),
+                         "people": str(len(result.spectator_radii)), "playing": "0"}
+        assert "CONSOLE" not in log, log[-2000:]
+    # nothing to fetch: no address but the page's own in it
+    assert not re.search(r"(src|href)=", page.read_text(encoding="utf-8"))
