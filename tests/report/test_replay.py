@@ -85,7 +85,7 @@ def open_in_browser(page: Path, fragment: str, profile: Path) -> tuple[str, str]
 def body_state(dom: str) -> dict[str, str]:
     body = re.search(r"<body([^>]*)>", dom)
     assert body is not None, dom[:500]
-    return dict(re.findall(r'data-([a-z]+)="([^"]*)"', body.group(1)))
+    return dict(re.findall(r'data-([a-z-]+)="([^"]*)"', body.group(1)))
 
 
 def test_the_page_scrubbed_in_a_real_browser_shows_that_moment(
@@ -104,6 +104,8 @@ def test_the_page_scrubbed_in_a_real_browser_shows_that_moment(
         active = {str(i["line"]) for i in data["instructions"]
                   if i["start"] <= result.times[tick] + 1e-6 < i["end"]}
         shown = state.pop("instruction")
+        assert float(state.pop("load-ms")) >= 0.0
+        assert float(state.pop("draw-ms")) >= 0.0
         assert set(filter(None, shown.split(","))) == active
         assert state == {"ready": "1", "time": f"{result.times[tick]:.1f}", "tick": str(tick),
                          "robots": str(len(result.robots)),
