@@ -113,3 +113,32 @@ def test_the_page_scrubbed_in_a_real_browser_shows_that_moment(
         assert "CONSOLE" not in log, log[-2000:]
     # nothing to fetch: no address but the page's own in it
     assert not re.search(r"(src|href)=", page.read_text(encoding="utf-8"))
+
+
+def test_a_queue_replays_its_targets_and_when_they_were_lost(tmp_path: Path) -> None:
+    """``follow``'s page: the targets as the detector had them (NaN where none), the head of
+    the queue, and an event at every tick a follower lost its target (or had it back); the
+    page opens in the browser with them and an empty console."""
+    from dancebots.cli.common import bundled
+    from dancebots.report.replay import queue_replay_data, write_queue_replay_html
+    from dancebots.shows.queue import QueueConfig, simulate_queue
+    from dancebots.world import load_world
+
+    result = simulate_queue(load_world(bundled("follow_crossing.toml")),
+                            QueueConfig(robots=2, detector="a1", controller="pid"))
+    data = queue_replay_data(result)
+    count = len(result.times)
+    targets = unpacked(data["targets"], "<f4").reshape(2, count, 2)
+    np.testing.assert_array_equal(targets, result.targets.astype(np.float32))
+    lost = ~np.isfinite(result.targets).all(axis=2)
+    onsets = [(float(result.times[k]), robot) for i, robot in enumerate(result.robots)
+              for k in range(count) if lost[i, k] and (k == 0 or not lost[i, k - 1])]
+    assert onsets  # the crossing person hides the one in front
+    assert sorted((e["t"], e["robot"]) for e in data["events"] if e["kind"] == "lost") == \
+        sorted(onsets)
+    page = tmp_path / "show.html"
+    write_queue_replay_html(result, str(page))
+    dom, log = open_in_browser(page, f"t={onsets[0][0]}", tmp_path / "profile")
+    state = body_state(dom)
+    assert (state["ready"], state["robots"], state["instruction"]) == ("1", "2", "")
+    assert "CONSOLE" not in log, log[-2000:]

@@ -63,7 +63,8 @@ def test_follow_command_writes_its_outputs(tmp_path: Path, capsys) -> None:  # t
     assert main(["follow", "--robots", "2", "--detector", "a2-track", "--controller", "pid",
                  "--no-animation", "--out", str(out)]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["dancebots-manifest.json", "log.csv",
-                                                     "metrics.json", "queue.png", "run.mcap"]
+                                                     "metrics.json", "queue.png", "run.mcap",
+                                                     "show.html"]
     metrics = json.loads((out / "metrics.json").read_text())
     assert [f["robot"] for f in metrics["followers"]] == ["F1", "F2"]
     assert metrics["queue_intact"] is True

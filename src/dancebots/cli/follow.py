@@ -53,8 +53,8 @@ CONTROLLERS = ("pid", "vo")
 LEADERS = ("person", "robot")
 """``shows.queue.LEADERS``."""
 PROFILES = ("ideal", "realistic")
-OUTPUT_NAMES = ("log.csv", "run.mcap", "queue.png", "animation.gif", "animation.mp4",
-                "metrics.json")
+OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "queue.png", "animation.gif",
+                "animation.mp4", "metrics.json")
 """Every file a queue run may write into its output directory (besides the manifest)."""
 
 
@@ -150,6 +150,7 @@ def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directo
     from dancebots.report.queue_animation import animate_queue
     from dancebots.report.queue_log import write_queue_log
     from dancebots.report.queue_plots import plot_queue
+    from dancebots.report.replay import write_queue_replay_html
 
     with open(directory / "log.csv", "w", encoding="utf-8") as handle:
         write_queue_log(result, handle)
@@ -158,7 +159,8 @@ def _write(result: QueueResult, metrics: QueueMetrics, verdict: Verdict, directo
     figure = plot_queue(result)
     figure.savefig(directory / "queue.png", dpi=110)
     plt.close(figure)
-    written = ["log.csv", "run.mcap", "queue.png"]
+    write_queue_replay_html(result, str(directory / "show.html"))
+    written = ["show.html", "log.csv", "run.mcap", "queue.png"]
     if animation:
         from dancebots.report.frames import ffmpeg_available
 

@@ -30,8 +30,10 @@ from typing import Any
 import numpy as np
 
 from dancebots.shows.formation import STATUS, RunResult
+from dancebots.shows.queue import QueueResult
 
-__all__ = ["replay_data", "replay_page", "write_replay_html"]
+__all__ = ["queue_replay_data", "replay_data", "replay_page", "write_queue_replay_html",
+           "write_replay_html"]
 
 PLACEHOLDER = "/*DANCEBOTS_DATA*/null"
 """Where the template takes the run's data (a JSON object literal)."""
@@ -97,6 +99,55 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
         "events": [{"t": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
                    for e in sorted(result.events, key=lambda e: e.time)],
     }
+
+
+def queue_replay_data(result: QueueResult) -> dict[str, Any]:
+    """What the page draws of a leader-follower queue (``dancebots follow``): the followers
+    (poses, footprints of their type, colours), the detector's target of each (R, T, 2)
+    where it has one (NaN where not: not drawn), the leader's path (T, 2), the people, the
+    room; no instructions; as events, each time a follower loses its target or has it
+    kidnapped (``QueueResult.kidnapped``) and when it has it back."""
+    from matplotlib.colors import to_hex
+
+    from dancebots.report.run_plots import robot_colours
+
+    kind = result.config.robot_type
+    count, robots = len(result.times), len(result.robots)
+    colours = robot_colours(robots)
+    lost = np.logical_not(np.isfinite(result.targets).all(axis=2))  # (R, T)
+    kidnapped = result.kidnapped
+    events: list[dict[str, Any]] = []
+    for i, robot in enumerate(result.robots):
+        for flags, kind_name, text in ((lost[i], "lost", "no target"),
+                                       (kidnapped[i], "kidnapped", "follows something else")):
+            changes = np.flatnonzero(np.diff(flags.astype(np.int8)))
+            starts = [k + 1 for k in changes if flags[k + 1]] + ([0] if flags[0] else [])
+            ends = [k + 1 for k in changes if not flags[k + 1]]
+            events += [{"t": float(result.times[k]), "robot": robot, "kind": kind_name,
+                        "text": text} for k in starts]
+            events += [{"t": float(result.times[k]), "robot": robot, "kind": "resume",
+                        "text": f"{kind_name} no more"} for k in ends]
+    events.sort(key=lambda e: (e["t"], e["robot"]))
+    status = np.where(lost | kidnapped, STATUS.index("stopped"), STATUS.index("ok"))
+    return {
+        "title": "leader-follower queue", "profile": result.config.profile.name,
+        "duration": float(result.times[-1]), "count": count, "times": _packed(result.times),
+        "robots": [{"name": name, "length": kind.length, "width": kind.width,
+                    "colour": to_hex(colours[i])} for i, name in enumerate(result.robots)],
+        "poses": _packed(result.poses), "status": _packed(status, "u1"),
+        "status_names": list(STATUS), "targets": _packed(result.targets),
+        "head": _packed(result.leader), "people": _packed(result.spectators),
+        "radii": result.spectator_radii.tolist(),
+        "room": np.asarray(result.arena.room).tolist(),
+        "obstacles": [np.asarray(o.polygon).tolist() for o in result.arena.obstacles],
+        "instructions": [], "events": events,
+    }
+
+
+def write_queue_replay_html(result: QueueResult, path: str) -> None:
+    """Write the queue's replay page to ``path`` (:func:`queue_replay_data`)."""
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(replay_page(queue_replay_data(result)))
 
 
 def write_replay_html(result: RunResult, path: str,
