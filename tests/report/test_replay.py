@@ -106,6 +106,7 @@ def test_the_page_scrubbed_in_a_real_browser_shows_that_moment(
         shown = state.pop("instruction")
         assert float(state.pop("load-ms")) >= 0.0
         assert float(state.pop("draw-ms")) >= 0.0
+        assert state.pop("scan-points") == "0"  # no scans recorded
         assert set(filter(None, shown.split(","))) == active
         assert state == {"ready": "1", "time": f"{result.times[tick]:.1f}", "tick": str(tick),
                          "robots": str(len(result.robots)),
@@ -141,4 +142,37 @@ def test_a_queue_replays_its_targets_and_when_they_were_lost(tmp_path: Path) -> 
     dom, log = open_in_browser(page, f"t={onsets[0][0]}", tmp_path / "profile")
     state = body_state(dom)
     assert (state["ready"], state["robots"], state["instruction"]) == ("1", "2", "")
+    assert "CONSOLE" not in log, log[-2000:]
+
+
+def test_a_robots_latest_scan_is_drawn_when_its_toggle_is_on(tmp_path: Path) -> None:
+    """With the scans recorded (run --show-lidar) the page gets every delivered scan of every
+    robot; turned on for R1 (here by the address, #scans=R1), it draws R1's latest scan
+    delivered by that time: as many dots as that scan has hits."""
+    show = load_show(str(SHOW), str(WORLD), None, check=CheckOptions())
+    assert show.report is not None
+    assert show.report.placement is not None
+    arena, placement = prepare_show(show.report.placement)
+    result = simulate(show.report.placement.plan, arena, placement,
+                      SimConfig(record_lidar=True))
+    data = replay_data(result)
+    robots = len(result.robots)
+    offsets = unpacked(data["scans"]["offsets"], "<i4")
+    points = unpacked(data["scans"]["points"], "<f4").reshape(-1, 2)
+    assert len(offsets) == len(result.lidar) * robots + 1
+    s, r = len(result.lidar) // 2, 1
+    np.testing.assert_array_equal(points[offsets[s * robots + r]:offsets[s * robots + r + 1]],
+                                  np.asarray(result.lidar[s][1][r], dtype=np.float32))
+    page = tmp_path / "show.html"
+    write_replay_html(result, str(page))
+    wanted = 10.0
+    tick = int(np.searchsorted(result.times, wanted + 1e-6) - 1)
+    times = np.array([t for t, _ in result.lidar], dtype=np.float32)
+    latest = int(np.flatnonzero(times <= np.float32(result.times[tick]) + 1e-4)[-1])
+    expected = len(result.lidar[latest][1][0])
+    assert expected > 0
+    dom, log = open_in_browser(page, f"t={wanted}&scans=R1", tmp_path / "profile")
+    assert body_state(dom)["scan-points"] == str(expected)
+    dom, _ = open_in_browser(page, f"t={wanted}", tmp_path / "profile")
+    assert body_state(dom)["scan-points"] == "0"  # off unless asked for
     assert "CONSOLE" not in log, log[-2000:]

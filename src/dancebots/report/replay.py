@@ -51,7 +51,8 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
     (R, T) packed; people (C, T, 2) with radii; the room and obstacle polygons; the
     instructions (line, text from ``source_lines`` or the instruction's kind, start and end
     s of each formation change and of each move or circle as its leader ran it, and the
-    formation's index: its lane on the timeline) and the events."""
+    formation's index: its lane on the timeline) and the events; with the scans recorded
+    (``SimConfig.record_lidar``, ``run --show-lidar``) every robot's delivered scans."""
     from matplotlib.colors import to_hex
 
     from dancebots.report.run_plots import robot_colours
@@ -77,6 +78,7 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
     instructions.sort(key=lambda item: (item["start"], item["line"]))
     colours = robot_colours(len(result.robots))
     return {
+        **({"scans": _scans(result.lidar, len(result.robots))} if result.lidar else {}),
         "title": plan.scenario.path,
         "profile": result.config.profile.name,
         "duration": plan.duration,
@@ -99,6 +101,21 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
         "events": [{"t": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
                    for e in sorted(result.events, key=lambda e: e.time)],
     }
+
+
+def _scans(lidar: Sequence[tuple[float, Sequence[np.ndarray[Any, Any]]]],
+           robots: int) -> dict[str, str]:
+    """The recorded scans (``RunResult.lidar``: per scan the time it reached the robots and
+    per robot its hits (M, 2), world frame) packed: times (S,), offsets (S * R + 1,) int32
+    into points (N, 2): scan s's hits of robot r are points[offsets[s R + r]:offsets[s R +
+    r + 1]]."""
+    parts = [np.asarray(hits, dtype=np.float64).reshape(-1, 2)
+             for _, per_robot in lidar for hits in per_robot]
+    assert len(parts) == len(lidar) * robots
+    offsets = np.concatenate([[0], np.cumsum([len(p) for p in parts])])
+    return {"times": _packed(np.array([t for t, _ in lidar])),
+            "offsets": _packed(offsets, "<i4"),
+            "points": _packed(np.concatenate(parts) if parts else np.zeros((0, 2)))}
 
 
 def queue_replay_data(result: QueueResult) -> dict[str, Any]:
