@@ -150,3 +150,29 @@ def test_a_queue_logs_its_poses_commands_targets_and_leader(tmp_path: Path) -> N
         "/F2/pose": ticks, "/F2/cmd_vel": ticks, "/F2/target": int(seen[1])}
     leader = [m for topic, _, _, m in read(path) if topic == "/leader"]
     assert (leader[-1].point.x, leader[-1].point.y) == tuple(result.leader[-1])
+
+
+def test_the_ros_bridges_record_as_mcap(tmp_path: Path) -> None:
+    """``ros simulate --record FILE.mcap``: the bridge's arrays (ROS times, poses, the
+    commands obeyed, contacts) as /tf, poses, commands and /contacts at their times."""
+    from dancebots.report.mcap_log import write_record_mcap
+
+    times = 1_700_000_000.0 + np.arange(5) * 0.05  # ROS time, s
+    poses = np.zeros((2, 5, 3))
+    poses[0, :, 0] = np.arange(5) * 0.01
+    poses[1, :, 1] = 1.0
+    commands = np.zeros((2, 5, 2))
+    commands[0, :, 0] = 0.2
+    path = tmp_path / "record.mcap"
+    count = write_record_mcap(str(path), ("R1", "R2"), times, poses, commands,
+                              [(float(times[3]), "R2", "wall")])
+    messages = read(path)
+    assert count == len(messages) == 5 * 5 + 1
+    counts = Counter(topic for topic, _, _, _ in messages)
+    assert dict(counts) == {"/tf": 5, "/R1/pose": 5, "/R1/cmd_vel": 5, "/R2/pose": 5,
+                            "/R2/cmd_vel": 5, "/contacts": 1}
+    contact = next((t, m.data) for topic, _, t, m in messages if topic == "/contacts")
+    assert contact == (round(times[3] * 1e9), "R2 touched wall")
+    last = [m for topic, _, _, m in messages if topic == "/R1/pose"][-1]
+    assert last.pose.position.x == poses[0, 4, 0]
+    assert last.header.stamp.to_sec() == pytest.approx(times[4], abs=1e-6)

@@ -78,8 +78,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_timing_argument(simulate)
     add_hold_argument(simulate)
     add_stop_rule_argument(simulate)
-    simulate.add_argument("--record", default="", metavar="FILE.npz",
-                          help="write the run's poses and commands here")
+    simulate.add_argument("--record", default="", metavar="FILE",
+                          help="write the run's poses, the commands the robots obeyed and "
+                          "the contacts here: FILE.mcap as an MCAP log with ROS 1 types "
+                          "(Foxglove opens it), else NumPy's .npz")
     simulate.add_argument("--print-command", "--print-launch", dest="print_command",
                           action="store_true", help="print what would run (the generated "
                           "launch file) and exit")

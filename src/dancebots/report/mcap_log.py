@@ -16,6 +16,11 @@ reads a clock, so a run's log is the same every time). A formation show
 * ``/events`` (``std_msgs/String``): "ROBOT KIND: TEXT" at the time of each event (speech,
   beep, resume, error).
 
+The ROS simulator bridge's record (``dancebots ros simulate --record FILE.mcap``,
+:func:`write_record_mcap`): ``/tf``, ``/<robot>/pose`` and ``/<robot>/cmd_vel`` (the command
+the robot obeyed at that step) at every step, stamped with ROS time, and ``/contacts``
+(``std_msgs/String``: "ROBOT touched OTHER") at each contact.
+
 A leader-follower queue (:func:`write_queue_mcap`): ``/tf``, ``/<robot>/pose`` and
 ``/<robot>/cmd_vel`` as above, ``/<robot>/target`` (``geometry_msgs/PointStamped``, frame
 ``world``: what its detector follows; no message at a tick without one), ``/leader``
@@ -29,14 +34,19 @@ installed, else the copy ``mcap-ros1-support`` carries) and written by ``mcap-ro
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import cache
 from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from dancebots.shows.formation import RunResult
 from dancebots.shows.queue import QueueResult
 
-__all__ = ["DEFINITIONS", "write_queue_mcap", "write_run_mcap"]
+FloatArray = NDArray[np.float64]
+
+__all__ = ["DEFINITIONS", "write_queue_mcap", "write_record_mcap", "write_run_mcap"]
 
 _HEADER = "uint32 seq\ntime stamp\nstring frame_id"
 _POINT = "float64 x\nfloat64 y\nfloat64 z"
@@ -226,4 +236,35 @@ def write_queue_mcap(result: QueueResult, path: str,
                 log.write("/spectators", log.people(world, spectators, k), t, k)
             if progress is not None:
                 progress(k + 1, len(times))
+    return log.count
+
+
+def write_record_mcap(path: str, robots: Sequence[str], times: FloatArray, poses: FloatArray,
+                      commands: FloatArray,
+                      contacts: Sequence[tuple[float, str, str]] = ()) -> int:
+    """Write the simulator bridge's record as an MCAP file at ``path``: times (T,) ROS time,
+    s; poses (R, T, 3) world; the commands obeyed (R, T, 2); contacts (time s, robot, what
+    it touched); returns the number of messages (module docstring)."""
+    from mcap_ros1.writer import Writer  # type: ignore[import-untyped,unused-ignore]
+
+    names = tuple(robots)
+    stamps, pose_rows, command_rows = times.tolist(), poses.tolist(), commands.tolist()
+    pending = sorted(contacts)
+    with open(path, "wb") as handle, Writer(handle) as writer:
+        log = _Log(writer)
+        string = log.types["std_msgs/String"]
+        told = 0
+        for k, t in enumerate(stamps):
+            while told < len(pending) and pending[told][0] <= t + 1e-9:
+                when, robot, other = pending[told]
+                log.write("/contacts", string(f"{robot} touched {other}"), when, told)
+                told += 1
+            world = log.header(k, t, "world")
+            for i, robot in enumerate(names):
+                log.write(f"/{robot}/pose", log.pose_stamped(world, *pose_rows[i][k]), t, k)
+                log.write(f"/{robot}/cmd_vel", log.twist(*command_rows[i][k]), t, k)
+            log.write("/tf", log.frames(world, names, [p[k] for p in pose_rows]), t, k)
+        for index in range(told, len(pending)):
+            when, robot, other = pending[index]
+            log.write("/contacts", string(f"{robot} touched {other}"), when, index)
     return log.count

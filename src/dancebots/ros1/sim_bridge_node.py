@@ -3,8 +3,9 @@ like a real one over ROS, so unmodified formation_member nodes drive it.
 
 Parameters: ``~scenario`` (required), ``~world``, ``~vmax`` (as for formation_member),
 ``~profile`` (ideal | realistic), ``~seed``, ``~lidar`` (default true), ``~rate`` (simulation
-steps per second, default 20), ``~record`` (optional .npz path: the run's times, poses,
-applied commands and contacts, written every 5 s and at shutdown), ``~stop_after`` (s; shut
+steps per second, default 20), ``~record`` (optional path: the run's times, poses,
+applied commands and contacts, written every 5 s and at shutdown; ``.mcap``: an MCAP log with
+ROS 1 types, ``report.mcap_log.write_record_mcap``, else NumPy's .npz), ``~stop_after`` (s; shut
 down after this long, which ends a launch whose bridge is required; 0: run until stopped),
 ``~silence`` (fault injection: "R1@12.5" stops publishing R1's clouds from 12.5 s on).
 Per robot R of the scenario (its name prefixes everything, as all share one master):
@@ -89,6 +90,15 @@ def main() -> None:
 
     def write_record() -> None:
         if record_path is None or not times:
+            return
+        if record_path.endswith(".mcap"):
+            from dancebots.report.mcap_log import write_record_mcap
+
+            partial = Path(record_path).with_suffix(".partial.mcap")
+            write_record_mcap(str(partial), robots, np.array(times), np.stack(poses, axis=1),
+                              np.stack(applied, axis=1),
+                              [(c.time + start, c.robot, c.other) for c in stage.collisions])
+            partial.replace(record_path)
             return
         partial = Path(record_path).with_suffix(".partial.npz")
         np.savez(partial, robots=np.array(robots), times=np.array(times),
