@@ -24,7 +24,7 @@ __all__ = ["animate_run", "render_frames"]
 
 
 def render_frames(result: RunResult, *, speedup: float = 5.0, fps: int = 10,
-                  trail: float = 8.0, size: float = 6.0, dpi: int = 80,
+                  trail: float = 8.0, size: float = 6.0, dpi: int = 120,
                   ) -> tuple[int, Iterator[NDArray[np.uint8]]]:
     """(frame count, iterator of RGB frames (H, W, 3), a size x size in figure at dpi).
 

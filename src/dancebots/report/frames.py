@@ -275,5 +275,6 @@ def _ffmpeg(path: str, shape: tuple[int, ...], fps: int) -> subprocess.Popen[byt
     height, width = shape[:2]
     command = ["ffmpeg", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
                "-s", f"{width}x{height}", "-r", str(fps), "-i", "-", "-vf",
-               "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-pix_fmt", "yuv420p", "-f", "mp4", path]
+               "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-preset", "veryfast",
+               "-pix_fmt", "yuv420p", "-f", "mp4", path]
     return subprocess.Popen(command, stdin=subprocess.PIPE)
