@@ -100,7 +100,7 @@ def test_every_topic_has_a_message_per_tick_with_the_runs_values(result: RunResu
         tuple(result.spectators[0, k])]
     spoken = [(m.data, t) for topic, _, t, m in messages if topic == "/events"]
     assert spoken == [("R2 speech: Obstacle is too close", 1_250_000_000),
-                      ("R2 beep:", 4_000_000_000),
+                      ("R2 beep", 4_000_000_000),
                       ("R1 resume: clear", round(result.times[-1] * 1e9))]
     times = [t for _, _, t, _ in messages]
     assert times == sorted(times)  # in time order, the events among the ticks

@@ -22,8 +22,8 @@ from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim import prepare_show
 
 ROOT = Path(__file__).parents[2]
-SHOW = ROOT / "examples" / "row_bystander.dance"
-WORLD = ROOT / "examples" / "worlds" / "row_bystander.toml"
+SHOW = ROOT / "src" / "dancebots" / "data" / "open_day.dance"  # 134 s, visitors, a stop
+WORLD = ROOT / "src" / "dancebots" / "data" / "open_day.toml"
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +48,7 @@ def test_the_page_gets_the_runs_samples_instructions_and_events(
     assert data["count"] == count
     np.testing.assert_array_equal(unpacked(data["poses"], "<f4").reshape(robots, count, 3),
                                   result.poses.astype(np.float32))
+    np.testing.assert_array_equal(unpacked(data["times"], "<f8"), result.times)
     np.testing.assert_array_equal(unpacked(data["status"], "u1").reshape(robots, count),
                                   result.status)
     assert [r["name"] for r in data["robots"]] == list(result.robots)
@@ -59,7 +60,7 @@ def test_the_page_gets_the_runs_samples_instructions_and_events(
         if text.strip().split(" ")[0] in ("row", "column", "square", "move", "circle")}
     assert [(e["t"], e["robot"], e["kind"]) for e in data["events"]] == [
         (e.time, e.robot, e.kind) for e in result.events]
-    assert any(e["kind"] == "speech" for e in data["events"])  # the bystander stops R1
+    assert any(e["kind"] == "speech" for e in data["events"])  # a visitor stops R2
 
 
 def browser() -> str:
@@ -97,7 +98,10 @@ def test_the_page_scrubbed_in_a_real_browser_shows_that_moment(
     page = tmp_path / "show.html"
     write_replay_html(result, str(page), lines)
     data = replay_data(result, lines)
-    for wanted in (0.0, 12.3, float(result.times[-1])):
+    # past 32 s float32 rounds some times of the 0.1 s grid up by more than the page's
+    # tolerance: such a time must still open at its own tick
+    rounded_up = next(float(t) for t in result.times if t > 32.0 and np.float32(t) > t + 1e-6)
+    for wanted in (0.0, 12.3, rounded_up, float(result.times[-1])):
         dom, log = open_in_browser(page, f"t={wanted}", tmp_path / "profile")
         state = body_state(dom)
         tick = int(np.searchsorted(result.times, wanted + 1e-6) - 1)
@@ -141,7 +145,9 @@ def test_a_queue_replays_its_targets_and_when_they_were_lost(tmp_path: Path) -> 
     write_queue_replay_html(result, str(page))
     dom, log = open_in_browser(page, f"t={onsets[0][0]}", tmp_path / "profile")
     state = body_state(dom)
-    assert (state["ready"], state["robots"], state["instruction"]) == ("1", "2", "")
+    tick = int(np.searchsorted(result.times, onsets[0][0] + 1e-6) - 1)
+    assert (state["ready"], state["robots"], state["instruction"], state["tick"],
+            state["time"]) == ("1", "2", "", str(tick), f"{result.times[tick]:.1f}")
     assert "CONSOLE" not in log, log[-2000:]
 
 
@@ -173,6 +179,26 @@ def test_a_robots_latest_scan_is_drawn_when_its_toggle_is_on(tmp_path: Path) -> 
     assert expected > 0
     dom, log = open_in_browser(page, f"t={wanted}&scans=R1", tmp_path / "profile")
     assert body_state(dom)["scan-points"] == str(expected)
-    dom, _ = open_in_browser(page, f"t={wanted}", tmp_path / "profile")
+    assert "CONSOLE" not in log, log[-2000:]
+    dom, log = open_in_browser(page, f"t={wanted}", tmp_path / "profile")
     assert body_state(dom)["scan-points"] == "0"  # off unless asked for
+    assert "CONSOLE" not in log, log[-2000:]
+
+
+def test_no_text_in_the_data_can_end_the_pages_script(
+        run: tuple[RunResult, list[str]], tmp_path: Path) -> None:
+    """An instruction's line with a comment such as ``# <!--<script>`` or ``</script>``
+    (its text is shown on the timeline) does not end or hide the player: the page comes up
+    and shows the text as text."""
+    result, lines = run
+    data = replay_data(result, lines)
+    line = data["instructions"][-1]["line"]
+    hostile = list(lines)
+    hostile[line - 1] += " # <!--<script> & </script> \"'"
+    page = tmp_path / "show.html"
+    write_replay_html(result, str(page), hostile)
+    assert "<!--<script>" not in page.read_text(encoding="utf-8")
+    dom, log = open_in_browser(page, "t=0", tmp_path / "profile")
+    assert body_state(dom)["ready"] == "1"
+    assert "# &lt;!--&lt;script&gt; &amp; &lt;/script&gt;" in dom  # as text in the timeline
     assert "CONSOLE" not in log, log[-2000:]

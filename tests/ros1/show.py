@@ -56,9 +56,45 @@ class Record:
 
     @classmethod
     def load(cls, path: Path) -> Record:
+        """The record the bridge wrote: NumPy's .npz, or an .mcap log (read back with the
+        mcap reader: /<robot>/pose and /<robot>/cmd_vel per step, /contacts)."""
+        if path.suffix == ".mcap":
+            return cls._from_mcap(path)
         data = np.load(path)
         return cls(tuple(str(r) for r in data["robots"]), data["times"], data["poses"],
                    data["commands"], data["contacts"])
+
+    @classmethod
+    def _from_mcap(cls, path: Path) -> Record:
+        import math
+
+        from mcap.reader import make_reader
+        from mcap_ros1.decoder import DecoderFactory
+
+        poses: dict[str, list[tuple[float, float, float]]] = {}
+        commands: dict[str, list[tuple[float, float]]] = {}
+        times: list[float] = []
+        contacts: list[tuple[float, str]] = []
+        with open(path, "rb") as handle:
+            reader = make_reader(handle, decoder_factories=[DecoderFactory()])
+            for _, channel, message, decoded in reader.iter_decoded_messages(log_time_order=True):
+                topic = channel.topic
+                if topic == "/contacts":
+                    contacts.append((message.log_time / 1e9, decoded.data.split(" ")[0]))
+                elif topic == "/tf":
+                    times.append(decoded.transforms[0].header.stamp.to_sec())
+                elif topic.endswith("/pose"):
+                    p = decoded.pose
+                    poses.setdefault(topic.split("/")[1], []).append(
+                        (p.position.x, p.position.y,
+                         2.0 * math.atan2(p.orientation.z, p.orientation.w)))
+                elif topic.endswith("/cmd_vel"):
+                    commands.setdefault(topic.split("/")[1], []).append(
+                        (decoded.linear.x, decoded.angular.z))
+        robots = tuple(poses)
+        return cls(robots, np.array(times), np.array([poses[r] for r in robots]),
+                   np.array([commands[r] for r in robots]),
+                   np.array([(t, robots.index(r)) for t, r in contacts]).reshape(-1, 2))
 
     def index(self, robot: str) -> int:
         return self.robots.index(robot)

@@ -40,7 +40,10 @@ FINAL_TOLERANCE = 0.15
 
 def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
                                                               tmp_path: Path) -> None:
-    record_path = tmp_path / "record.npz"
+    """Scenario 7.1 through roscore and the real nodes ends as the pure simulation does,
+    recorded as MCAP (--record FILE.mcap: the bridge writes it as the run goes; the other
+    tests here read the bridge's .npz)."""
+    record_path = tmp_path / "record.mcap"
     dancebots = Path(sys.executable).parent / "dancebots"
     duration = plan_of(SCENARIO_7_1).duration
     with open(tmp_path / "simulate.log", "wb") as log:
@@ -53,6 +56,10 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
     record = Record.load(record_path)
     pure = pure_run(SCENARIO_7_1)
     assert len(record.contacts) == 0
+    assert record.robots == ("R1", "R2")
+    assert record.poses.shape == (2, len(record.times), 3)
+    assert record.commands.shape == (2, len(record.times), 2)
+    assert np.all(np.diff(record.times) > 0)  # one step after another, in ROS time
     assert "stopped for good" not in output.split("are over")[0], output[-3000:]
     ros_change = spacing_change(record.poses[0], record.poses[1], 1.2)
     pure_change = spacing_change(pure.poses[0], pure.poses[1], 1.2)

@@ -245,10 +245,12 @@ def write_animation(frames: Iterable[RGBFrame], paths: Sequence[str], *, fps: in
             if process.wait() != 0:
                 raise OSError(f"ffmpeg failed to write {path}")
     finally:
-        for _, process in videos:  # on an error: no ffmpeg left behind
+        for _, process in videos:  # on an error: no ffmpeg left behind, no pipe left open
             if process.poll() is None:
                 process.kill()
                 process.wait()
+            if process.stdin is not None and not process.stdin.closed:
+                process.stdin.close()
     for path in gifs:
         images[0].save(path, save_all=True, append_images=images[1:], duration=1000 // fps,
                        loop=0, optimize=False)

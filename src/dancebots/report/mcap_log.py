@@ -14,12 +14,12 @@ reads a clock, so a run's log is the same every time). A formation show
   (``geometry_msgs/TwistStamped``, frame ``<robot>/base_link``): its actual speeds;
 * ``/spectators`` (``geometry_msgs/PoseArray``, frame ``world``): the people, when there are;
 * ``/events`` (``std_msgs/String``): "ROBOT KIND: TEXT" at the time of each event (speech,
-  beep, resume, error).
+  beep, resume, error; "ROBOT KIND" for one without text, a beep).
 
 The ROS simulator bridge's record (``dancebots ros simulate --record FILE.mcap``,
-:func:`write_record_mcap`): ``/tf``, ``/<robot>/pose`` and ``/<robot>/cmd_vel`` (the command
-the robot obeyed at that step) at every step, stamped with ROS time, and ``/contacts``
-(``std_msgs/String``: "ROBOT touched OTHER") at each contact.
+:class:`RecordLog`, written as the run goes): ``/tf``, ``/<robot>/pose`` and
+``/<robot>/cmd_vel`` (the command the robot obeyed at that step) at every step, stamped with
+ROS time, and ``/contacts`` (``std_msgs/String``: "ROBOT touched OTHER") at each contact.
 
 A leader-follower queue (:func:`write_queue_mcap`): ``/tf``, ``/<robot>/pose`` and
 ``/<robot>/cmd_vel`` as above, ``/<robot>/target`` (``geometry_msgs/PointStamped``, frame
@@ -46,7 +46,8 @@ from dancebots.shows.queue import QueueResult
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["DEFINITIONS", "write_queue_mcap", "write_record_mcap", "write_run_mcap"]
+__all__ = ["DEFINITIONS", "RecordLog", "write_queue_mcap", "write_record_mcap",
+           "write_run_mcap"]
 
 _HEADER = "uint32 seq\ntime stamp\nstring frame_id"
 _POINT = "float64 x\nfloat64 y\nfloat64 z"
@@ -182,8 +183,8 @@ def write_run_mcap(result: RunResult, path: str,
 
         def say(index: int) -> None:
             event = events[index]
-            log.write("/events", string(f"{event.robot} {event.kind}: {event.text}".strip()),
-                      event.time, index)
+            words = f"{event.robot} {event.kind}" + (f": {event.text}" if event.text else "")
+            log.write("/events", string(words), event.time, index)
 
         said = 0
         for k, t in enumerate(times):
@@ -239,32 +240,68 @@ def write_queue_mcap(result: QueueResult, path: str,
     return log.count
 
 
+class RecordLog:
+    """The ROS simulator bridge's record as an MCAP log written as the run goes (module
+    docstring): :meth:`step` appends one step (O(1), whatever the run's length; the MCAP
+    writer flushes its chunks as they fill), :meth:`contact` one contact, :meth:`close`
+    finishes the file (its index and summary). A run killed before ``close`` leaves the
+    chunks written so far, which MCAP's readers can recover."""
+
+    def __init__(self, path: str, robots: Sequence[str]) -> None:
+        from mcap_ros1.writer import Writer  # type: ignore[import-untyped,unused-ignore]
+
+        self.robots = tuple(robots)
+        self._handle = open(path, "wb")  # noqa: SIM115 (closed by close())
+        self._writer: Any = Writer(self._handle)
+        self._log = _Log(self._writer)
+        self._steps = self._contacts = 0
+
+    @property
+    def count(self) -> int:
+        """Messages written so far."""
+        return self._log.count
+
+    def step(self, t: float, poses: FloatArray, commands: FloatArray) -> None:
+        """One step at ROS time ``t`` (s): poses (R, 3) world, the commands obeyed (R, 2)."""
+        log, k = self._log, self._steps
+        world = log.header(k, t, "world")
+        rows = poses.tolist()
+        for robot, pose, command in zip(self.robots, rows, commands.tolist(), strict=True):
+            log.write(f"/{robot}/pose", log.pose_stamped(world, *pose), t, k)
+            log.write(f"/{robot}/cmd_vel", log.twist(*command), t, k)
+        log.write("/tf", log.frames(world, self.robots, rows), t, k)
+        self._steps += 1
+
+    def contact(self, t: float, robot: str, other: str) -> None:
+        """A contact of ``robot`` with ``other`` at ROS time ``t`` (s)."""
+        self._log.write("/contacts", self._log.types["std_msgs/String"](
+            f"{robot} touched {other}"), t, self._contacts)
+        self._contacts += 1
+
+    def close(self) -> None:
+        """Finish the file (idempotent)."""
+        if not self._handle.closed:
+            self._writer.finish()
+            self._handle.close()
+
+
 def write_record_mcap(path: str, robots: Sequence[str], times: FloatArray, poses: FloatArray,
                       commands: FloatArray,
                       contacts: Sequence[tuple[float, str, str]] = ()) -> int:
-    """Write the simulator bridge's record as an MCAP file at ``path``: times (T,) ROS time,
-    s; poses (R, T, 3) world; the commands obeyed (R, T, 2); contacts (time s, robot, what
-    it touched); returns the number of messages (module docstring)."""
-    from mcap_ros1.writer import Writer  # type: ignore[import-untyped,unused-ignore]
-
-    names = tuple(robots)
-    stamps, pose_rows, command_rows = times.tolist(), poses.tolist(), commands.tolist()
+    """A whole record at once (:class:`RecordLog`): times (T,) ROS time, s; poses (R, T, 3)
+    world; the commands obeyed (R, T, 2); contacts (time s, robot, what it touched), each
+    logged before the first step after it; returns the number of messages."""
+    record = RecordLog(path, robots)
     pending = sorted(contacts)
-    with open(path, "wb") as handle, Writer(handle) as writer:
-        log = _Log(writer)
-        string = log.types["std_msgs/String"]
-        told = 0
-        for k, t in enumerate(stamps):
+    told = 0
+    try:
+        for k, t in enumerate(times.tolist()):
             while told < len(pending) and pending[told][0] <= t + 1e-9:
-                when, robot, other = pending[told]
-                log.write("/contacts", string(f"{robot} touched {other}"), when, told)
+                record.contact(*pending[told])
                 told += 1
-            world = log.header(k, t, "world")
-            for i, robot in enumerate(names):
-                log.write(f"/{robot}/pose", log.pose_stamped(world, *pose_rows[i][k]), t, k)
-                log.write(f"/{robot}/cmd_vel", log.twist(*command_rows[i][k]), t, k)
-            log.write("/tf", log.frames(world, names, [p[k] for p in pose_rows]), t, k)
-        for index in range(told, len(pending)):
-            when, robot, other = pending[index]
-            log.write("/contacts", string(f"{robot} touched {other}"), when, index)
-    return log.count
+            record.step(t, poses[:, k], commands[:, k])
+        for contact in pending[told:]:
+            record.contact(*contact)
+    finally:
+        record.close()
+    return record.count

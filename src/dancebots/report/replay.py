@@ -9,9 +9,10 @@ choreography instruction (its line and text) while its formation's leader execut
 each event (speech, beep, resume, error: click one to jump to it). ``show.html#t=12.5`` opens
 at show time 12.5 s.
 
-The samples are float32 arrays (poses to well under a millimetre in a 100 m room), base64
-in a JSON block: 100 robots for 10 minutes are about 30 MB, and a frame draws only the robots,
-their trails and the people of one tick. The page keeps its state in ``document.body``'s data
+The samples are float32 arrays (poses to well under a millimetre in a 100 m room; the times
+float64, which the page compares with the times it is asked for), base64 in a JSON block:
+100 robots for 10 minutes are about 30 MB, and a frame draws only the robots, their trails
+and the people of one tick. The page keeps its state in ``document.body``'s data
 attributes (``data-time``, ``data-tick``, ``data-instruction``, ``data-playing``,
 ``data-robots``, ``data-people``, ``data-ready``, and ``data-load-ms`` and ``data-draw-ms``:
 ms to unpack the data and to draw the latest frame) and in ``window.dancebotsReplay``
@@ -31,6 +32,7 @@ import numpy as np
 
 from dancebots.shows.formation import STATUS, RunResult
 from dancebots.shows.queue import QueueResult
+from dancebots.sim.setup import Arena
 
 __all__ = ["queue_replay_data", "replay_data", "replay_page", "write_queue_replay_html",
            "write_replay_html"]
@@ -53,10 +55,6 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
     s of each formation change and of each move or circle as its leader ran it, and the
     formation's index: its lane on the timeline) and the events; with the scans recorded
     (``SimConfig.record_lidar``, ``run --show-lidar``) every robot's delivered scans."""
-    from matplotlib.colors import to_hex
-
-    from dancebots.report.run_plots import robot_colours
-
     plan, placement, arena = result.plan, result.placement, result.arena
 
     def text(line: int, fallback: str) -> str:
@@ -76,18 +74,14 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
                                  "end": timing.end, "lane": lane, "text": text(
                                      timing.span.line, type(timing.instruction).__name__.lower())})
     instructions.sort(key=lambda item: (item["start"], item["line"]))
-    colours = robot_colours(len(result.robots))
     return {
         **({"scans": _scans(result.lidar, len(result.robots))} if result.lidar else {}),
+        **_scene(placement.robots, [(k.length, k.width) for k in placement.types], arena),
         "title": plan.scenario.path,
         "profile": result.config.profile.name,
         "duration": plan.duration,
         "count": len(result.times),
-        "times": _packed(result.times),
-        "robots": [{"name": name, "length": kind.length, "width": kind.width,
-                    "colour": to_hex(colours[i])}
-                   for i, (name, kind) in enumerate(zip(placement.robots, placement.types,
-                                                        strict=True))],
+        "times": _packed(result.times, "<f8"),
         "poses": _packed(result.poses),
         "desired": _packed(result.desired),
         "leaders": _packed(result.leader),
@@ -95,12 +89,27 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
         "status_names": list(STATUS),
         "people": _packed(result.spectators),
         "radii": result.spectator_radii.tolist(),
-        "room": np.asarray(arena.room).tolist(),
-        "obstacles": [np.asarray(o.polygon).tolist() for o in arena.obstacles],
         "instructions": instructions,
         "events": [{"t": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}
                    for e in sorted(result.events, key=lambda e: e.time)],
     }
+
+
+def _scene(robots: Sequence[str], sizes: Sequence[tuple[float, float]],
+           arena: Arena) -> dict[str, Any]:
+    """What both pages draw the same way: the robots (name, footprint length and width m,
+    colour) and the room and obstacle polygons (world frame, m)."""
+    from matplotlib.colors import to_hex
+
+    from dancebots.report.run_plots import robot_colours
+
+    colours = robot_colours(len(robots))
+    return {"robots": [{"name": name, "length": length, "width": width,
+                        "colour": to_hex(colours[i])}
+                       for i, (name, (length, width)) in enumerate(zip(robots, sizes,
+                                                                         strict=True))],
+            "room": np.asarray(arena.room).tolist(),
+            "obstacles": [np.asarray(o.polygon).tolist() for o in arena.obstacles]}
 
 
 def _scans(lidar: Sequence[tuple[float, Sequence[np.ndarray[Any, Any]]]],
@@ -124,13 +133,8 @@ def queue_replay_data(result: QueueResult) -> dict[str, Any]:
     where it has one (NaN where not: not drawn), the leader's path (T, 2), the people, the
     room; no instructions; as events, each time a follower loses its target or has it
     kidnapped (``QueueResult.kidnapped``) and when it has it back."""
-    from matplotlib.colors import to_hex
-
-    from dancebots.report.run_plots import robot_colours
-
     kind = result.config.robot_type
     count, robots = len(result.times), len(result.robots)
-    colours = robot_colours(robots)
     lost = np.logical_not(np.isfinite(result.targets).all(axis=2))  # (R, T)
     kidnapped = result.kidnapped
     events: list[dict[str, Any]] = []
@@ -147,17 +151,14 @@ def queue_replay_data(result: QueueResult) -> dict[str, Any]:
     events.sort(key=lambda e: (e["t"], e["robot"]))
     status = np.where(lost | kidnapped, STATUS.index("stopped"), STATUS.index("ok"))
     return {
+        **_scene(result.robots, [(kind.length, kind.width)] * robots, result.arena),
         "title": "leader-follower queue", "profile": result.config.profile.name,
-        "duration": float(result.times[-1]), "count": count, "times": _packed(result.times),
-        "robots": [{"name": name, "length": kind.length, "width": kind.width,
-                    "colour": to_hex(colours[i])} for i, name in enumerate(result.robots)],
-        "poses": _packed(result.poses), "status": _packed(status, "u1"),
+        "duration": float(result.times[-1]), "count": count,
+        "times": _packed(result.times, "<f8"), "poses": _packed(result.poses),
+        "status": _packed(status, "u1"),
         "status_names": list(STATUS), "targets": _packed(result.targets),
         "head": _packed(result.leader), "people": _packed(result.spectators),
-        "radii": result.spectator_radii.tolist(),
-        "room": np.asarray(result.arena.room).tolist(),
-        "obstacles": [np.asarray(o.polygon).tolist() for o in result.arena.obstacles],
-        "instructions": [], "events": events,
+        "radii": result.spectator_radii.tolist(), "instructions": [], "events": events,
     }
 
 
@@ -179,6 +180,7 @@ def replay_page(data: dict[str, Any]) -> str:
     template = resources.files("dancebots.report").joinpath("replay.html").read_text(
         encoding="utf-8")
     assert template.count(PLACEHOLDER) == 1, "the replay template lost its data slot"
-    # "</" never appears inside the script block: a text could otherwise close it
-    text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+    # no "<" inside the script block (JSON's \u003c instead): "</script>" or "<!--" in a
+    # text (a comment on an instruction's line) would otherwise end it or hide the player
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
     return template.replace(PLACEHOLDER, text)

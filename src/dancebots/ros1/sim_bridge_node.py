@@ -87,18 +87,15 @@ def main() -> None:
     times: list[float] = []
     poses: list[np.ndarray] = []
     applied: list[np.ndarray] = []
+    streamed = None  # an .mcap record: written step by step as the run goes
+    if record_path is not None and record_path.endswith(".mcap"):
+        from dancebots.report.mcap_log import RecordLog
+
+        streamed = RecordLog(record_path, robots)
+    told = 0  # contacts streamed so far
 
     def write_record() -> None:
-        if record_path is None or not times:
-            return
-        if record_path.endswith(".mcap"):
-            from dancebots.report.mcap_log import write_record_mcap
-
-            partial = Path(record_path).with_suffix(".partial.mcap")
-            write_record_mcap(str(partial), robots, np.array(times), np.stack(poses, axis=1),
-                              np.stack(applied, axis=1),
-                              [(c.time + start, c.robot, c.other) for c in stage.collisions])
-            partial.replace(record_path)
+        if record_path is None or not times or streamed is not None:
             return
         partial = Path(record_path).with_suffix(".partial.npz")
         np.savez(partial, robots=np.array(robots), times=np.array(times),
@@ -116,6 +113,7 @@ def main() -> None:
 
     def advance(now: float) -> None:
         """Publish the clouds and poses at stage time ``now`` (s), record, and step."""
+        nonlocal told
         stamp = rospy.Time.from_sec(start + now)
         for i, cloud in enumerate(stage.deliveries(now)):
             if cloud is not None and now < silenced.get(i, math.inf):
@@ -126,9 +124,16 @@ def main() -> None:
                                    zip(names, stage.own_poses().tolist(), strict=True)])
         with lock:
             current, sent = command.copy(), issued.copy()
-        times.append(start + now)
-        poses.append(stage.pose.copy())
-        applied.append(fresh_commands(current, sent, now, stage.command_timeout))
+        obeyed = fresh_commands(current, sent, now, stage.command_timeout)
+        if streamed is not None:
+            streamed.step(start + now, stage.pose, obeyed)
+            for contact in stage.collisions[told:]:
+                streamed.contact(start + contact.time, contact.robot, contact.other)
+            told = len(stage.collisions)
+        else:
+            times.append(start + now)
+            poses.append(stage.pose.copy())
+            applied.append(obeyed)
         stage.advance(now, current, sent)
 
     step = 0
@@ -151,6 +156,10 @@ def main() -> None:
             step += 1
     finally:
         write_record()
+        if streamed is not None:
+            for contact in stage.collisions[told:]:
+                streamed.contact(start + contact.time, contact.robot, contact.other)
+            streamed.close()
         log.flush()
         life.end(reason)
 
