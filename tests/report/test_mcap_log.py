@@ -39,6 +39,7 @@ ROS_MD5 = {  # the sums ROS's generated classes carry (rosmsg md5)
     "geometry_msgs/TwistStamped": "98d34b0043a2093cf9d9345ab6eef12e",
     "tf2_msgs/TFMessage": "94810edda583a504dfda3829e70d7eec",
     "std_msgs/String": "992ce8a1687cec8c8bd883ec73ca41d1",
+    "sensor_msgs/PointCloud2": "1158d486dd51d683ce2f1be655c3c181",
 }
 
 
@@ -176,3 +177,27 @@ def test_the_ros_bridges_record_as_mcap(tmp_path: Path) -> None:
     last = [m for topic, _, _, m in messages if topic == "/R1/pose"][-1]
     assert last.pose.position.x == poses[0, 4, 0]
     assert last.header.stamp.to_sec() == pytest.approx(times[4], abs=1e-6)
+
+
+
+def test_recorded_scans_are_logged_as_point_clouds(tmp_path: Path) -> None:
+    """With the scans recorded (run --show-lidar), each robot's hits of every scan are a
+    PointCloud2 on /<robot>/scan at the time the scan reached it, the same points."""
+    _, plan, diagnostics = compile_scenario(SHOW, "t.dance")
+    assert plan is not None, diagnostics
+    world, problems = parse_world(WORLD, "w.toml")
+    assert world is not None, problems
+    arena, placement = prepare_show(place_show(plan, world))
+    result = simulate(plan, arena, placement, SimConfig(record_lidar=True))
+    path = tmp_path / "scans.mcap"
+    write_run_mcap(result, str(path))
+    clouds = [(t, m) for topic, schema, t, m in read(path) if topic == "/R2/scan"]
+    assert len(clouds) == len(result.lidar)
+    when, hits = result.lidar[5]
+    t, cloud = clouds[5]
+    assert t == round(when * 1e9)
+    assert (cloud.width, cloud.point_step, [f.name for f in cloud.fields]) == (
+        len(hits[1]), 12, ["x", "y", "z"])
+    xyz = np.frombuffer(cloud.data, dtype="<f4").reshape(-1, 3)
+    np.testing.assert_array_equal(xyz[:, :2], np.asarray(hits[1], dtype=np.float32))
+    assert not xyz[:, 2].any()

@@ -14,7 +14,10 @@ reads a clock, so a run's log is the same every time). A formation show
   (``geometry_msgs/TwistStamped``, frame ``<robot>/base_link``): its actual speeds;
 * ``/spectators`` (``geometry_msgs/PoseArray``, frame ``world``): the people, when there are;
 * ``/events`` (``std_msgs/String``): "ROBOT KIND: TEXT" at the time of each event (speech,
-  beep, resume, error; "ROBOT KIND" for one without text, a beep).
+  beep, resume, error; "ROBOT KIND" for one without text, a beep);
+* with the scans recorded (``run --show-lidar``), ``/<robot>/scan``
+  (``sensor_msgs/PointCloud2``, frame ``world``, x y z float32): each scan's hits where they
+  were when scanned, at the time the scan reached the robot.
 
 The ROS simulator bridge's record (``dancebots ros simulate --record FILE.mcap``,
 :class:`RecordLog`, written as the run goes): ``/tf``, ``/<robot>/pose`` and
@@ -85,6 +88,14 @@ DEFINITIONS: dict[str, str] = {
          "std_msgs/Header header\nstring child_frame_id\nTransform transform"),
         ("std_msgs/Header", _HEADER), ("geometry_msgs/Transform", _TRANSFORM),
         ("geometry_msgs/Vector3", _POINT), ("geometry_msgs/Quaternion", _QUATERNION)),
+    "sensor_msgs/PointCloud2": _full(
+        "std_msgs/Header header\nuint32 height\nuint32 width\n"
+        "sensor_msgs/PointField[] fields\nbool is_bigendian\nuint32 point_step\n"
+        "uint32 row_step\nuint8[] data\nbool is_dense", ("std_msgs/Header", _HEADER),
+        ("sensor_msgs/PointField",
+         "uint8 INT8=1\nuint8 UINT8=2\nuint8 INT16=3\nuint8 UINT16=4\nuint8 INT32=5\n"
+         "uint8 UINT32=6\nuint8 FLOAT32=7\nuint8 FLOAT64=8\nstring name\nuint32 offset\n"
+         "uint8 datatype\nuint32 count")),
     "std_msgs/String": "string data",
 }
 """The ROS 1 definitions of the message types the log uses (``.msg`` text, as in ROS's
@@ -159,6 +170,15 @@ class _Log:
                                                     self.pose(x, y, theta).orientation))
             for robot, (x, y, theta) in zip(robots, poses, strict=True)])
 
+    def cloud(self, header: Any, points: FloatArray) -> Any:
+        """A ``sensor_msgs/PointCloud2`` of ``points`` (N, 2) at z = 0: x, y, z float32."""
+        field = self.types["sensor_msgs/PointField"]
+        xyz = np.zeros((len(points), 3), dtype="<f4")
+        xyz[:, :2] = points
+        return self.types["sensor_msgs/PointCloud2"](
+            header, 1, len(points), [field(name, 4 * i, 7, 1) for i, name in enumerate("xyz")],
+            False, 12, 12 * len(points), xyz.tobytes(), True)
+
     def people(self, header: Any, spectators: list[list[list[float]]], k: int) -> Any:
         """``/spectators``: where the people (C, T, 2) are at tick ``k``."""
         return self.types["geometry_msgs/PoseArray"](
@@ -186,11 +206,23 @@ def write_run_mcap(result: RunResult, path: str,
             words = f"{event.robot} {event.kind}" + (f": {event.text}" if event.text else "")
             log.write("/events", string(words), event.time, index)
 
-        said = 0
+        scans: list[Any] = list(result.lidar or [])
+
+        def scan(index: int) -> None:
+            when, hits = scans[index]
+            for robot, points in zip(robots, hits, strict=True):
+                log.write(f"/{robot}/scan", log.cloud(log.header(index, when, "world"),
+                                                      np.asarray(points).reshape(-1, 2)),
+                          when, index)
+
+        said = scanned = 0
         for k, t in enumerate(times):
             while said < len(events) and events[said].time <= t + 1e-9:
                 say(said)
                 said += 1
+            while scanned < len(scans) and scans[scanned][0] <= t + 1e-9:
+                scan(scanned)
+                scanned += 1
             world = log.header(k, t, "world")
             for i, robot in enumerate(robots):
                 log.write(f"/{robot}/pose", log.pose_stamped(world, *poses[i][k]), t, k)
@@ -208,6 +240,8 @@ def write_run_mcap(result: RunResult, path: str,
                 progress(k + 1, len(times))
         for index in range(said, len(events)):  # after the last tick (none: it records them)
             say(index)
+        for index in range(scanned, len(scans)):  # delivered after the last tick
+            scan(index)
     return log.count
 
 
