@@ -319,6 +319,12 @@ class RobotBrain:
         self.sweep_reach = (0.5 * math.hypot(self.sensing.length, self.sensing.width)
                             - 0.5 * min(self.sensing.length, self.sensing.width))
 
+    @property
+    def show_frame(self) -> Pose:
+        """The show frame's pose in the robot's own map frame (``slot0^-1``): the thesis's
+        ``/role/vl_map`` frame, in which the virtual leader moves (ch. 4.1)."""
+        return self._to_own
+
     def show_position(self, pose: tuple[float, float, float]) -> tuple[float, float]:
         """Where a robot at ``pose`` (its own map frame) stands in the show frame, m (what
         it tells its mates: ``sync.hold.HoldMessage.position``)."""

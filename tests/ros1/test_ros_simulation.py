@@ -9,6 +9,7 @@ change and 0.15 m at the final positions.
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
@@ -29,9 +30,11 @@ from tests.ros1.show import (
     wait_until,
 )
 
+from dancebots.geometry import Pose
 from dancebots.report.metrics import spacing_change
 
 pytestmark = pytest.mark.ros
+LEADER_PROBE = Path(__file__).with_name("probe_leader_frames.py")
 
 FLOOD = Path(__file__).with_name("flood_malformed_clouds.py")
 SPACING_TOLERANCE = 0.10
@@ -42,17 +45,40 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
                                                               tmp_path: Path) -> None:
     """Scenario 7.1 through roscore and the real nodes ends as the pure simulation does,
     recorded as MCAP (--record FILE.mcap: the bridge writes it as the run goes; the other
-    tests here read the bridge's .npz)."""
+    tests here read the bridge's .npz); meanwhile formation_member puts the thesis's
+    virtual-leader frames on TF: R1/map -> R1/vl_map (the show frame seen from R1's first
+    slot) -> R1/virtual_leader (on the leader's planned path, moving)."""
     record_path = tmp_path / "record.mcap"
     dancebots = Path(sys.executable).parent / "dancebots"
-    duration = plan_of(SCENARIO_7_1).duration
-    with open(tmp_path / "simulate.log", "wb") as log:
-        finished = subprocess.run(
-            [str(dancebots), "ros", "simulate", str(SCENARIO_7_1), "--record",
-             str(record_path)], env=roscore.env, stdout=log, stderr=subprocess.STDOUT,
-            timeout=duration + START_ALLOWANCE + 60, check=False)
+    plan = plan_of(SCENARIO_7_1)
+    duration = plan.duration
+    probe = subprocess.Popen([sys.executable, str(LEADER_PROBE), str(duration)],
+                             env=roscore.env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                             text=True)
+    try:
+        with open(tmp_path / "simulate.log", "wb") as log:
+            finished = subprocess.run(
+                [str(dancebots), "ros", "simulate", str(SCENARIO_7_1), "--record",
+                 str(record_path)], env=roscore.env, stdout=log, stderr=subprocess.STDOUT,
+                timeout=duration + START_ALLOWANCE + 60, check=False)
+        frames = json.loads(probe.communicate(timeout=60)[0].strip().splitlines()[-1])
+    finally:
+        kill_tree(probe.pid)
+        probe.wait()
     output = (tmp_path / "simulate.log").read_text(errors="replace")
     assert finished.returncode == 0, output[-3000:]
+    assert (frames["R1/vl_map"]["parent"], frames["R1/virtual_leader"]["parent"]) == (
+        "R1/map", "R1/vl_map")
+    slot = plan.desired_poses("R1", np.zeros(1))[0]
+    show_frame = Pose(*slot).inverse()
+    np.testing.assert_allclose(frames["R1/vl_map"]["poses"],
+                               [[show_frame.x, show_frame.y, show_frame.theta]] * len(
+                                   frames["R1/vl_map"]["poses"]), atol=1e-9)
+    leader = np.array(frames["R1/virtual_leader"]["poses"])
+    path = plan.track("R1", np.linspace(0.0, duration, int(duration * 200) + 1)).leader
+    off = np.hypot(leader[:, None, 0] - path[None, :, 0], leader[:, None, 1] - path[None, :, 1])
+    assert off.min(axis=1).max() <= 0.01  # each one on the path (sampled every 5 ms)
+    assert np.hypot(*(leader[-1, :2] - leader[0, :2])) > 1.0  # and it moved along it
     record = Record.load(record_path)
     pure = pure_run(SCENARIO_7_1)
     assert len(record.contacts) == 0

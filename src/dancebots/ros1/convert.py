@@ -1,21 +1,25 @@
 """Conversions between ROS messages and the core's arrays (needs the ROS message packages).
 
 Clouds travel as sensor_msgs/PointCloud2 with float32 x, y, z fields in ``base_link``;
-commands as geometry_msgs/Twist (linear.x, angular.z: thesis ch. 2).
+commands as geometry_msgs/Twist (linear.x, angular.z: thesis ch. 2); planar poses as
+geometry_msgs/TransformStamped for TF.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
+from geometry_msgs.msg import TransformStamped
 from numpy.typing import NDArray
 from sensor_msgs.msg import PointCloud2, PointField
 
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.obstacles import DetectorParams
 
-__all__ = ["MalformedCloudError", "cloud_message", "cloud_points", "obstacle_cloud"]
+__all__ = ["MalformedCloudError", "cloud_message", "cloud_points", "obstacle_cloud",
+           "transform_message"]
 
 FloatArray = NDArray[np.float64]
 _XYZ = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4")])
@@ -89,3 +93,17 @@ def obstacle_cloud(stamp: float, points: FloatArray,
                                np.full(len(points), middle)]) if len(points) else np.zeros(
         (0, 4))
     return PointCloud(stamp, columns)
+
+
+def transform_message(stamp: Any, parent: str, child: str,
+                      pose: tuple[float, float, float] | list[float]) -> Any:
+    """A TransformStamped at ``stamp`` (rospy.Time): the planar ``pose`` (x, y m, theta rad)
+    of frame ``child`` in frame ``parent``."""
+    transform = TransformStamped()
+    transform.header.stamp = stamp
+    transform.header.frame_id = parent
+    transform.child_frame_id = child
+    transform.transform.translation.x, transform.transform.translation.y = pose[0], pose[1]
+    transform.transform.rotation.z = math.sin(0.5 * pose[2])
+    transform.transform.rotation.w = math.cos(0.5 * pose[2])
+    return transform

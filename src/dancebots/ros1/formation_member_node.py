@@ -25,7 +25,11 @@ clouds arrive. Subscribes ``[/robot_name]/all_ready``, ``/sync``,
 Publishes ``[/robot_name]/nav/cmd_vel`` (geometry_msgs/Twist) at 20 Hz (the brain ticks at
 10 Hz; the robots ignore commands slower than 10 Hz), ``/sync`` proposals at 10 Hz,
 ``[/robot_name]/robotsound`` (sound_play/SoundRequest: the stop sentence, beeps) and
-``[/robot_name]/events`` (std_msgs/String: every safety event as "kind: text").
+``[/robot_name]/events`` (std_msgs/String: every safety event as "kind: text"), and from the
+agreed start, with each command, the thesis's virtual-leader frames on TF (ch. 4.1):
+``map`` -> ``vl_map`` (the show frame in the robot's map frame, from its first slot) ->
+``virtual_leader`` (the leader it follows at its show time), each prefixed like the others, so
+that RViz shows every robot's virtual leader.
 
 The formation waits together (``~hold`` together, ``sync.hold``): from the agreed start every
 formation_member publishes a hold message on ``/hold`` at 10 Hz (std_msgs/String,
@@ -62,6 +66,7 @@ from std_msgs.msg import Bool, String
 
 from dancebots.geometry import wrap_angle
 from dancebots.perception.cloud import PointCloud
+from dancebots.plan.planner import virtual_leader_pose
 from dancebots.robot import (
     BrainOptions,
     BrainState,
@@ -78,7 +83,12 @@ from dancebots.ros1.common import (
     required_param,
     sync_publisher,
 )
-from dancebots.ros1.convert import MalformedCloudError, cloud_points, obstacle_cloud
+from dancebots.ros1.convert import (
+    MalformedCloudError,
+    cloud_points,
+    obstacle_cloud,
+    transform_message,
+)
 from dancebots.ros1.naming import HOLD_TOPIC, SYNC_TOPIC, RobotNames, robot_type_for_host
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
@@ -168,6 +178,9 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
     sync = sync_publisher(role, 1)
     hold_out = sync_publisher(role, 2, HOLD_TOPIC)
     cmd_vel = rospy.Publisher(names.topic("nav/cmd_vel"), Twist, queue_size=1)
+    leader_frames = tf2_ros.TransformBroadcaster()
+    vl_map, leader_frame = names.frame("vl_map"), names.frame("virtual_leader")
+    show_frame = brain.show_frame
     sound = rospy.Publisher(names.topic("robotsound"), SoundRequest, queue_size=10)
     events_out = rospy.Publisher(names.topic("events"), String, queue_size=10)
     obstacles_topic = names.topic("obstacles")
@@ -282,6 +295,13 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     mates_heard = np.array(heard_positions(clock), dtype=float).reshape(-1, 2)
                     waiting = _report_wait(log, role, clock, before, waiting, now)
                 pose = look_up_pose(now)
+                leader = virtual_leader_pose(brain.plan, role, max(shown, 0.0))
+                stamp = rospy.Time.from_sec(now)
+                leader_frames.sendTransform([
+                    transform_message(stamp, map_frame, vl_map,
+                                      (show_frame.x, show_frame.y, show_frame.theta)),
+                    transform_message(stamp, vl_map, leader_frame,
+                                      (leader.x, leader.y, leader.theta))])
                 state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,
                                                   mates_heard=mates_heard)
                 command.linear.x, command.angular.z = cmd.linear, cmd.angular

@@ -27,13 +27,13 @@ from pathlib import Path
 import numpy as np
 import rospy
 import tf2_ros
-from geometry_msgs.msg import TransformStamped, Twist
+from geometry_msgs.msg import Twist
 from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Header
 
 from dancebots.plan.placement import place_show
 from dancebots.ros1.common import NodeLife, QueuedLog, load_show, required_param
-from dancebots.ros1.convert import cloud_message
+from dancebots.ros1.convert import cloud_message, transform_message
 from dancebots.ros1.naming import RobotNames
 from dancebots.sim.kinematics import PROFILES, fresh_commands
 from dancebots.sim.lidar import LidarConfig
@@ -120,8 +120,9 @@ def main() -> None:
                 header = Header(stamp=rospy.Time.from_sec(start + cloud.stamp),
                                 frame_id=names[i].frame("base_link"))
                 clouds[i].publish(cloud_message(cloud.points(), header))
-        broadcaster.sendTransform([_transform(stamp, name, pose) for name, pose in
-                                   zip(names, stage.own_poses().tolist(), strict=True)])
+        broadcaster.sendTransform([
+            transform_message(stamp, name.frame("map"), name.frame("base_link"), pose)
+            for name, pose in zip(names, stage.own_poses().tolist(), strict=True)])
         with lock:
             current, sent = command.copy(), issued.copy()
         obeyed = fresh_commands(current, sent, now, stage.command_timeout)
@@ -176,17 +177,6 @@ def _silences(text: str, robots: tuple[str, ...]) -> dict[int, float]:
                            f"the scenario ({', '.join(robots)})")
             raise SystemExit(2) from None
     return result
-
-
-def _transform(stamp: rospy.Time, names: RobotNames, pose: list[float]) -> TransformStamped:
-    transform = TransformStamped()
-    transform.header.stamp = stamp
-    transform.header.frame_id = names.frame("map")
-    transform.child_frame_id = names.frame("base_link")
-    transform.transform.translation.x, transform.transform.translation.y = pose[0], pose[1]
-    transform.transform.rotation.z = math.sin(0.5 * pose[2])
-    transform.transform.rotation.w = math.cos(0.5 * pose[2])
-    return transform
 
 
 if __name__ == "__main__":

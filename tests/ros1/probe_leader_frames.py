@@ -1,0 +1,36 @@
+"""Run as a script by test_ros_simulation.py while a show runs: listens to /tf for the
+virtual-leader frames of formation_member (R1/map -> R1/vl_map -> R1/virtual_leader) and
+prints, as JSON, each frame's parent and the planar poses (x, y, theta) heard."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+import rospy
+from tf2_msgs.msg import TFMessage
+
+heard: dict[str, dict[str, object]] = {}
+
+
+def listen(message: TFMessage) -> None:
+    for transform in message.transforms:
+        child = transform.child_frame_id
+        if child.endswith(("/vl_map", "/virtual_leader")):
+            t, q = transform.transform.translation, transform.transform.rotation
+            entry = heard.setdefault(child, {"parent": transform.header.frame_id, "poses": []})
+            poses = entry["poses"]
+            assert isinstance(poses, list)
+            poses.append((t.x, t.y, 2.0 * math.atan2(q.z, q.w)))
+
+
+def main() -> None:
+    rospy.init_node("leader_frames_probe", disable_signals=True)
+    rospy.Subscriber("/tf", TFMessage, listen, queue_size=100)
+    rospy.sleep(float(sys.argv[1]))
+    print(json.dumps(heard))
+
+
+if __name__ == "__main__":
+    main()
