@@ -29,6 +29,34 @@ def run(capsys: Capture, *args: str) -> tuple[int, str, str]:
     return status, out, err
 
 
+def test_check_prints_the_timeline(capsys: Capture, tmp_path: Path) -> None:
+    """--timeline: when each instruction runs, in show time, with its line's text and where
+    the feasible timing slowed the leader, by how much; the same in the JSON. A formation
+    instruction shows once; a split (newVL) gives each new formation its own lines."""
+    path = tmp_path / "split.dance"
+    path.write_text("robots R1 R2\ngroups\nleft R1\nright R2\nstart\n"
+                    "row R1,R2 0 1.2\nmove 2 0\n"
+                    "row R1 0 0\nrow R2 0 0\nnewVL\n"
+                    "move 1 90 left\ncircle -1 90 0.3 right\n")
+    status, out, _ = run(capsys, "check", "--rigid-only", "--timeline", str(path))
+    assert status == 0
+    table = out.splitlines()[out.splitlines().index(
+        " line  start s    end s  speed  instruction"):-1]
+    assert [row.split()[0] for row in table[1:]] == ["6", "7", "8", "9", "11", "12"]
+    assert table[1].endswith("  row R1,R2 0 1.2")
+    assert table[3].split()[1] == table[4].split()[1]  # both new formations start together
+    status, out, _ = run(capsys, "check", "--rigid-only", "--timeline", "--json", str(path))
+    timeline = json.loads(out)["timeline"]
+    assert [(e["line"], e["kind"]) for e in timeline] == [
+        (6, "formation"), (7, "move"), (8, "formation"), (9, "formation"), (11, "move"),
+        (12, "circle")]
+    assert all(e["start"] <= e["end"] for e in timeline)
+    assert timeline[1]["end"] <= timeline[2]["start"] + 1e-9  # the split after the move
+    for entry, row in zip(timeline, table[1:], strict=True):
+        assert row.split()[1:3] == [f"{entry['start']:.1f}", f"{entry['end']:.1f}"]
+        assert ("%" in row) == (entry["speed_fraction"] < 1.0)
+
+
 def test_check_valid_prints_summary(capsys: Capture, tmp_path: Path) -> None:
     path = tmp_path / "straight.dance"
     path.write_text("robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\n")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
@@ -23,7 +24,7 @@ from dancebots.cli.common import (
 if TYPE_CHECKING:
     from dancebots.check import CheckReport
     from dancebots.diagnostics import Diagnostic
-    from dancebots.plan.planner import Plan
+    from dancebots.plan.planner import Plan, TimelineEntry
 
 NAME = "check"
 HELP = "check a choreography and summarise its plan"
@@ -50,6 +51,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="simulate shows up to this many robot-seconds (robots times show "
                         f"duration; default {SIMULATION_LIMIT:,}); a larger show gets a "
                         "warning instead")
+    parser.add_argument("--timeline", action="store_true",
+                        help="also print when each instruction runs: its line, start and end "
+                        "show time (s) and, where the feasible timing slowed the leader, how "
+                        "much (in the JSON: \"timeline\")")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
     parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
@@ -57,10 +62,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from dataclasses import asdict
+
     from dancebots.check import CheckOptions
     from dancebots.diagnostics import has_errors
     from dancebots.loading import load_show
     from dancebots.plan.placement import places_followed
+    from dancebots.plan.planner import instruction_timeline
 
     show = load_show(args.scenario, args.world, args.vmax, check=CheckOptions(
         clearance=args.clearance, places=places_followed(args.follower)), timing=args.timing)
@@ -70,8 +78,11 @@ def run(args: argparse.Namespace) -> int:
     if report is not None and not args.rigid_only:
         diagnostics = (*diagnostics, *_simulated(args, report))
     warnings = [d for d in diagnostics if d.severity.value == "warning"]  # notes do not count
+    timeline = instruction_timeline(show.plan) if (
+        args.timeline and show.plan is not None) else None
     if args.json:
         print(json.dumps({
+            **({"timeline": [asdict(entry) for entry in timeline]} if timeline else {}),
             "valid": not invalid,
             "diagnostics": [d.to_json() for d in sorted(
                 diagnostics, key=lambda d: (d.path, d.line, d.col))],
@@ -80,6 +91,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         if report is not None:
             print(summary_text(report, show.plan))
+        if timeline:
+            print(timeline_text(timeline, show.sources.get(args.scenario, [])))
         print_diagnostics(diagnostics, show.sources)
         if not invalid:
             count = len(warnings)
@@ -88,6 +101,19 @@ def run(args: argparse.Namespace) -> int:
     if invalid:
         return EXIT_INVALID
     return EXIT_WARNINGS if args.strict and warnings else EXIT_OK
+
+
+def timeline_text(timeline: Sequence[TimelineEntry], lines: Sequence[str]) -> str:
+    """The timeline as a table: line, start and end show time (s), the leader's slowest
+    speed there as a share of the planned one where the feasible timing slowed it, and the
+    instruction's text (``lines``: the scenario's lines; its kind without them)."""
+    rows = [f"{'line':>5} {'start s':>8} {'end s':>8} {'speed':>6}  instruction"]
+    for entry in timeline:
+        text = (lines[entry.line - 1].strip() if 0 < entry.line <= len(lines)
+                else entry.kind)
+        speed = f"{100 * entry.speed_fraction:.0f} %" if entry.speed_fraction < 1.0 else ""
+        rows.append(f"{entry.line:>5} {entry.start:>8.1f} {entry.end:>8.1f} {speed:>6}  {text}")
+    return "\n".join(rows)
 
 
 def summary_text(report: CheckReport, plan: Plan | None) -> str:

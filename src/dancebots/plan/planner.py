@@ -51,9 +51,11 @@ __all__ = [
     "PlanParameters",
     "PlannedFormation",
     "RobotTrack",
+    "TimelineEntry",
     "Timing",
     "build_plan",
     "desired_pose",
+    "instruction_timeline",
     "meetings",
     "nominal_duration",
     "path_speed_scale",
@@ -289,6 +291,41 @@ class RobotTrack:
         """(T,) the slot's speed along the leader's heading, m/s (:func:`slot_velocities`)."""
         speed: FloatArray = slot_velocities(self.leader_commands, self.offsets)[:, 0]
         return speed
+
+
+@dataclass(frozen=True, slots=True)
+class TimelineEntry:
+    """One instruction as the plan runs it: its ``line`` and ``col`` in the scenario, its
+    ``kind`` ("formation", "move" or "circle"), the index of the formation whose leader runs
+    it, and when: [start, end) in show time, s (a formation instruction: from its formation's
+    start to its leader's first move, its robots' way to the new slots and any departure
+    delay); ``speed_fraction``: :class:`InstructionTiming`'s (1.0 for a formation)."""
+
+    line: int
+    col: int
+    kind: str
+    formation: int
+    start: float
+    end: float
+    speed_fraction: float = 1.0
+
+
+def instruction_timeline(plan: Plan) -> tuple[TimelineEntry, ...]:
+    """Every formation, move and circle instruction of ``plan`` with the show times its
+    formation's leader runs it (:class:`TimelineEntry`), by start time, then line; a
+    formation instruction once, where it first applies."""
+    entries = []
+    listed: set[int] = set()  # a formation split off by newVL keeps its instruction's line
+    for index, formation in enumerate(plan.formations):
+        first = formation.timings[0].start if formation.timings else formation.start
+        if formation.span.line not in listed:
+            listed.add(formation.span.line)
+            entries.append(TimelineEntry(formation.span.line, formation.span.col, "formation",
+                                         index, formation.start, max(first, formation.start)))
+        entries.extend(TimelineEntry(
+            timing.span.line, timing.span.col, type(timing.instruction).__name__.lower(), index,
+            timing.start, timing.end, timing.speed_fraction) for timing in formation.timings)
+    return tuple(sorted(entries, key=lambda entry: (entry.start, entry.line)))
 
 
 def virtual_leader_pose(plan: Plan, robot_or_group: str, show_time: float) -> Pose:

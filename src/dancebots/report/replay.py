@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from dancebots.plan.planner import instruction_timeline
 from dancebots.shows.formation import STATUS, RunResult
 from dancebots.shows.queue import QueueResult
 from dancebots.sim.setup import Arena
@@ -62,18 +63,9 @@ def replay_data(result: RunResult, source_lines: Sequence[str] | None = None,
             return source_lines[line - 1].strip()
         return fallback
 
-    instructions = []
-    for lane, formation in enumerate(plan.formations):  # a lane per formation on the page
-        line = formation.span.line
-        instructions.append({"line": line, "start": formation.start,
-                             "end": formation.timings[0].start if formation.timings
-                             else formation.start,
-                             "text": text(line, "formation"), "lane": lane})
-        for timing in formation.timings:
-            instructions.append({"line": timing.span.line, "start": timing.start,
-                                 "end": timing.end, "lane": lane, "text": text(
-                                     timing.span.line, type(timing.instruction).__name__.lower())})
-    instructions.sort(key=lambda item: (item["start"], item["line"]))
+    instructions = [{"line": entry.line, "start": entry.start, "end": entry.end,
+                     "lane": entry.formation, "text": text(entry.line, entry.kind)}
+                    for entry in instruction_timeline(plan)]  # a lane per formation
     return {
         **({"scans": _scans(result.lidar, len(result.robots))} if result.lidar else {}),
         **_scene(placement.robots, [(k.length, k.width) for k in placement.types], arena),
