@@ -52,7 +52,7 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
                "driving against its slot's direction); 2 when the input is invalid.")
 
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
-                "animation.gif", "animation.mp4", "sound.wav", "metrics.json")
+                "animation.gif", "animation.mp4", "sound.wav", "preview.mp4", "metrics.json")
 """Every file a run may write into its output directory (besides the manifest)."""
 PROFILES = ("ideal", "realistic")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
@@ -77,6 +77,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sound", action="store_true",
                         help="also write sound.wav: the robots' speech and beeps on the show's "
                         "time line (needs espeak-ng)")
+    parser.add_argument("--music", metavar="FILE",
+                        help="also write preview.mp4: the show in real time with this music "
+                        "from its start (WAV, MP3, OGG, ... anything ffmpeg reads) and the "
+                        "robots' speech and beeps mixed in (needs ffmpeg; the speech "
+                        "espeak-ng)")
     parser.add_argument("--show-lidar", action="store_true",
                         help="draw each robot's latest LIDAR scan in the animation")
     parser.add_argument("--no-lidar", action="store_true",
@@ -131,6 +136,18 @@ def run(args: argparse.Namespace) -> int:
         if not espeak_available():
             return refuse(NAME, args.json, "--sound needs espeak-ng (Debian package espeak-ng; "
                         "scripts/dev.sh installs it)")
+    if args.music is not None:
+        from dancebots.report.frames import ffmpeg_available
+        from dancebots.report.preview import audio_streams
+
+        if not ffmpeg_available():
+            return refuse(NAME, args.json, "--music needs ffmpeg (Debian package ffmpeg; "
+                          "scripts/dev.sh installs it)")
+        if not Path(args.music).is_file():
+            return refuse(NAME, args.json, f"--music {args.music}: no such file")
+        if audio_streams(args.music) == 0:
+            return refuse(NAME, args.json, f"--music {args.music}: ffmpeg finds no sound in "
+                          "it; give a WAV, MP3, OGG or FLAC file")
     target = Path(args.out) if args.out else Path("out") / Path(args.scenario).stem
     return run_show_into(NAME, target, OUTPUT_NAMES, args.json, lambda staging: _simulate(
         args, show, (arena, placement), staging, console, target))
@@ -174,14 +191,15 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
     verdict = run_verdict(metrics, args.final_tolerance or FINAL_SLOT_TOLERANCE)
     written = _write_outputs(result, metrics, verdict, staging, console,
                              not args.no_animation, args.sound,
-                             show.sources.get(plan.scenario.path))
+                             show.sources.get(plan.scenario.path), args.music)
     return ShowOutcome(written, wall, verdict, metrics.to_json(), lambda: _summary(
         result, metrics, verdict, wall, target, written))
 
 
 def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, directory: Path,
                    console: Console, animation: bool, sound: bool = False,
-                   source_lines: list[str] | None = None) -> list[str]:
+                   source_lines: list[str] | None = None,
+                   music: str | None = None) -> list[str]:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -216,6 +234,25 @@ def _write_outputs(result: RunResult, metrics: RunMetrics, verdict: Verdict, dir
 
         render_events_wav(result.events, float(result.times[-1]), str(directory / "sound.wav"))
         written.append("sound.wav")
+    if music is not None:
+        from dancebots.report.preview import write_preview
+        from dancebots.report.sound import espeak_available, render_events_wav
+
+        events_wav = None
+        if espeak_available():  # the robots' voices over the music
+            events_wav = str(directory / ".preview-events.wav")
+            render_events_wav(result.events, float(result.times[-1]), events_wav)
+        else:
+            console.print("preview.mp4: the music only (the robots' speech needs espeak-ng)",
+                          style="yellow", highlight=False)
+        try:
+            with progress(console, "preview.mp4 (frames, real time)") as update:
+                write_preview(result, music, str(directory / "preview.mp4"), events_wav,
+                              lambda done, total: update(done, total))
+        finally:
+            if events_wav is not None:
+                Path(events_wav).unlink(missing_ok=True)  # written here, removed here
+        written.append("preview.mp4")
     (directory / "metrics.json").write_text(json.dumps(
         {**metrics.to_json(), "verdict": verdict.to_json()}, indent=2) + "\n", encoding="utf-8")
     return [*written, "metrics.json"]
