@@ -195,7 +195,9 @@ def test_recorded_scans_are_logged_as_point_clouds(tmp_path: Path) -> None:
     assert len(clouds) == len(result.lidar)
     when, hits = result.lidar[5]
     t, cloud = clouds[5]
-    assert t == round(when * 1e9)
+    assert t == round(when * 1e9)  # logged when it reached the robot, stamped when scanned
+    assert cloud.header.stamp.to_sec() == pytest.approx(when - result.config.lidar.latency,
+                                                        abs=1e-6)
     assert (cloud.width, cloud.point_step, [f.name for f in cloud.fields]) == (
         len(hits[1]), 12, ["x", "y", "z"])
     xyz = np.frombuffer(cloud.data, dtype="<f4").reshape(-1, 3)

@@ -52,16 +52,23 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
     dancebots = Path(sys.executable).parent / "dancebots"
     plan = plan_of(SCENARIO_7_1)
     duration = plan.duration
-    probe = subprocess.Popen([sys.executable, str(LEADER_PROBE), str(duration)],
-                             env=roscore.env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
-                             text=True)
+    with open(tmp_path / "probe.log", "wb") as probe_log:
+        probe = subprocess.Popen(  # listens until told to stop (SIGTERM), at most this long
+            [sys.executable, str(LEADER_PROBE), str(duration + START_ALLOWANCE + 120)],
+            env=roscore.env, stdout=subprocess.PIPE, stderr=probe_log, text=True)
     try:
+        assert probe.stdout is not None
+        assert probe.stdout.readline().strip() == "listening", (
+            tmp_path / "probe.log").read_text(errors="replace")[-2000:]
         with open(tmp_path / "simulate.log", "wb") as log:
             finished = subprocess.run(
                 [str(dancebots), "ros", "simulate", str(SCENARIO_7_1), "--record",
                  str(record_path)], env=roscore.env, stdout=log, stderr=subprocess.STDOUT,
                 timeout=duration + START_ALLOWANCE + 60, check=False)
-        frames = json.loads(probe.communicate(timeout=60)[0].strip().splitlines()[-1])
+        probe.terminate()
+        said = probe.communicate(timeout=60)[0].strip().splitlines()
+        assert said, (tmp_path / "probe.log").read_text(errors="replace")[-2000:]
+        frames = json.loads(said[-1])
     finally:
         kill_tree(probe.pid)
         probe.wait()

@@ -82,7 +82,8 @@ def run(args: argparse.Namespace) -> int:
         args.timeline and show.plan is not None) else None
     if args.json:
         print(json.dumps({
-            **({"timeline": [asdict(entry) for entry in timeline]} if timeline else {}),
+            **({"timeline": [asdict(entry) for entry in timeline]
+                if timeline is not None else None} if args.timeline else {}),
             "valid": not invalid,
             "diagnostics": [d.to_json() for d in sorted(
                 diagnostics, key=lambda d: (d.path, d.line, d.col))],

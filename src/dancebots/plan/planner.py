@@ -298,8 +298,9 @@ class TimelineEntry:
     """One instruction as the plan runs it: its ``line`` and ``col`` in the scenario, its
     ``kind`` ("formation", "move" or "circle"), the index of the formation whose leader runs
     it, and when: [start, end) in show time, s (a formation instruction: from its formation's
-    start to its leader's first move, its robots' way to the new slots and any departure
-    delay); ``speed_fraction``: :class:`InstructionTiming`'s (1.0 for a formation)."""
+    start to its leader's first move: the newVL hold and any ordered departure; the leader
+    does not wait for its robots to reach their new slots); ``speed_fraction``:
+    :class:`InstructionTiming`'s (1.0 for a formation)."""
 
     line: int
     col: int
@@ -315,7 +316,7 @@ def instruction_timeline(plan: Plan) -> tuple[TimelineEntry, ...]:
     formation's leader runs it (:class:`TimelineEntry`), by start time, then line; a
     formation instruction once, where it first applies."""
     entries = []
-    listed: set[int] = set()  # a formation split off by newVL keeps its instruction's line
+    listed: set[int] = set()  # robots a later formation did not name keep its line
     for index, formation in enumerate(plan.formations):
         first = formation.timings[0].start if formation.timings else formation.start
         if formation.span.line not in listed:

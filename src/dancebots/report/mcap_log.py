@@ -17,7 +17,8 @@ reads a clock, so a run's log is the same every time). A formation show
   beep, resume, error; "ROBOT KIND" for one without text, a beep);
 * with the scans recorded (``run --show-lidar``), ``/<robot>/scan``
   (``sensor_msgs/PointCloud2``, frame ``world``, x y z float32): each scan's hits where they
-  were when scanned, at the time the scan reached the robot.
+  were when scanned, stamped with the scan's time and logged when it reached the robot (the
+  LIDAR's latency later; a scan due after the run's last tick too).
 
 The ROS simulator bridge's record (``dancebots ros simulate --record FILE.mcap``,
 :class:`RecordLog`, written as the run goes): ``/tf``, ``/<robot>/pose`` and
@@ -208,11 +209,13 @@ def write_run_mcap(result: RunResult, path: str,
 
         scans: list[Any] = list(result.lidar or [])
 
-        def scan(index: int) -> None:
+        latency = result.config.lidar.latency if result.config.lidar is not None else 0.0
+
+        def scan(index: int) -> None:  # stamped when scanned, logged when it reached them
             when, hits = scans[index]
+            header = log.header(index, when - latency, "world")
             for robot, points in zip(robots, hits, strict=True):
-                log.write(f"/{robot}/scan", log.cloud(log.header(index, when, "world"),
-                                                      np.asarray(points).reshape(-1, 2)),
+                log.write(f"/{robot}/scan", log.cloud(header, np.asarray(points).reshape(-1, 2)),
                           when, index)
 
         said = scanned = 0
@@ -286,8 +289,12 @@ class RecordLog:
 
         self.robots = tuple(robots)
         self._handle = open(path, "wb")  # noqa: SIM115 (closed by close())
-        self._writer: Any = Writer(self._handle)
-        self._log = _Log(self._writer)
+        try:
+            self._writer: Any = Writer(self._handle)
+            self._log = _Log(self._writer)
+        except BaseException:
+            self._handle.close()
+            raise
         self._steps = self._contacts = 0
 
     @property
@@ -315,8 +322,10 @@ class RecordLog:
     def close(self) -> None:
         """Finish the file (idempotent)."""
         if not self._handle.closed:
-            self._writer.finish()
-            self._handle.close()
+            try:
+                self._writer.finish()
+            finally:
+                self._handle.close()
 
 
 def write_record_mcap(path: str, robots: Sequence[str], times: FloatArray, poses: FloatArray,

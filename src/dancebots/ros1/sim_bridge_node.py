@@ -87,11 +87,7 @@ def main() -> None:
     times: list[float] = []
     poses: list[np.ndarray] = []
     applied: list[np.ndarray] = []
-    streamed = None  # an .mcap record: written step by step as the run goes
-    if record_path is not None and record_path.endswith(".mcap"):
-        from dancebots.report.mcap_log import RecordLog
-
-        streamed = RecordLog(record_path, robots)
+    streamed = None  # an .mcap record: written step by step as the run goes (opened below)
     told = 0  # contacts streamed so far
 
     def write_record() -> None:
@@ -140,6 +136,10 @@ def main() -> None:
     step = 0
     last_write = 0.0
     reason = None
+    if record_path is not None and record_path.endswith(".mcap"):
+        from dancebots.report.mcap_log import RecordLog
+
+        streamed = RecordLog(record_path, robots)  # closed in the finally below
     try:
         while life.running:
             now = step * dt
