@@ -8,6 +8,7 @@ import signal
 import sys
 from collections.abc import Sequence
 
+import dancebots.cli.beats as beats_command
 import dancebots.cli.certify as certify_command
 import dancebots.cli.check as check_command
 import dancebots.cli.demo as demo_command
@@ -28,7 +29,7 @@ from dancebots.cli.common import (
 __all__ = ["build_parser", "main"]
 
 COMMANDS = (check_command, plan_command, demo_command, run_command, follow_command,
-            certify_command, ros_command)
+            certify_command, beats_command, ros_command)
 """Each has NAME, HELP, DESCRIPTION, add_arguments(parser) and run(args) -> exit status."""
 
 EPILOG = """exit status: 0 valid input, or a show that ran clean; 1 check --strict found warnings,
