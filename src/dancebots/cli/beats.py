@@ -35,9 +35,9 @@ def run(args: argparse.Namespace) -> int:
     except ImportError:
         return fail(NAME, "beat tracking needs librosa: pip install 'dancebots[music]' "
                     "(scripts/dev.sh installs it)")
-    from dancebots.plan.beats import track_beats
-
     import warnings
+
+    from dancebots.plan.beats import track_beats
 
     try:
         with warnings.catch_warnings():  # librosa's fallback notices: the error below says it
