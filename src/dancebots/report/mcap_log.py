@@ -162,7 +162,7 @@ class _Log:
                                                  self._vector(0.0, 0.0, angular))
 
     def frames(self, header: Any, robots: tuple[str, ...],
-               poses: list[tuple[float, float, float]]) -> Any:
+               poses: Sequence[Sequence[float]]) -> Any:
         """``/tf``: ``world`` -> ``<robot>/base_link`` at ``poses`` (x, y, theta)."""
         transform = self.types["geometry_msgs/Transform"]
         stamped = self.types["geometry_msgs/TransformStamped"]
@@ -170,6 +170,16 @@ class _Log:
             header, f"{robot}/base_link", transform(self._vector(x, y, 0.0),
                                                     self.pose(x, y, theta).orientation))
             for robot, (x, y, theta) in zip(robots, poses, strict=True)])
+
+    def robots_at(self, world: Any, robots: Sequence[str], poses: Sequence[Sequence[float]],
+                  commands: Sequence[Sequence[float]], t: float, k: int) -> None:
+        """What every show logs at tick ``k`` (time ``t``): each robot's ``pose`` (x, y,
+        theta) and ``cmd_vel`` (v, w), and ``/tf`` with all of them; ``world``: the tick's
+        header."""
+        for robot, pose, command in zip(robots, poses, commands, strict=True):
+            self.write(f"/{robot}/pose", self.pose_stamped(world, *pose), t, k)
+            self.write(f"/{robot}/cmd_vel", self.twist(*command), t, k)
+        self.write("/tf", self.frames(world, tuple(robots), poses), t, k)
 
     def cloud(self, header: Any, points: FloatArray) -> Any:
         """A ``sensor_msgs/PointCloud2`` of ``points`` (N, 2) at z = 0: x, y, z float32."""
@@ -227,16 +237,14 @@ def write_run_mcap(result: RunResult, path: str,
                 scan(scanned)
                 scanned += 1
             world = log.header(k, t, "world")
+            log.robots_at(world, robots, [p[k] for p in poses], [c[k] for c in commands], t, k)
             for i, robot in enumerate(robots):
-                log.write(f"/{robot}/pose", log.pose_stamped(world, *poses[i][k]), t, k)
                 log.write(f"/{robot}/desired", log.pose_stamped(world, *desired[i][k]), t, k)
                 log.write(f"/{robot}/virtual_leader", log.pose_stamped(world, *leader[i][k]),
                           t, k)
-                log.write(f"/{robot}/cmd_vel", log.twist(*commands[i][k]), t, k)
                 log.write(f"/{robot}/velocity", twist_stamped(
                     log.header(k, t, f"{robot}/base_link"), log.twist(*velocities[i][k])),
                     t, k)
-            log.write("/tf", log.frames(world, robots, [p[k] for p in poses]), t, k)
             if spectators:
                 log.write("/spectators", log.people(world, spectators, k), t, k)
             if progress is not None:
@@ -262,14 +270,12 @@ def write_queue_mcap(result: QueueResult, path: str,
         log = _Log(writer)
         for k, t in enumerate(times):
             world = log.header(k, t, "world")
+            log.robots_at(world, robots, [p[k] for p in poses], [c[k] for c in commands], t, k)
             for i, robot in enumerate(robots):
-                log.write(f"/{robot}/pose", log.pose_stamped(world, *poses[i][k]), t, k)
-                log.write(f"/{robot}/cmd_vel", log.twist(*commands[i][k]), t, k)
                 if all(map(math.isfinite, targets[i][k])):
                     log.write(f"/{robot}/target", log.point_stamped(world, *targets[i][k]),
                               t, k)
             log.write("/leader", log.point_stamped(world, *leader[k]), t, k)
-            log.write("/tf", log.frames(world, robots, [p[k] for p in poses]), t, k)
             if spectators:
                 log.write("/spectators", log.people(world, spectators, k), t, k)
             if progress is not None:
@@ -305,12 +311,8 @@ class RecordLog:
     def step(self, t: float, poses: FloatArray, commands: FloatArray) -> None:
         """One step at ROS time ``t`` (s): poses (R, 3) world, the commands obeyed (R, 2)."""
         log, k = self._log, self._steps
-        world = log.header(k, t, "world")
-        rows = poses.tolist()
-        for robot, pose, command in zip(self.robots, rows, commands.tolist(), strict=True):
-            log.write(f"/{robot}/pose", log.pose_stamped(world, *pose), t, k)
-            log.write(f"/{robot}/cmd_vel", log.twist(*command), t, k)
-        log.write("/tf", log.frames(world, self.robots, rows), t, k)
+        log.robots_at(log.header(k, t, "world"), self.robots, poses.tolist(), commands.tolist(),
+                      t, k)
         self._steps += 1
 
     def contact(self, t: float, robot: str, other: str) -> None:
