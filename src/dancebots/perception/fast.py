@@ -14,7 +14,8 @@ from numba import njit
 from numpy.typing import NDArray
 
 __all__ = ["far_from_all", "perceive_columns", "perceive_columns_split", "perceive_moved",
-           "to_local", "turn_fraction_columns"]
+           "to_local", "turn_fraction_columns",
+           "turn_fraction_local"]
 
 
 @njit(cache=True)
@@ -58,14 +59,33 @@ def turn_fraction_columns(columns: NDArray[np.float64], height_step: float, crop
     (behind it when ``linear`` < 0)."""
     if angular == 0.0:
         return 1.0
+    points = _kept(columns, height_step, crop_half, z_min, z_max)
+    c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
+    c1, s1 = math.cos(pose[2]), math.sin(pose[2])
+    local = np.empty_like(points)
+    for i in range(points.shape[0]):
+        wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
+        wy = seen_from[1] + s0 * points[i, 0] + c0 * points[i, 1] - pose[1]
+        local[i, 0] = c1 * wx + s1 * wy
+        local[i, 1] = -s1 * wx + c1 * wy
+    return turn_fraction_local(local, length, width, linear, angular, margin, horizon,
+                               leading)
+
+
+@njit(cache=True)
+def turn_fraction_local(points: NDArray[np.float64], length: float, width: float,
+                        linear: float, angular: float, margin: float, horizon: float,
+                        leading: bool) -> float:
+    """``perception.obstacles.turn_fraction`` of obstacle points (M, 2) in ``base_link``
+    (turn margin and horizon given); ``leading``: of the points ahead of the robot's middle
+    in its direction of travel only (behind it when ``linear`` < 0)."""
+    if angular == 0.0:
+        return 1.0
     if not (math.isfinite(linear) and math.isfinite(angular)):
         return 0.0
-    points = _kept(columns, height_step, crop_half, z_min, z_max)
     half_l, half_w = 0.5 * length, 0.5 * width
     reach = (math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * horizon
              + margin)
-    c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
-    c1, s1 = math.cos(pose[2]), math.sin(pose[2])
     # the instants of ``perception.obstacles.turn_samples``, evenly over the horizon
     spread = math.hypot(half_l, half_w) + reach
     step = min(0.1, 0.5 * margin / (abs(linear) + abs(angular) * spread))
@@ -89,17 +109,14 @@ def turn_fraction_columns(columns: NDArray[np.float64], height_step: float, crop
             arcs[f, k, 0], arcs[f, k, 1] = dx, dy
             arcs[f, k, 2], arcs[f, k, 3] = math.cos(theta), math.sin(theta)
     blocked = np.zeros(3, dtype=np.bool_)
+    nearest = np.empty(4)
     for i in range(points.shape[0]):
-        wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
-        wy = seen_from[1] + s0 * points[i, 0] + c0 * points[i, 1] - pose[1]
-        x0 = c1 * wx + s1 * wy
-        y0 = -s1 * wx + c1 * wy
+        x0, y0 = points[i, 0], points[i, 1]
         if leading and x0 * (1.0 if linear >= 0.0 else -1.0) <= 0.0:
             continue
         gap0 = math.hypot(max(abs(x0) - half_l, 0.0), max(abs(y0) - half_w, 0.0))
         if gap0 >= reach:
             continue
-        nearest = np.empty(4)
         for f in range(4):
             best = math.inf
             for k in range(steps):

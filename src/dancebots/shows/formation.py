@@ -21,8 +21,10 @@ from numpy.typing import NDArray
 
 from dancebots.control.tracking import follower_references
 from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
+from dancebots.perception.cloud import PointCloud
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
+from dancebots.robot_batch import BatchBrains, batch_supported
 from dancebots.safety.monitor import EventKind
 from dancebots.shows.loop import Clock, Progress, Tick, run_show
 from dancebots.sim.kinematics import IDEAL, Profile
@@ -95,6 +97,10 @@ class SimConfig:
         netem; the ROS nodes do not send them yet).
     max_pause: s the shared clock may fall behind the stage's before the run ends anyway (a
         person who never leaves a robot's way).
+    batched: tick every robot's brain in one compiled pass (``robot_batch.BatchBrains``: the
+        same decisions, several times faster) where the brains allow it (the ``tracking`` and
+        ``path`` followers with the ``fixed`` stop rule, compiled); else, or when off, each
+        :class:`~dancebots.robot.RobotBrain` ticks in turn (the reference).
     """
 
     profile: Profile = IDEAL
@@ -112,6 +118,7 @@ class SimConfig:
     hold_delay: float = 0.0
     hold_loss: float = 0.0
     max_pause: float = 120.0
+    batched: bool = True
 
     def __post_init__(self) -> None:
         if not (0.0 <= self.hold_delay < HoldParams().heartbeat_timeout
@@ -282,7 +289,11 @@ class _Crew:
         self.status = np.zeros(count, dtype=np.int8)
         self.holding = np.zeros(count, dtype=bool)
         self.asking = np.zeros(count, dtype=bool)
+        self.waiting = np.zeros(count, dtype=bool)
         self.command = np.zeros((count, 2))
+        self.batch: BatchBrains | None = None
+        if config.batched and config.compiled and batch_supported(brains):
+            self.batch = BatchBrains(brains)
 
     def _show_times(self, now: float) -> None:
         """Each robot's show time at ``now``: with the shared clock, the messages due are
@@ -309,17 +320,16 @@ class _Crew:
         return [heard[rows != senders.index(robot)] if robot in senders else heard
                 for robot in range(len(self.robots))]  # without its own echo
 
-    def _tell(self, now: float, poses: list[tuple[float, float, float] | None]) -> None:
+    def _tell(self, now: float, own: np.ndarray, known: np.ndarray) -> None:
         """Every robot tells the others its show time, whether it holds the show and where it
-        stands (``poses``: in its own map frame, as its brain got it; None: a failed look-up,
-        it does not say)."""
+        stands (``own`` (R, >= 2): in its own map frame, as its brain got it, where ``known``
+        (R,); elsewhere a failed look-up: it does not say)."""
         if not self.together:
             return
         count = len(self.robots)
         lost = self.message_rng.random(count) < self.loss if self.loss > 0 else (
             np.zeros(count, dtype=bool))
-        known = np.array([pose is not None for pose in poses])
-        own = np.array([pose[:2] if pose is not None else (np.nan, np.nan) for pose in poses])
+        own = own[:, :2]
         # where each stands in the show frame (``RobotBrain.show_position``, all at once)
         position = np.where(known[:, None], compose_points(self.show_frames, own), np.nan)
         self.in_flight.append((now + self.delay, (
@@ -327,18 +337,49 @@ class _Crew:
             position)))
 
     def step(self, now: float) -> Tick:
-        stage, states = self.stage, self.states
+        stage = self.stage
         arrived = stage.deliveries(now)
-        own_poses = stage.own_poses().tolist()
+        own = stage.own_poses()
         self._show_times(now)
-        given: list[tuple[float, float, float] | None] = []
+        for i, start in self.lidar_faults.items():
+            if now >= start:
+                arrived[i] = None
+        known = np.array([now < self.pose_faults.get(i, math.inf)
+                          for i in range(len(self.robots))], dtype=bool)
+        if self.batch is not None:
+            self._batch_step(now, arrived, own, known)
+        else:
+            self._brains_step(now, arrived, own, known)
+        self._tell(now, own, known)
+        stage.speaking = self.asking.copy()  # the crowd hears them (sim/crowd.py)
+        return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
+                                   "commands": self.command, "status": self.status,
+                                   "spectators": stage.discs[:, :2],
+                                   "show_times": self.show_times, "holds": self.holding},
+                    float(self.show_times.min()), bool(self.waiting.any()))
+
+    def _batch_step(self, now: float, arrived: list[PointCloud | None], own: np.ndarray,
+                    known: np.ndarray) -> None:
+        """Every brain's tick in one compiled pass (``robot_batch.BatchBrains``)."""
+        assert self.batch is not None
+        tick = self.batch.step(now, self.show_times, own, known, arrived,
+                               self.clocks.position if self.together else None)
+        self.command[:] = tick.commands
+        self.status[:] = tick.status
+        self.holding[:] = tick.holding
+        self.asking[:] = tick.asking
+        self.waiting[:] = tick.waiting
+        self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
+                           for i, e in tick.events)
+
+    def _brains_step(self, now: float, arrived: list[PointCloud | None], own: np.ndarray,
+                     known: np.ndarray) -> None:
+        """Each brain's tick in turn (``RobotBrain.step``, the reference)."""
+        states = self.states
+        own_poses = own.tolist()
         heard = self._mates_heard()
         for i, brain in enumerate(self.brains):
-            if now >= self.lidar_faults.get(i, math.inf):
-                arrived[i] = None
-            seen = None if now >= self.pose_faults.get(i, math.inf) else (
-                own_poses[i][0], own_poses[i][1], own_poses[i][2])
-            given.append(seen)
+            seen = (own_poses[i][0], own_poses[i][1], own_poses[i][2]) if known[i] else None
             states[i], cmd, happened = brain.step(states[i], float(self.show_times[i]), seen,
                                                   arrived[i], clock=now,
                                                   mates_heard=heard[i])
@@ -346,16 +387,10 @@ class _Crew:
             self.status[i] = STATUS.index(states[i].status)
             self.holding[i] = states[i].holding_the_show
             self.asking[i] = states[i].asks_for_room
+            self.waiting[i] = states[i].waiting
             if happened:
                 self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                                    for e in happened)
-        self._tell(now, given)
-        stage.speaking = self.asking.copy()  # the crowd hears them (sim/crowd.py)
-        return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
-                                   "commands": self.command, "status": self.status,
-                                   "spectators": stage.discs[:, :2],
-                                   "show_times": self.show_times, "holds": self.holding},
-                    float(self.show_times.min()), any(state.waiting for state in states))
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,

@@ -16,12 +16,13 @@ __all__ = ["kernel_modules", "kernels_to_compile"]
 
 def kernel_modules(crowds: bool = False, closing: bool = False) -> tuple[ModuleType, ...]:
     """The modules that hold numba kernels (importing them imports numba): those every
-    formation show runs, with ``crowds`` the crowds' social forces too, and with ``closing``
+    formation show runs (its brains' batch among them), with ``crowds`` the crowds' social forces too, and with ``closing``
     the ``closing`` stop rule's."""
+    from dancebots import robot_batch_jit
     from dancebots.perception import fast
     from dancebots.sim import collision_jit, raycast_jit
 
-    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, fast)
+    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, fast, robot_batch_jit)
     if crowds:
         from dancebots.sim import crowd_jit
 

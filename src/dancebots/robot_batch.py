@@ -1,0 +1,240 @@
+"""BatchBrains: the brains of a whole formation, ticked in one compiled pass.
+
+A thin shell over ``robot_batch_jit.brains_tick``: it keeps every robot's state in arrays,
+looks up what each follower tracks on the brains' 10 Hz grid for all robots at once (and
+asks the robot's :class:`~dancebots.robot.RobotBrain` off the grid), and turns the kernel's
+event codes into the events a brain returns. The decisions are ``RobotBrain.step``'s, for
+the configurations :func:`batch_supported` accepts (the defaults: ``tracking`` or ``path``
+follower, ``fixed`` stop rule, ``compensated`` detector); the simulator falls back to the
+brains one by one for the others. ``tests/test_robot_batch.py`` holds both equal.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from dancebots import robot
+from dancebots.perception.cloud import PointCloud
+from dancebots.robot import RobotBrain
+from dancebots.safety.monitor import STOP_SENTENCE, Event
+from dancebots.sync.hold import ADVANCE_MIN
+
+__all__ = ["BatchBrains", "BatchTick", "batch_supported"]
+
+FloatArray = NDArray[np.float64]
+
+
+def batch_supported(brains: list[RobotBrain]) -> bool:
+    """Whether :class:`BatchBrains` decides as these brains do: one plan and grid, the
+    ``tracking`` or ``path`` follower, the ``fixed`` stop rule, the ``compensated``
+    detector (or no LIDAR), the compiled perception, the same detection, safety and
+    tracking gains for all."""
+    if not brains:
+        return False
+    first = brains[0]
+    gains = _gains(first)
+    return all(
+        b.follower in ("tracking", "path") and b.sensing.stop_rule == "fixed"
+        and (b.sensing.detector == "compensated" or not b.sensing.lidar)
+        and b.sensing.compiled and b.plan is first.plan
+        and b.grid_period == first.grid_period and b.sensing.lidar == first.sensing.lidar
+        and b.sensing.detection == first.sensing.detection
+        and b.sensing.safety == first.sensing.safety
+        and b.sensing.force_radius == first.sensing.force_radius
+        and b.sensing.approach_gain == first.sensing.approach_gain
+        and b.feedforward_lead == first.feedforward_lead
+        and np.array_equal(_gains(b), gains) and (b._mates is not None or len(brains) == 1)
+        for b in brains)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class BatchTick:
+    """What the formation decided at a tick, per robot (R,): commands (R, 2) (v m/s, w
+    rad/s); status codes of ``shows.formation.STATUS`` (0 ok, 1 stopped, 2 error);
+    holding (``BrainState.holding_the_show``), asking (``BrainState.asks_for_room``),
+    waiting (``BrainState.waiting``); events: (robot index, event) in robot order."""
+
+    commands: FloatArray
+    status: NDArray[np.int8]
+    holding: NDArray[np.bool_]
+    asking: NDArray[np.bool_]
+    waiting: NDArray[np.bool_]
+    events: tuple[tuple[int, Event], ...]
+
+
+def _gains(brain: RobotBrain) -> FloatArray:
+    """The tracking gains the kernel indexes (``robot_batch_jit.GAIN_X`` ...)."""
+    t = brain.tracking
+    return np.array([t.gain_x, t.gain_y, t.gain_theta, t.arrival_distance, t.settle_distance,
+                     t.heading_tolerance, t.arrival_gain, t.turn_gain, t.reverse_distance,
+                     t.force_gain, t.heading_speed, t.park_gain_alpha, t.park_gain_theta,
+                     t.wait_speed])
+
+
+def _wrap_exact(angles: FloatArray) -> FloatArray:
+    """``geometry.wrap_angle`` of every angle, bit for bit (from the exact ``fmod``; NumPy's
+    ``remainder`` of ``geometry.wrap_angles`` rounds)."""
+    tau = 2.0 * math.pi
+    wrapped = np.fmod(angles, tau)
+    wrapped = np.where(wrapped > math.pi, wrapped - tau, wrapped)
+    wrapped = np.where(wrapped < -math.pi, wrapped + tau, wrapped)
+    result: FloatArray = np.where(wrapped == -math.pi, math.pi, wrapped)
+    return result
+
+
+class BatchBrains:
+    """The brains of a formation, as arrays (see the module). ``brains``: one per robot, all
+    :func:`batch_supported`; they stay the reference for what the grid does not hold (their
+    mates' places are shared with this batch, not copied)."""
+
+    def __init__(self, brains: list[RobotBrain]) -> None:
+        if not batch_supported(brains):
+            raise ValueError("these brains are not batch_supported: tick them one by one")
+        from dancebots import robot_batch_jit as jit  # imports numba
+
+        self._jit = jit
+        first = brains[0]
+        sensing, detection, safety = first.sensing, first.sensing.detection, first.sensing.safety
+        count = len(brains)
+        self.brains = brains
+        self.period = first.grid_period
+        self.grid_end = first.grid_end
+        self.lead = first.feedforward_lead
+        self.rest_from = first.rest_from
+        grids = [b._slot_grid for b in brains if b._slot_grid is not None]
+        assert len(grids) == count  # the tracking and path followers' grids
+        self.grid = np.stack(grids)  # (R, T, 5)
+        self.grid[..., 2] = _wrap_exact(self.grid[..., 2])
+        if count > 1:
+            # every brain's mates' places (R, M, T, 2), its own frame; the brains read views
+            self.mates = np.stack([b._mates for b in brains if b._mates is not None])
+            self.mates.flags.writeable = False
+            for i, brain in enumerate(brains):
+                brain._mates = self.mates[i]
+        else:
+            self.mates = np.zeros((1, 0, len(self.grid[0]), 2))
+        self.own_frames = np.array([b._own_frame for b in brains])
+        self.frame_cos_sin = np.stack([np.cos(self.own_frames[:, 2]),
+                                       np.sin(self.own_frames[:, 2])], axis=1)
+        self.sizes = np.array([[b.sensing.length, b.sensing.width] for b in brains])
+        self.limits = np.array([[b.tracking.max_linear, b.tracking.max_angular]
+                                for b in brains])
+        self.mate_radius = np.array([b.mate_radius for b in brains])
+        self.gains = _gains(first)
+        self.detect = np.array([detection.crop_half, detection.z_min, detection.z_max,
+                                detection.stop_distance, detection.corridor_margin,
+                                detection.turn_margin, detection.turn_horizon])
+        self.rules = np.array([
+            sensing.force_radius, robot.FORCE_GAIN, sensing.approach_gain, robot.MATE_GAP,
+            robot.OVERLAP, robot.HOLD_LAG, robot.SLOWED, robot.GIVE_WAY_SPEED,
+            robot.PARKED_GAP, robot.MAKE_ROOM_SPEED, robot.MAKE_ROOM_FLOOR, robot.NEAR_GAP,
+            robot.CORNER_SPEED, robot.AFTER_SHOW_WAIT, robot.SLOW_TURN_LAG,
+            safety.sensor_timeout, float(safety.max_lookup_failures), safety.beep_period,
+            ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from])
+        # state
+        self.history = np.zeros((count, robot.HISTORY_LENGTH + 1, 4))
+        self.history_size = np.zeros(count, dtype=np.int64)
+        self.seen_from = np.zeros((count, 3))
+        self.has_seen_from = np.zeros(count, dtype=bool)
+        self.last_show_time = np.full(count, np.nan)
+        self.making_room = np.zeros(count)
+        self.near_since = np.full(count, np.nan)
+        self.safety = np.full((count, 5), np.nan)
+        self.safety[:, 0] = 0.0
+        self.lookup_failures = np.zeros(count, dtype=np.int64)
+        self.latest: list[FloatArray] = [np.zeros((0, 4))] * count
+        self.columns = np.zeros((0, 4))
+        self.offsets = np.zeros(count + 1, dtype=np.int64)
+        self.height_steps = np.full(count, 0.1)
+        # outputs
+        self.commands = np.zeros((count, 2))
+        self.flags = np.zeros((count, 4), dtype=bool)
+        self.events = np.zeros(count, dtype=np.int64)
+        self.event_values = np.zeros(count)
+
+    def _grid_rows(self, times: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
+        """Each robot's grid row (R, 5) at its time (R,) s (``RobotBrain._grid_index``: the
+        last row from the grid's end on), and where the time is on the grid (R,)."""
+        length = self.grid.shape[1]
+        k = np.rint(times / self.period)
+        after = times >= self.grid_end
+        on = after | ((np.abs(k * self.period - times) < 1e-9) & (k >= 0) & (k < length))
+        index = np.where(after, length - 1, np.clip(k, 0, length - 1)).astype(np.int64)
+        return self.grid[np.arange(len(times)), index], on
+
+    def references(self, show_times: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
+        """What each follower tracks (R, 5) at its show time (R,) s, and whether its slot
+        stands for good (R,): ``RobotBrain._reference``, from the grid for all robots at once
+        and from the brain where a time falls off it."""
+        rows, on = self._grid_rows(show_times)
+        rows = rows.copy()
+        if self.lead > 0.0:
+            steps = (show_times + self.lead) / self.period
+            first = np.floor(steps)
+            weight = steps - first
+            before, on_before = self._grid_rows(first * self.period)
+            after, on_after = self._grid_rows((first + 1) * self.period)
+            rows[:, 3:] = (1.0 - weight)[:, None] * before[:, 3:] + weight[:, None] * after[:, 3:]
+            on = on & on_before & on_after
+        for i in np.flatnonzero(~on).tolist():
+            exact = self.brains[i]._reference(float(show_times[i]))
+            rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
+        return rows, show_times >= self.rest_from
+
+    def step(self, now: float, show_times: FloatArray, poses: FloatArray,
+             pose_known: NDArray[np.bool_], arrived: list[PointCloud | None],
+             heard: FloatArray | None) -> BatchTick:
+        """One tick of every robot (``RobotBrain.step`` with ``clock=now``): show times (R,)
+        s; poses (R, 3) in each robot's own map frame where ``pose_known`` (R,); the clouds
+        that arrived (None: none); ``heard`` (R, 2) where each robot last said it stands
+        (show frame, NaN: nothing heard; None: no shared clock, ``mates_heard`` None)."""
+        count = len(self.brains)
+        arrivals = np.array([cloud is not None for cloud in arrived], dtype=bool)
+        stamps = np.zeros(count)
+        if arrivals.any():
+            for i, cloud in enumerate(arrived):
+                if cloud is not None:
+                    self.latest[i] = cloud.columns
+                    self.height_steps[i] = cloud.height_step
+                    stamps[i] = cloud.stamp
+            self.columns = np.concatenate(self.latest) if count > 1 else self.latest[0]
+            self.offsets[1:] = np.cumsum([len(c) for c in self.latest])
+        references, finals = self.references(show_times)
+        steps = np.rint(show_times / self.period)
+        index = np.clip(steps, 0, self.mates.shape[2] - 1).astype(np.int64)
+        mates = self.mates[np.arange(count), :, index] if count > 1 else np.zeros((1, 0, 2))
+        self._jit.brains_tick(
+            now, np.ascontiguousarray(show_times, dtype=np.float64),
+            np.ascontiguousarray(poses, dtype=np.float64), pose_known, arrivals, stamps,
+            self.columns, self.offsets, self.height_steps, references, finals,
+            np.ascontiguousarray(mates), heard if heard is not None else np.zeros((count, 2)),
+            heard is not None, self.frame_cos_sin, self.own_frames, self.sizes, self.limits,
+            self.mate_radius, self.gains, self.detect, self.rules, self.history,
+            self.history_size, self.seen_from, self.has_seen_from, self.last_show_time,
+            self.making_room, self.near_since, self.safety, self.lookup_failures,
+            self.commands, self.flags, self.events, self.event_values)
+        error = self.safety[:, 0] != 0.0
+        stopped = self.flags[:, 3]
+        holds_show = self.flags[:, 1]
+        status = np.where(error, 2, np.where(stopped, 1, 0)).astype(np.int8)
+        return BatchTick(self.commands.copy(), status, holds_show | error,
+                         holds_show & stopped & ~error, self.flags[:, 2].copy(),
+                         tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist()))
+
+    def _event(self, robot_index: int) -> Event:
+        """The event of the kernel's code for ``robot_index`` (``safety_step``'s texts)."""
+        jit, code = self._jit, int(self.events[robot_index])
+        value = float(self.event_values[robot_index])
+        if code == jit.EVENT_SPEECH:
+            return Event("speech", STOP_SENTENCE)
+        if code == jit.EVENT_BEEP:
+            return Event("beep")
+        if code == jit.EVENT_RESUME:
+            return Event("resume", "the way is clear")
+        if code == jit.EVENT_ERROR_POSE:
+            return Event("error", f"{round(value)} consecutive failed pose look-ups")
+        return Event("error", f"no LIDAR data for {value:.1f} s")

@@ -1,0 +1,467 @@
+"""Every robot's brain tick in one numba-compiled pass (``robot_batch.BatchBrains`` calls it).
+
+The same decisions as :meth:`dancebots.robot.RobotBrain.step` for the ``tracking`` and
+``path`` followers with the ``fixed`` stop rule and the ``compensated`` detector (the
+defaults), written as loops over robots on arrays of state, so that a formation of 20 robots
+costs one call a tick instead of twenty brains' worth of Python. ``RobotBrain`` remains the
+readable reference: ``tests/test_robot_batch.py`` runs shows through both and holds them
+equal. Each function names the method of ``RobotBrain`` (or the module function) it mirrors,
+and keeps its arithmetic in the same order, so that the two agree to the last bit wherever
+they use the same libm functions.
+
+Shapes: R robots, M mates per robot (R - 1), K latest-cloud columns of all robots together,
+H own poses of history (``robot.HISTORY_LENGTH`` + 1).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from dancebots.perception.fast import (
+    far_from_all,
+    perceive_columns,
+    perceive_columns_split,
+    to_local,
+    turn_fraction_columns,
+    turn_fraction_local,
+)
+
+__all__ = ["EVENT_BEEP", "EVENT_ERROR_LIDAR", "EVENT_ERROR_POSE", "EVENT_NONE",
+           "EVENT_RESUME", "EVENT_SPEECH", "brains_tick"]
+
+FloatArray = NDArray[np.float64]
+
+EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERROR_LIDAR = range(6)
+"""Codes of the one event a robot may voice at a tick (``safety.monitor.safety_step``)."""
+
+# indices of the tracking parameters (``control.tracking.TrackingParams``) in ``gains``
+(GAIN_X, GAIN_Y, GAIN_THETA, ARRIVAL_DISTANCE, SETTLE_DISTANCE, HEADING_TOLERANCE,
+ ARRIVAL_GAIN, TURN_GAIN, REVERSE_DISTANCE, FORCE_GAIN_STEER, HEADING_SPEED, PARK_ALPHA,
+ PARK_THETA, WAIT_SPEED) = range(14)
+# indices of the detection parameters (``perception.obstacles.DetectorParams``) in ``detect``
+CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON = range(7)
+# indices of the brain's constants (``robot`` module) in ``rules``
+(FORCE_RADIUS, FORCE_GAIN, APPROACH_GAIN, MATE_GAP, OVERLAP, HOLD_LAG, SLOWED, GIVE_WAY_SPEED,
+ PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
+ SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
+ PLAN_DURATION, REST_FROM) = range(22)
+MAKE_ROOM_SHIFTS = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6)
+"""``robot.MAKE_ROOM_SHIFTS`` (a test holds them equal)."""
+
+
+@njit(cache=True)
+def _wrap(angle: float) -> float:
+    """``geometry.wrap_angle``: rad -> (-pi, pi], from the exact ``fmod`` (the IEEE remainder
+    ``math.remainder`` that numba lacks, but for angles exactly an odd multiple of pi)."""
+    tau = 2.0 * math.pi
+    wrapped = np.fmod(angle, tau)
+    if wrapped > math.pi:
+        wrapped -= tau
+    elif wrapped < -math.pi:
+        wrapped += tau
+    return math.pi if wrapped == -math.pi else wrapped
+
+
+@njit(cache=True)
+def _saturate(linear: float, angular: float, max_linear: float,
+              max_angular: float) -> tuple[float, float]:
+    """``control.tracking._saturate``."""
+    scale = 1.0
+    if abs(linear) > max_linear:
+        scale = max_linear / abs(linear)
+    if abs(angular) * scale > max_angular:
+        scale = max_angular / abs(angular)
+    return linear * scale, angular * scale
+
+
+@njit(cache=True)
+def _parking(gains: FloatArray, distance: float, bearing: float, heading_error: float,
+             backwards: bool) -> tuple[float, float]:
+    """``control.tracking.parking_step``."""
+    alpha = _wrap(bearing - math.pi) if backwards else bearing
+    theta = _wrap(alpha - heading_error)
+    gain = gains[ARRIVAL_GAIN]
+    ratio = math.sin(alpha) / alpha if abs(alpha) > 1e-9 else 1.0
+    linear = gain * distance * math.cos(alpha)
+    angular = (gains[PARK_ALPHA] * alpha
+               + gain * math.cos(alpha) * ratio * (alpha + gains[PARK_THETA] * theta))
+    return (-linear if backwards else linear), angular
+
+
+@njit(cache=True)
+def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: float, py: float,
+              ptheta: float, rx: float, ry: float, rtheta: float, speed: float,
+              angular_speed: float, final: bool, fy: float) -> tuple[float, float]:
+    """``control.tracking.tracking_step`` of the robot at (px, py, ptheta) tracking the
+    reference (rx, ry, rtheta, speed, angular_speed, final), sideways force ``fy``."""
+    dx, dy = rx - px, ry - py  # ``Pose.to_local``
+    c, s = math.cos(ptheta), math.sin(ptheta)
+    ex, ey = c * dx + s * dy, -s * dx + c * dy
+    heading_error = _wrap(rtheta - ptheta)
+    if abs(speed) > 1e-9 or abs(angular_speed) > 1e-9:  # ``SlotReference.moving``
+        vr, wr = speed, angular_speed
+        linear = vr * math.cos(heading_error) + gains[GAIN_X] * ex
+        if linear * vr < 0.0 and abs(vr) >= gains[WAIT_SPEED]:
+            return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+        angular = (wr + vr * gains[GAIN_Y] * ey
+                   + max(abs(vr), gains[HEADING_SPEED]) * gains[GAIN_THETA]
+                   * math.sin(heading_error))
+        direction = 1.0 if linear >= 0.0 else -1.0
+        angular += direction * gains[FORCE_GAIN_STEER] * fy
+        return _saturate(linear, angular, max_linear, max_angular)
+    distance = math.hypot(ex, ey)
+    backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
+    push = (-1.0 if backwards else 1.0) * gains[FORCE_GAIN_STEER] * fy
+    if distance > gains[ARRIVAL_DISTANCE] and not final:
+        bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
+        drive = min(gains[ARRIVAL_GAIN] * distance, max_linear) * max(math.cos(bearing), 0.0)
+        return _saturate(-drive if backwards else drive, gains[TURN_GAIN] * bearing + push,
+                         max_linear, max_angular)
+    if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
+        linear = gains[ARRIVAL_GAIN] * ex * max(math.cos(heading_error), 0.0)
+        return _saturate(linear, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+    if distance > gains[ARRIVAL_DISTANCE]:
+        linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,
+                                   backwards)
+        return _saturate(linear, angular + push, max_linear, max_angular)
+    if abs(heading_error) > gains[HEADING_TOLERANCE]:
+        return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+    return 0.0, 0.0
+
+
+@njit(cache=True)
+def _approach_limit(rules: FloatArray, stop: float, free: float, strangers_free: float,
+                    has_strangers: bool, reference_speed: float, parked: bool) -> float:
+    """``RobotBrain._approach_limit`` (``has_strangers`` False: ``strangers_free`` None)."""
+    gain = float(rules[APPROACH_GAIN])
+    limit = gain * max(free - stop, 0.0)
+    if parked and has_strangers:
+        return gain * max(min(free - float(rules[PARKED_GAP]), strangers_free - stop), 0.0)
+    if not has_strangers or free <= stop + rules[MATE_GAP]:
+        return limit
+    cruise = reference_speed + gain * (free - stop - float(rules[MATE_GAP]))
+    return max(limit, min(cruise, gain * max(strangers_free - stop, 0.0)))
+
+
+@njit(cache=True)
+def _turn_reach(length: float, width: float, linear: float, detect: FloatArray) -> float:
+    """``perception.obstacles.turn_reach``."""
+    half_l, half_w = 0.5 * length, 0.5 * width
+    return float(math.hypot(half_l, half_w) - min(half_l, half_w)
+                 + abs(linear) * detect[TURN_HORIZON] + detect[TURN_MARGIN])
+
+
+@njit(cache=True)
+def _points_now(columns: FloatArray, height_step: float, detect: FloatArray,
+                seen_from: FloatArray, pose: FloatArray) -> FloatArray:
+    """``perception.obstacles.obstacle_points_now``: the obstacle points (N, 2) of the
+    columns (``base_link`` at ``seen_from``) in ``base_link`` at ``pose``."""
+    keep = np.zeros(columns.shape[0], dtype=np.bool_)
+    for i in range(columns.shape[0]):  # ``obstacle_points_from_columns``
+        low, high = columns[i, 2], columns[i, 3]
+        first = 0.0 if low > detect[Z_MIN] else math.floor(
+            (detect[Z_MIN] - low) / height_step + 1e-9) + 1.0
+        z = low + first * height_step
+        keep[i] = (z < detect[Z_MAX] and z <= high + 1e-9
+                   and abs(columns[i, 0]) <= detect[CROP_HALF]
+                   and abs(columns[i, 1]) <= detect[CROP_HALF])
+    points = columns[keep, :2].copy()
+    if (seen_from[0] == pose[0] and seen_from[1] == pose[1]
+            and seen_from[2] == pose[2]):
+        return points
+    c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
+    c1, s1 = math.cos(pose[2]), math.sin(pose[2])
+    for i in range(points.shape[0]):  # ``compensate_motion``
+        wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1]
+        wy = seen_from[1] + s0 * points[i, 0] + c0 * points[i, 1]
+        dx, dy = wx - pose[0], wy - pose[1]
+        points[i, 0] = c1 * dx + s1 * dy
+        points[i, 1] = -s1 * dx + c1 * dy
+    return points
+
+
+@njit(cache=True)
+def _make_room(columns: FloatArray, height_step: float, detect: FloatArray,
+               seen_from: FloatArray, pose: FloatArray, length: float, width: float,
+               angular: float, previous: float, rules: FloatArray) -> float:
+    """``RobotBrain._make_room``."""
+    points = _points_now(columns, height_step, detect, seen_from, pose)
+    half_l = 0.5 * length
+    front, rear = math.inf, math.inf  # ``clear_distances``
+    for i in range(points.shape[0]):
+        if abs(points[i, 1]) <= 0.5 * width + detect[CORRIDOR_MARGIN]:
+            if points[i, 0] >= half_l - 1e-9:
+                front = min(front, points[i, 0] - half_l)
+            if points[i, 0] <= -half_l + 1e-9:
+                rear = min(rear, -points[i, 0] - half_l)
+    moved = np.empty_like(points)
+    for attempt in range(3):
+        if attempt == 0:
+            if previous == 0.0:
+                continue
+            direction = previous
+        else:
+            direction = 1.0 if attempt == 1 else -1.0
+        free = front if direction > 0.0 else rear
+        for shift in MAKE_ROOM_SHIFTS:
+            if shift + detect[STOP_DISTANCE] + rules[MATE_GAP] > free:
+                break
+            for i in range(points.shape[0]):
+                moved[i, 0] = points[i, 0] - direction * shift
+                moved[i, 1] = points[i, 1]
+            if turn_fraction_local(moved, length, width, 0.0, angular, detect[TURN_MARGIN],
+                                   detect[TURN_HORIZON], False) > 0.0:
+                return direction
+    return 0.0
+
+
+@njit(cache=True)
+def _guard_turn(columns: FloatArray, height_step: float, detect: FloatArray,
+                seen_from: FloatArray, pose: FloatArray, length: float, width: float,
+                linear: float, angular: float, may_make_room: bool, making_room: float,
+                rules: FloatArray) -> tuple[float, float, float]:
+    """``RobotBrain._guard_turn`` (``may_make_room`` False: ``making_room`` None)."""
+    fraction = turn_fraction_columns(
+        columns, height_step, detect[CROP_HALF], detect[Z_MIN], detect[Z_MAX], seen_from,
+        pose, length, width, linear, angular, detect[TURN_MARGIN], detect[TURN_HORIZON],
+        False)
+    if fraction == 0.0 and may_make_room and (
+            abs(linear) < rules[GIVE_WAY_SPEED] or making_room != 0.0):
+        room = _make_room(columns, height_step, detect, seen_from, pose, length, width,
+                          angular, making_room, rules)
+        if room != 0.0:
+            return room * rules[MAKE_ROOM_SPEED], 0.0, room
+    if fraction == 0.0 and turn_fraction_columns(
+            columns, height_step, detect[CROP_HALF], detect[Z_MIN], detect[Z_MAX], seen_from,
+            pose, length, width, linear, angular, detect[TURN_MARGIN], detect[TURN_HORIZON],
+            True) == 0.0:
+        linear = math.copysign(min(abs(linear), rules[GIVE_WAY_SPEED]), linear)
+    return linear, fraction * angular, 0.0
+
+
+@njit(cache=True)
+def _pose_at(history: FloatArray, size: int, stamp: float) -> int:
+    """``RobotBrain._pose_at``: the index in ``history`` (H, 4) = (t, x, y, theta), its
+    first ``size`` rows in time order, of the record nearest to ``stamp`` (the earlier of two
+    equally near); -1 without history."""
+    if size == 0:
+        return -1
+    after = size  # ``bisect_left`` on the times
+    for k in range(size):
+        if history[k, 0] >= stamp:
+            after = k
+            break
+    if after == size or (after > 0 and stamp - history[after - 1, 0]
+                         <= history[after, 0] - stamp):
+        after -= 1
+    return after
+
+
+@njit(cache=True)
+def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
+                pose_known: NDArray[np.bool_], arrived: NDArray[np.bool_],
+                stamps: FloatArray, columns: FloatArray, offsets: NDArray[np.int64],
+                height_steps: FloatArray, references: FloatArray,
+                finals: NDArray[np.bool_], mates: FloatArray, heard: FloatArray,
+                use_heard: bool, frame_cos_sin: FloatArray, own_frames: FloatArray,
+                sizes: FloatArray, limits: FloatArray, mate_radius: FloatArray,
+                gains: FloatArray, detect: FloatArray, rules: FloatArray,
+                history: FloatArray, history_size: NDArray[np.int64],
+                seen_from: FloatArray, has_seen_from: NDArray[np.bool_],
+                last_show_time: FloatArray, making_room: FloatArray,
+                near_since: FloatArray, safety: FloatArray,
+                lookup_failures: NDArray[np.int64], commands: FloatArray,
+                flags: NDArray[np.bool_], events: NDArray[np.int64],
+                event_values: FloatArray) -> None:
+    """One control tick of every robot (``RobotBrain.step``), in place.
+
+    Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
+    valid where pose_known (R,); arrived (R,) whether a cloud reached the robot, taken at
+    stamps (R,) s; columns (K, 4) each robot's latest cloud (``base_link`` at its stamp),
+    robot r's rows offsets[r]:offsets[r + 1], height_steps (R,) m; references (R, 5) what
+    each follower tracks (x, y, heading, speed, angular speed: ``RobotBrain._reference``),
+    finals (R,); mates (R, M, 2) where each robot's mates should be (its own frame);
+    heard (R, 2) where each robot said it stands (show frame, NaN: not heard), used where
+    use_heard, with each robot's show frame in its own (own_frames (R, 3), their cos and sin
+    (R, 2) as NumPy computes them).
+    Per robot: sizes (R, 2) length, width; limits (R, 2) max linear, angular speed;
+    mate_radius (R,); gains, detect, rules: the indexed constants above.
+    State, updated: history (R, H, 4) with history_size (R,); seen_from (R, 3) where
+    has_seen_from; last_show_time (R,) (NaN: none); making_room (R,); near_since (R,) (NaN);
+    safety (R, 5) error (0/1), last cloud, first tick, stopped since, last beep (NaN: None)
+    with lookup_failures (R,).
+    Out: commands (R, 2); flags (R, 4) held, holds the show, waiting, stopped (the safety's
+    stopped state); events (R,) an EVENT_ code and event_values (R,) its figure.
+    """
+    count = poses.shape[0]
+    capacity = history.shape[1]
+    stop = detect[STOP_DISTANCE]
+    lidar = rules[LIDAR] != 0.0
+    for r in range(count):
+        show_time = show_times[r]
+        pose = poses[r]
+        known = pose_known[r]
+        length, width = sizes[r, 0], sizes[r, 1]
+        if known and lidar:  # the history the compensated detector looks up
+            if history_size[r] == capacity:
+                history[r, :-1] = history[r, 1:].copy()
+                history_size[r] -= 1
+            k = history_size[r]
+            history[r, k, 0] = now
+            history[r, k, 1:] = pose
+            history_size[r] += 1
+        if arrived[r] and lidar:
+            at = _pose_at(history[r], history_size[r], stamps[r])
+            if at >= 0:
+                seen_from[r] = history[r, at, 1:]
+            has_seen_from[r] = at >= 0
+        cloud = columns[offsets[r]:offsets[r + 1]]
+        height_step = height_steps[r]
+        linear, angular = 0.0, 0.0
+        held = holds_show = waiting = False
+        near_time = math.nan
+        room = 0.0
+        paused = (not math.isnan(last_show_time[r])
+                  and show_time <= last_show_time[r] + rules[ADVANCE_MIN])
+        if known and show_time >= 0.0:
+            view = seen_from[r] if has_seen_from[r] else pose
+            mates_now = mates[r]
+            front, rear, nearest, fy = math.inf, math.inf, math.inf, 0.0
+            s_front, s_rear, s_nearest = math.inf, math.inf, math.inf
+            has_strangers = False
+            if lidar and cloud.shape[0] > 0:  # ``RobotBrain._perceive_all``
+                everything, strangers, left_out = perceive_columns_split(
+                    cloud, height_step, detect[CROP_HALF], detect[Z_MIN], detect[Z_MAX],
+                    view, pose, length, width, stop, detect[CORRIDOR_MARGIN],
+                    rules[FORCE_RADIUS], rules[FORCE_GAIN], mates_now, mate_radius[r])
+                front, rear, nearest, _, fy = everything
+                if left_out:
+                    has_strangers = True
+                    s_front, s_rear, s_nearest, _fx, fy = strangers
+            speed, angular_speed = references[r, 3], references[r, 4]
+            if paused:
+                speed, angular_speed = 0.0, 0.0
+            reference_speed = abs(speed)
+            linear, angular = _tracking(
+                gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
+                references[r, 0], references[r, 1], references[r, 2], speed, angular_speed,
+                finals[r], fy)
+            behind = math.hypot(references[r, 0] - pose[0], references[r, 1] - pose[1])
+            wanted_linear, wanted_angular = linear, angular
+            seen_front, seen_rear = front < stop, rear < stop
+            # ``near``: the strangers' perception, else everything's
+            n_front = s_front if has_strangers else front
+            n_rear = s_rear if has_strangers else rear
+            n_nearest = s_nearest if has_strangers else nearest
+            heard_count = 0
+            if use_heard:
+                for j in range(count):
+                    if j != r and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
+                        heard_count += 1
+            if heard_count > 0 and mates_now.shape[0] > 0 and (
+                    seen_front or seen_rear or behind > rules[HOLD_LAG]
+                    or n_nearest < rules[NEAR_GAP]):
+                # ``RobotBrain._without_mates`` with the mates heard (``compose_points``)
+                where = np.empty((mates_now.shape[0] + heard_count, 2))
+                where[:mates_now.shape[0]] = mates_now
+                k = mates_now.shape[0]
+                c, s = frame_cos_sin[r, 0], frame_cos_sin[r, 1]
+                for j in range(count):
+                    if j != r and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
+                        where[k, 0] = own_frames[r, 0] + c * heard[j, 0] - s * heard[j, 1]
+                        where[k, 1] = own_frames[r, 1] + s * heard[j, 0] + c * heard[j, 1]
+                        k += 1
+                keep = far_from_all(cloud, to_local(where, view), mate_radius[r])
+                if not keep.all():
+                    n_front, n_rear, n_nearest, _, _ = perceive_columns(
+                        cloud[keep, :], height_step, detect[CROP_HALF], detect[Z_MIN],
+                        detect[Z_MAX], view, pose, length, width, stop,
+                        detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
+            near_front, near_rear = n_front < stop, n_rear < stop
+            parked = show_time >= rules[REST_FROM]
+            flag_front = near_front if parked else seen_front
+            flag_rear = near_rear if parked else seen_rear
+            stranger_near = n_nearest < rules[NEAR_GAP]
+            if stranger_near and show_time >= rules[PLAN_DURATION]:
+                near_time = now if math.isnan(near_since[r]) else near_since[r]
+            if n_nearest <= rules[OVERLAP]:
+                held = holds_show = True
+                linear = angular = 0.0
+            elif (not math.isnan(near_time) and now - near_time < rules[AFTER_SHOW_WAIT]
+                  and (linear != 0.0 or angular != 0.0)):
+                held = holds_show = waiting = True
+                linear = angular = 0.0
+            elif (flag_front and linear > 0) or (flag_rear and linear < 0):
+                held = True
+                holds_show = (near_front and linear > 0) or (near_rear and linear < 0)
+                linear = 0.0
+            elif rules[APPROACH_GAIN] > 0:
+                if linear > 0:
+                    linear = min(linear, _approach_limit(
+                        rules, stop, front, s_front, has_strangers, reference_speed, parked))
+                elif linear < 0:
+                    linear = max(linear, -_approach_limit(
+                        rules, stop, rear, s_rear, has_strangers, reference_speed, parked))
+            if stranger_near:
+                top = rules[CORNER_SPEED] / (0.5 * math.hypot(length, width))
+                angular = min(max(angular, -top), top)
+            if angular != 0.0 and nearest < _turn_reach(length, width, linear, detect):
+                may_make_room = (not held and n_nearest >= _turn_reach(
+                    length, width, rules[MAKE_ROOM_SPEED], detect)
+                    and nearest >= rules[MAKE_ROOM_FLOOR])
+                linear, angular, room = _guard_turn(
+                    cloud, height_step, detect, view, pose, length, width, linear, angular,
+                    may_make_room, making_room[r], rules)
+            sweep_reach = (0.5 * math.hypot(length, width) - 0.5 * min(length, width))
+            if held and angular != 0.0 and n_nearest < sweep_reach:
+                angular = 0.0
+            if not held and behind > rules[HOLD_LAG]:
+                free = n_front if wanted_linear >= 0.0 else n_rear
+                by_stranger = _approach_limit(rules, stop, free, 0.0, False, 0.0, False) < (
+                    abs(wanted_linear) - rules[SLOWED])
+                turn_cut = abs(angular) < abs(wanted_angular) - rules[SLOWED] and (
+                    (stranger_near and behind > rules[SLOW_TURN_LAG])
+                    or n_nearest < _turn_reach(length, width, linear, detect))
+                holds_show = (abs(linear) < abs(wanted_linear) - rules[SLOWED]
+                              and by_stranger) or turn_cut
+        # ``safety.monitor.safety_step``
+        events[r], event_values[r] = EVENT_NONE, 0.0
+        may_move = False
+        if safety[r, 0] == 0.0:
+            first = safety[r, 2] if not math.isnan(safety[r, 2]) else now
+            last_cloud = now if (arrived[r] or not lidar) else safety[r, 1]
+            failures = 0 if known else lookup_failures[r] + 1
+            reference_time = last_cloud if not math.isnan(last_cloud) else first
+            lookup_failures[r] = failures
+            safety[r, 1], safety[r, 2] = last_cloud, first
+            if failures >= rules[MAX_LOOKUP_FAILURES]:
+                events[r], event_values[r] = EVENT_ERROR_POSE, failures
+                safety[r, 0], safety[r, 3], safety[r, 4] = 1.0, math.nan, math.nan
+            elif now - reference_time > rules[SENSOR_TIMEOUT] + 1e-6:
+                events[r], event_values[r] = EVENT_ERROR_LIDAR, now - reference_time
+                safety[r, 0], safety[r, 3], safety[r, 4] = 1.0, math.nan, math.nan
+            else:
+                may_move = True
+                if held and math.isnan(safety[r, 3]):
+                    safety[r, 3], safety[r, 4] = now, now
+                    events[r] = EVENT_SPEECH
+                elif held and not math.isnan(safety[r, 4]) and (
+                        now - safety[r, 4] >= rules[BEEP_PERIOD] - 1e-9):
+                    safety[r, 4] = now
+                    events[r] = EVENT_BEEP
+                elif not held and not math.isnan(safety[r, 3]):
+                    safety[r, 3], safety[r, 4] = math.nan, math.nan
+                    events[r] = EVENT_RESUME
+        if not may_move:
+            linear = angular = 0.0
+        commands[r, 0], commands[r, 1] = linear, angular
+        moves = linear != 0.0 or angular != 0.0
+        making_room[r] = room if may_move and moves else 0.0
+        near_since[r] = near_time
+        last_show_time[r] = show_time
+        flags[r, 0], flags[r, 1], flags[r, 2] = held, holds_show, waiting
+        flags[r, 3] = not math.isnan(safety[r, 3])

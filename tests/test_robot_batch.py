@@ -1,0 +1,141 @@
+"""BatchBrains (one compiled pass over a formation's brains) decides as RobotBrain does: the
+same shows run through both give the same poses, commands, events and contacts."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from dancebots import robot
+from dancebots.check import CheckOptions
+from dancebots.geometry import wrap_angle
+from dancebots.loading import load_show
+from dancebots.plan.placement import place_show
+from dancebots.robot import BrainOptions, brain_for
+from dancebots.robot_batch import BatchBrains, batch_supported
+from dancebots.shows.formation import Fault, RunResult, SimConfig, simulate
+from dancebots.sim import REALISTIC, prepare_show
+from dancebots.world import BUILTIN_ROBOT_TYPES
+from tests_support import plan_of
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def both(scenario: Path, world: Path | None, config: SimConfig) -> tuple[RunResult, RunResult]:
+    """The show run by the brains one by one (the reference) and by the batch."""
+    show = load_show(str(scenario), str(world) if world else None, None,
+                     check=CheckOptions(), timing="feasible")
+    assert show.report is not None
+    assert show.report.placement is not None
+    arena, placement = prepare_show(show.report.placement)
+    assert show.plan is not None
+    reference = simulate(show.plan, arena, placement, replace(config, batched=False))
+    batched = simulate(show.plan, arena, placement, replace(config, batched=True))
+    return reference, batched
+
+
+def assert_same_run(reference: RunResult, batched: RunResult) -> None:
+    assert np.array_equal(reference.times, batched.times)
+    # the same decisions: poses to rounding (Python's and libm's hypot may differ in the last
+    # bit), every event and contact at the same tick
+    assert np.allclose(reference.poses, batched.poses, rtol=0.0, atol=1e-12)
+    assert np.allclose(reference.commands, batched.commands, rtol=0.0, atol=1e-12)
+    assert np.array_equal(reference.status, batched.status)
+    assert np.array_equal(reference.show_time, batched.show_time)
+    assert reference.holds is not None
+    assert batched.holds is not None
+    assert np.array_equal(reference.holds, batched.holds)
+    assert reference.events == batched.events
+    assert reference.collisions == batched.collisions
+
+
+PATH = SimConfig(brain=BrainOptions(follower="path"))
+
+
+@pytest.mark.parametrize(("name", "config"), [
+    ("thesis_7_1", PATH),
+    # SIM robots side by side: the turn guard gives way and makes room
+    ("thesis_7_4", PATH),
+    ("thesis_7_2", replace(PATH, profile=REALISTIC, brain=BrainOptions(follower="tracking"))),
+    # stops, speech and beeps (robots in each other's way), each robot's own show clock
+    ("thesis_6_3", replace(PATH, hold="alone")),
+    # hold messages late and lost
+    ("square_path", replace(PATH, hold_delay=0.3, hold_loss=0.2, seed=3)),
+])
+def test_batch_runs_the_examples_as_the_brains_do(examples: Path, name: str,
+                                                   config: SimConfig) -> None:
+    reference, batched = both(examples / f"{name}.dance", None, config)
+    assert_same_run(reference, batched)
+    if name == "thesis_6_3":
+        assert {e.kind for e in batched.events} >= {"speech", "beep", "resume"}
+
+
+def test_batch_runs_a_show_among_a_crowd_as_the_brains_do() -> None:
+    """The open day among a random crowd, realistic profile: people hold robots, are told to
+    make room, walk into their way (the strangers' rules, the mates heard where they are)."""
+    data = ROOT / "src" / "dancebots" / "data"
+    reference, batched = both(data / "open_day.dance", data / "open_day_crowd.toml",
+                              replace(PATH, profile=REALISTIC, seed=5))
+    assert_same_run(reference, batched)
+    assert any(e.kind == "speech" for e in batched.events)
+
+
+def test_batch_runs_faults_and_blind_robots_as_the_brains_do(examples: Path) -> None:
+    faults = (Fault("R1", "lidar", 6.0), Fault("R2", "pose", 9.0))
+    reference, batched = both(examples / "thesis_7_1.dance", None,
+                              replace(PATH, faults=faults))
+    assert_same_run(reference, batched)
+    errors = sorted(e.text for e in batched.events if e.kind == "error")
+    assert errors == ["3 consecutive failed pose look-ups", "no LIDAR data for 0.4 s"]
+    reference, batched = both(examples / "thesis_7_1.dance", None, replace(PATH, lidar=None))
+    assert_same_run(reference, batched)
+
+
+def test_batch_runs_a_single_robot_as_its_brain_does() -> None:
+    plan = plan_of("robots R1\nstart\nrow R1 0 1\nmove 2 1\ncircle 1 90 0.2\n")
+    arena, placement = prepare_show(place_show(plan, None))
+    reference = simulate(plan, arena, placement, replace(PATH, batched=False))
+    batched = simulate(plan, arena, placement, PATH)
+    assert_same_run(reference, batched)
+
+
+def test_only_the_brains_it_mirrors_are_batched() -> None:
+    plan = plan_of("robots A B\nstart\nrow A,B 0 1\nmove 2 0\n")
+
+    def brains(**options: object) -> list[robot.RobotBrain]:
+        return [brain_for(plan, name, BUILTIN_ROBOT_TYPES["SIM"], BrainOptions(**options))  # type: ignore[arg-type]
+                for name in plan.robots]
+
+    assert batch_supported(brains(follower="path"))
+    assert batch_supported(brains(follower="tracking", lidar=False))
+    assert not batch_supported(brains(follower="thesis"))
+    assert not batch_supported(brains(follower="path", stop_rule="ssm"))
+    assert not batch_supported(brains(follower="path", stop_rule="closing"))
+    assert not batch_supported(brains(follower="path", detector="thesis"))
+    assert not batch_supported(brains(follower="path", compiled=False))
+    assert not batch_supported([])
+    with pytest.raises(ValueError, match="not batch_supported"):
+        BatchBrains(brains(follower="thesis"))
+
+
+def test_the_kernel_shares_the_brains_constants() -> None:
+    from dancebots import robot_batch_jit
+
+    assert robot_batch_jit.MAKE_ROOM_SHIFTS == robot.MAKE_ROOM_SHIFTS
+
+
+@given(st.one_of(st.floats(-1e6, 1e6), st.sampled_from(
+    [0.0, -0.0, 1e-300, math.pi, -math.pi, 3 * math.pi, -3 * math.pi, 2 * math.pi, 1e15])))
+def test_the_kernels_wrap_is_wrap_angle(angle: float) -> None:
+    from dancebots.robot_batch import _wrap_exact
+    from dancebots.robot_batch_jit import _wrap
+
+    assert _wrap(angle) == wrap_angle(angle)
+    assert float(_wrap_exact(np.array([angle]))[0]) == wrap_angle(angle)
+    assert math.isnan(_wrap(math.nan))
