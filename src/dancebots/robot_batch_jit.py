@@ -16,11 +16,14 @@ H own poses of history (``robot.HISTORY_LENGTH`` + 1).
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from dancebots.jit_cache import drop_stale
+from dancebots.perception import fast
 from dancebots.perception.fast import (
     far_from_all,
     perceive_columns,
@@ -465,3 +468,6 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         last_show_time[r] = show_time
         flags[r, 0], flags[r, 1], flags[r, 2] = held, holds_show, waiting
         flags[r, 3] = not math.isnan(safety[r, 3])
+
+
+drop_stale(sys.modules[__name__], (fast,))  # its kernels call perception.fast's

@@ -6,11 +6,14 @@ only runs with the ``closing`` rule compile it (``sim.kernels.kernel_modules``).
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from dancebots.jit_cache import drop_stale
+from dancebots.perception import fast
 from dancebots.perception.fast import _kept, far_from_all, to_local
 
 __all__ = ["sector_gaps_moved", "stranger_points_columns"]
@@ -57,3 +60,6 @@ def sector_gaps_moved(points: NDArray[np.float64], pose: NDArray[np.float64], le
         if gap < gaps[sector]:
             gaps[sector] = gap
     return gaps
+
+
+drop_stale(sys.modules[__name__], (fast,))  # its kernels call perception.fast's

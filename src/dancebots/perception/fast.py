@@ -108,8 +108,14 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
                 dx, dy = linear * math.sin(theta) / w, linear * (1.0 - math.cos(theta)) / w
             arcs[f, k, 0], arcs[f, k, 1] = dx, dy
             arcs[f, k, 2], arcs[f, k, 3] = math.cos(theta), math.sin(theta)
+    # a fraction is blocked by a point whose nearest gap on its arc is below both the floor
+    # and its nearest gap driving straight (less 1e-9): each point's straight gap first, then
+    # each arc not yet blocked only until a gap below that threshold (the same answer as
+    # every gap, sooner); a point too far from the robot's middle to come that near on any
+    # arc is skipped (its distance from the middle less the half diagonal bounds its gap)
     blocked = np.zeros(3, dtype=np.bool_)
-    nearest = np.empty(4)
+    half_diagonal = math.hypot(half_l, half_w)
+    travel = abs(linear) * horizon  # the farthest the middle moves, m
     for i in range(points.shape[0]):
         x0, y0 = points[i, 0], points[i, 1]
         if leading and x0 * (1.0 if linear >= 0.0 else -1.0) <= 0.0:
@@ -117,19 +123,30 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
         gap0 = math.hypot(max(abs(x0) - half_l, 0.0), max(abs(y0) - half_w, 0.0))
         if gap0 >= reach:
             continue
-        for f in range(4):
-            best = math.inf
+        floor = min(gap0, margin) - 1e-9
+        if math.hypot(x0, y0) - travel - half_diagonal - 1e-9 >= floor:
+            continue
+        straight = math.inf
+        for k in range(steps):
+            px, py = x0 - arcs[3, k, 0], y0 - arcs[3, k, 1]
+            c, s = arcs[3, k, 2], arcs[3, k, 3]
+            x, y = c * px + s * py, -s * px + c * py
+            straight = min(straight, math.hypot(max(abs(x) - half_l, 0.0),
+                                                max(abs(y) - half_w, 0.0)))
+        threshold = min(floor, straight - 1e-9)
+        for f in range(3):
+            if blocked[f]:
+                continue
             for k in range(steps):
                 px, py = x0 - arcs[f, k, 0], y0 - arcs[f, k, 1]
                 c, s = arcs[f, k, 2], arcs[f, k, 3]
                 x, y = c * px + s * py, -s * px + c * py
-                best = min(best, math.hypot(max(abs(x) - half_l, 0.0),
-                                            max(abs(y) - half_w, 0.0)))
-            nearest[f] = best
-        floor = min(gap0, margin) - 1e-9
-        for f in range(3):
-            if nearest[f] < floor and nearest[f] < nearest[3] - 1e-9:
-                blocked[f] = True
+                if math.hypot(max(abs(x) - half_l, 0.0), max(abs(y) - half_w, 0.0)) < (
+                        threshold):
+                    blocked[f] = True
+                    break
+        if blocked[0] and blocked[1] and blocked[2]:
+            return 0.0
     for f in range(3):
         if not blocked[f]:
             return fractions[f]

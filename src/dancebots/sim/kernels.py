@@ -16,8 +16,8 @@ __all__ = ["kernel_modules", "kernels_to_compile"]
 
 def kernel_modules(crowds: bool = False, closing: bool = False) -> tuple[ModuleType, ...]:
     """The modules that hold numba kernels (importing them imports numba): those every
-    formation show runs (its brains' batch among them), with ``crowds`` the crowds' social forces too, and with ``closing``
-    the ``closing`` stop rule's."""
+    formation show runs (its brains' batch among them), with ``crowds`` the crowds' social
+    forces too, and with ``closing`` the ``closing`` stop rule's."""
     from dancebots import robot_batch_jit
     from dancebots.perception import fast
     from dancebots.sim import collision_jit, raycast_jit
