@@ -277,7 +277,8 @@ def test_the_split_perception_is_perceive_columns_with_and_without_the_mates(
         seed: int, points: int, centres: int, radius: float) -> None:
     """The fused kernel gives exactly what perceiving every column and then the columns
     ``far_from_all`` keeps (mates moved into ``base_link`` by ``points_to_local``) gives,
-    and says whether any column was left out."""
+    and says whether any column was left out (columns inside and outside the crop, high and
+    low)."""
     from dancebots.geometry import points_to_local
     from dancebots.perception.fast import far_from_all, perceive_columns, perceive_columns_split
 
@@ -285,6 +286,8 @@ def test_the_split_perception_is_perceive_columns_with_and_without_the_mates(
     columns = np.column_stack([rng.uniform(-3.0, 3.0, (points, 2)),
                                rng.uniform(-0.2, 0.4, points), rng.uniform(0.0, 2.0, points)])
     mates = rng.uniform(-3.0, 3.0, (centres, 2))
+    if centres and seed % 5 == 0:
+        mates[0, seed % 2] = np.nan  # a place that is not a number leaves every column out
     seen_from = rng.uniform(-1.0, 1.0, 3)
     pose = seen_from + rng.uniform(-0.05, 0.05, 3)
     common = (0.1, 2.0, 0.05, 1.0, seen_from, pose, LENGTH, WIDTH, 0.55, 0.1, 1.0, 0.02)

@@ -225,6 +225,20 @@ def to_local(points: NDArray[np.float64], frame: NDArray[np.float64]) -> NDArray
 
 
 @njit(cache=True)
+def _near_a_mate(x: float, y: float, mates: NDArray[np.float64], radius: float) -> bool:
+    """Whether the point (x, y) is within ``radius`` of any centre of ``mates`` (M, 2), same
+    frame (a centre that is not a number is near everything): :func:`far_from_all`'s test
+    of one point, negated."""
+    for j in range(mates.shape[0]):
+        dx, dy = x - mates[j, 0], y - mates[j, 1]
+        if (abs(dx) > radius or abs(dy) > radius) and dx == dx and dy == dy:
+            continue
+        if not math.hypot(dx, dy) > radius:
+            return True
+    return False
+
+
+@njit(cache=True)
 def perceive_columns_split(columns: NDArray[np.float64], height_step: float, crop_half: float,
                            z_min: float, z_max: float, seen_from: NDArray[np.float64],
                            pose: NDArray[np.float64], length: float, width: float,
@@ -239,14 +253,56 @@ def perceive_columns_split(columns: NDArray[np.float64], height_step: float, cro
     ``RobotBrain._without_mates`` leaves them out (any column, kept or not); third, whether
     any column was left out (else the second is the first).
     Same results as ``perceive_columns(columns)`` and ``perceive_columns(columns[
-    far_from_all(columns, points_to_local(mates, seen_from), mate_radius)])``."""
-    keep = far_from_all(columns, to_local(mates, seen_from), mate_radius)
-    everything = perceive_columns(columns, height_step, crop_half, z_min, z_max, seen_from,
-                                  pose, length, width, stop_distance, corridor_margin,
-                                  force_radius, force_gain)
-    if keep.all():
+    far_from_all(columns, points_to_local(mates, seen_from), mate_radius)])``, to the last
+    bit (the same points in the same order), in one loop without copies: a column outside
+    the crop or the heights is tested against the mates only until one was left out."""
+    local = to_local(mates, seen_from)
+    c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
+    c1, s1 = math.cos(pose[2]), math.sin(pose[2])
+    half_l, half_w = 0.5 * length, 0.5 * width
+    front, rear, nearest, fx, fy = math.inf, math.inf, math.inf, 0.0, 0.0
+    s_front, s_rear, s_nearest, s_fx, s_fy = math.inf, math.inf, math.inf, 0.0, 0.0
+    left_out = False
+    for i in range(columns.shape[0]):
+        low, high = columns[i, 2], columns[i, 3]  # ``_kept``'s filter
+        first = 0.0 if low > z_min else math.floor((z_min - low) / height_step + 1e-9) + 1.0
+        z = low + first * height_step
+        kept = (z < z_max and z <= high + 1e-9 and abs(columns[i, 0]) <= crop_half
+                and abs(columns[i, 1]) <= crop_half)
+        if not kept and left_out:
+            continue
+        near = _near_a_mate(columns[i, 0], columns[i, 1], local, mate_radius)
+        left_out = left_out or near
+        if not kept:
+            continue
+        # ``perceive_moved`` of the point, for everything and, far from the mates, strangers
+        wx = seen_from[0] + c0 * columns[i, 0] - s0 * columns[i, 1] - pose[0]
+        wy = seen_from[1] + s0 * columns[i, 0] + c0 * columns[i, 1] - pose[1]
+        x = c1 * wx + s1 * wy
+        y = -s1 * wx + c1 * wy
+        ahead = behind = math.inf
+        if abs(y) <= half_w + corridor_margin:
+            if x >= half_l - 1e-9:
+                ahead = x - half_l
+            if x <= -half_l + 1e-9:
+                behind = -x - half_l
+        nx = min(max(x, -half_l), half_l)
+        ny = min(max(y, -half_w), half_w)
+        ax, ay = nx - x, ny - y
+        d = math.hypot(ax, ay)
+        pushed = force_radius > 0 and 1e-9 < d < force_radius
+        weight = force_gain * (1.0 - d / force_radius) ** 2 / d if pushed else 0.0
+        front, rear, nearest = min(front, ahead), min(rear, behind), min(nearest, d)
+        if pushed:
+            fx += ax * weight
+            fy += ay * weight
+        if not near:
+            s_front, s_rear = min(s_front, ahead), min(s_rear, behind)
+            s_nearest = min(s_nearest, d)
+            if pushed:
+                s_fx += ax * weight
+                s_fy += ay * weight
+    everything = (front, rear, nearest, fx, fy)
+    if not left_out:
         return everything, everything, False
-    strangers = perceive_columns(columns[keep], height_step, crop_half, z_min, z_max,
-                                 seen_from, pose, length, width, stop_distance,
-                                 corridor_margin, force_radius, force_gain)
-    return everything, strangers, True
+    return everything, (s_front, s_rear, s_nearest, s_fx, s_fy), True

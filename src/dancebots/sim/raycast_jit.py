@@ -73,12 +73,16 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
     wall = np.full((count, rays), np.inf)
     ray_x = np.empty(rays)
     ray_y = np.empty(rays)
+    # each ray's direction: its angle's unit vector (once per scan) turned by the heading
+    # (a rotation per robot instead of two libm calls per ray, which cost half the scan)
+    angle_cos, angle_sin = np.cos(angles), np.sin(angles)
     for r in range(count):
         ox, oy = origins[r, 0], origins[r, 1]
         base = headings[r] + angles[0]
+        heading_cos, heading_sin = math.cos(headings[r]), math.sin(headings[r])
         for k in range(rays):
-            ray_x[k] = math.cos(headings[r] + angles[k])
-            ray_y[k] = math.sin(headings[r] + angles[k])
+            ray_x[k] = heading_cos * angle_cos[k] - heading_sin * angle_sin[k]
+            ray_y[k] = heading_sin * angle_cos[k] + heading_cos * angle_sin[k]
         for s in range(4 * count + segments.shape[0]):
             if s < 4 * count:  # the other robots' edges
                 other, corner = s // 4, s % 4
