@@ -112,7 +112,9 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
     # and its nearest gap driving straight (less 1e-9): each point's straight gap first, then
     # each arc not yet blocked only until a gap below that threshold (the same answer as
     # every gap, sooner); a point too far from the robot's middle to come that near on any
-    # arc is skipped (its distance from the middle less the half diagonal bounds its gap)
+    # arc is skipped (its distance from the middle less the half diagonal bounds its gap),
+    # and so are the instants at which a point cannot have come that near yet
+    # (:func:`_next_instant_that_may_reach`)
     blocked = np.zeros(3, dtype=np.bool_)
     half_diagonal = math.hypot(half_l, half_w)
     travel = abs(linear) * horizon  # the farthest the middle moves, m
@@ -126,31 +128,59 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
         floor = min(gap0, margin) - 1e-9
         if math.hypot(x0, y0) - travel - half_diagonal - 1e-9 >= floor:
             continue
+        # the straight gap matters only below floor + 1e-9 (else the threshold is the floor)
         straight = math.inf
-        for k in range(steps):
+        k = 0
+        while k < steps:
             px, py = x0 - arcs[3, k, 0], y0 - arcs[3, k, 1]
             c, s = arcs[3, k, 2], arcs[3, k, 3]
             x, y = c * px + s * py, -s * px + c * py
-            straight = min(straight, math.hypot(max(abs(x) - half_l, 0.0),
-                                                max(abs(y) - half_w, 0.0)))
+            gap = math.hypot(max(abs(x) - half_l, 0.0), max(abs(y) - half_w, 0.0))
+            straight = min(straight, gap)
+            k = _next_instant_that_may_reach(k, gap, floor + 1e-9, abs(linear), 0.0,
+                                             math.hypot(x, y) + travel, spacing, steps)
         threshold = min(floor, straight - 1e-9)
         for f in range(3):
             if blocked[f]:
                 continue
-            for k in range(steps):
+            turn = abs(fractions[f] * angular)
+            k = 0
+            while k < steps:
                 px, py = x0 - arcs[f, k, 0], y0 - arcs[f, k, 1]
                 c, s = arcs[f, k, 2], arcs[f, k, 3]
                 x, y = c * px + s * py, -s * px + c * py
-                if math.hypot(max(abs(x) - half_l, 0.0), max(abs(y) - half_w, 0.0)) < (
-                        threshold):
+                gap = math.hypot(max(abs(x) - half_l, 0.0), max(abs(y) - half_w, 0.0))
+                if gap < threshold:
                     blocked[f] = True
                     break
+                k = _next_instant_that_may_reach(k, gap, threshold, abs(linear), turn,
+                                                 math.hypot(x, y) + travel, spacing, steps)
         if blocked[0] and blocked[1] and blocked[2]:
             return 0.0
     for f in range(3):
         if not blocked[f]:
             return fractions[f]
     return 0.0
+
+
+@njit(cache=True)
+def _next_instant_that_may_reach(k: int, gap: float, threshold: float, linear: float,
+                                 angular: float, distance: float, spacing: float,
+                                 steps: int) -> int:
+    """The next of ``steps`` instants ``spacing`` s apart after instant ``k`` at which a
+    standing point ``gap`` m from the footprint at instant ``k`` may be nearer than
+    ``threshold`` m (``steps`` for none): the gap changes no faster than the point moves in
+    ``base_link``, at most ``linear`` + ``angular`` * ``distance`` m/s (speeds >= 0;
+    ``distance`` bounds its distance from the robot's middle meanwhile, m), with 1e-9 m
+    spare for rounding."""
+    slack = gap - threshold - 1e-9
+    if slack <= 0.0:
+        return k + 1
+    speed = linear + angular * distance
+    if speed <= 0.0 or spacing <= 0.0:
+        return steps  # it stays where it is, beyond the threshold
+    ahead = slack / speed / spacing
+    return k + 1 + (int(ahead) if ahead < steps else steps)
 
 
 @njit(cache=True)
