@@ -117,6 +117,8 @@ class BatchBrains:
                 brain._mates = self.mates[i]
         else:
             self.mates = np.zeros((1, 0, len(self.grid[0]), 2))
+        self.robot_index = np.arange(count)
+        self.robot_index_3 = np.tile(self.robot_index, 3)
         self.own_frames = np.array([b._own_frame for b in brains])
         self.frame_cos_sin = np.stack([np.cos(self.own_frames[:, 2]),
                                        np.sin(self.own_frames[:, 2])], axis=1)
@@ -156,30 +158,39 @@ class BatchBrains:
         self.events = np.zeros(count, dtype=np.int64)
         self.event_values = np.zeros(count)
 
-    def _grid_rows(self, times: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
-        """Each robot's grid row (R, 5) at its time (R,) s (``RobotBrain._grid_index``: the
-        last row from the grid's end on), and where the time is on the grid (R,)."""
+    def _grid_rows(self, times: FloatArray, robots: NDArray[np.int64],
+                   ) -> tuple[FloatArray, NDArray[np.bool_]]:
+        """The grid rows (N, 5) of ``robots`` (N,) at ``times`` (N,) s (``RobotBrain.
+        _grid_index``: the last row from the grid's end on), and where a time is on the grid
+        (N,)."""
         length = self.grid.shape[1]
         k = np.rint(times / self.period)
         after = times >= self.grid_end
         on = after | ((np.abs(k * self.period - times) < 1e-9) & (k >= 0) & (k < length))
         index = np.where(after, length - 1, np.clip(k, 0, length - 1)).astype(np.int64)
-        return self.grid[np.arange(len(times)), index], on
+        return self.grid[robots, index], on
 
     def references(self, show_times: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
         """What each follower tracks (R, 5) at its show time (R,) s, and whether its slot
         stands for good (R,): ``RobotBrain._reference``, from the grid for all robots at once
         and from the brain where a time falls off it."""
-        rows, on = self._grid_rows(show_times)
-        rows = rows.copy()
-        if self.lead > 0.0:
+        count = len(show_times)
+        if self.lead <= 0.0:
+            rows, on = self._grid_rows(show_times, self.robot_index)
+            rows = rows.copy()
+        else:
+            # the pose at the show time, the speeds interpolated between the two grid ticks
+            # around the time ``lead`` s ahead: the three look-ups in one
             steps = (show_times + self.lead) / self.period
             first = np.floor(steps)
             weight = steps - first
-            before, on_before = self._grid_rows(first * self.period)
-            after, on_after = self._grid_rows((first + 1) * self.period)
+            looked, found = self._grid_rows(
+                np.concatenate([show_times, first * self.period, (first + 1) * self.period]),
+                self.robot_index_3)
+            rows = looked[:count].copy()
+            before, after = looked[count:2 * count], looked[2 * count:]
             rows[:, 3:] = (1.0 - weight)[:, None] * before[:, 3:] + weight[:, None] * after[:, 3:]
-            on = on & on_before & on_after
+            on = found[:count] & found[count:2 * count] & found[2 * count:]
         for i in np.flatnonzero(~on).tolist():
             exact = self.brains[i]._reference(float(show_times[i]))
             rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
@@ -206,7 +217,7 @@ class BatchBrains:
         references, finals = self.references(show_times)
         steps = np.rint(show_times / self.period)
         index = np.clip(steps, 0, self.mates.shape[2] - 1).astype(np.int64)
-        mates = self.mates[np.arange(count), :, index] if count > 1 else np.zeros((1, 0, 2))
+        mates = self.mates[self.robot_index, :, index] if count > 1 else np.zeros((1, 0, 2))
         self._jit.brains_tick(
             now, np.ascontiguousarray(show_times, dtype=np.float64),
             np.ascontiguousarray(poses, dtype=np.float64), pose_known, arrivals, stamps,

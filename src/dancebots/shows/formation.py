@@ -290,6 +290,7 @@ class _Crew:
         self.holding = np.zeros(count, dtype=bool)
         self.asking = np.zeros(count, dtype=bool)
         self.waiting = np.zeros(count, dtype=bool)
+        self.all_known = np.ones(count, dtype=bool)  # every pose look-up works (no fault)
         self.command = np.zeros((count, 2))
         self.batch: BatchBrains | None = None
         if config.batched and config.compiled and batch_supported(brains):
@@ -344,8 +345,8 @@ class _Crew:
         for i, start in self.lidar_faults.items():
             if now >= start:
                 arrived[i] = None
-        known = np.array([now < self.pose_faults.get(i, math.inf)
-                          for i in range(len(self.robots))], dtype=bool)
+        known = self.all_known if not self.pose_faults else np.array(
+            [now < self.pose_faults.get(i, math.inf) for i in range(len(self.robots))])
         if self.batch is not None:
             self._batch_step(now, arrived, own, known)
         else:
