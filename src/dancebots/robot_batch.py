@@ -111,10 +111,14 @@ class BatchBrains:
         self.grid[..., 2] = _wrap_exact(self.grid[..., 2])
         if count > 1:
             # every brain's mates' places (R, M, T, 2), its own frame; the brains read views
-            self.mates = np.stack([b._mates for b in brains if b._mates is not None])
-            self.mates.flags.writeable = False
+            # (filled brain by brain, each brain's own array dropped at once: a 20-robot,
+            # 40-minute show's are 140 MB together)
+            shape = first._mates.shape if first._mates is not None else (0, 0, 2)
+            self.mates = np.empty((count, *shape))
             for i, brain in enumerate(brains):
+                self.mates[i] = brain._mates
                 brain._mates = self.mates[i]
+            self.mates.flags.writeable = False
         else:
             self.mates = np.zeros((1, 0, len(self.grid[0]), 2))
         self.robot_index = np.arange(count)

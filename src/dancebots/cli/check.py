@@ -149,11 +149,10 @@ COMPILED_FROM = 100
 runs on their NumPy references (``SimConfig.compiled``), which simulate 3-4 times slower
 but need no numba, whose import and start take about 0.75 s (listing 7.1, 66
 robot-seconds: 0.45 s against 0.15 s plus 0.75 s)."""
-SIMULATION_RATE = 1500
+SIMULATION_RATE = 2700
 """Robot-seconds check simulates per second of wall time, about, on the project's 2-core
 machines (the 20-robot, 1,000-line show of ``benchmarks/bench_compile.py`` with the defaults
-and LIDAR, 47,050 robot-seconds: 29 s in all): the hint's rough estimate, for any
-strategy."""
+and LIDAR, 47,050 robot-seconds: 17-19 s in all): the hint's rough estimate."""
 
 
 def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:
