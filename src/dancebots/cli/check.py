@@ -53,8 +53,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "warning instead")
     parser.add_argument("--timeline", action="store_true",
                         help="also print when each instruction runs: its line, start and end "
-                        "show time (s) and, where the feasible timing slowed the leader, how "
-                        "much (in the JSON: \"timeline\")")
+                        "show time (s), with a tempo its beats, where the feasible timing "
+                        "slowed the leader how much, where a cue set its pace that pace, and "
+                        "each missed cue (in the JSON: \"timeline\")")
     parser.add_argument("--json", action="store_true", help="print the report as JSON")
     parser.add_argument("--strict", action="store_true", help="exit 1 when there are warnings")
     parser.add_argument("--clearance", type=positive, default=0.2, metavar="M",
@@ -105,15 +106,32 @@ def run(args: argparse.Namespace) -> int:
 
 
 def timeline_text(timeline: Sequence[TimelineEntry], lines: Sequence[str]) -> str:
-    """The timeline as a table: line, start and end show time (s), the leader's slowest
-    speed there as a share of the planned one where the feasible timing slowed it, and the
-    instruction's text (``lines``: the scenario's lines; its kind without them)."""
-    rows = [f"{'line':>5} {'start s':>8} {'end s':>8} {'speed':>6}  instruction"]
+    """The timeline as a table: line, start and end show time (s), with a tempo the beats
+    then, the leader's slowest speed there as a share of the planned one where the feasible
+    timing slowed it, the pace a cue set (where one did), and the instruction's text
+    (``lines``: the scenario's lines; its kind without them), marked where its cue is missed
+    and by how much."""
+    beats = any(entry.start_beat is not None for entry in timeline)
+    paced = any(entry.pace != 1.0 for entry in timeline)
+    header = f"{'line':>5} {'start s':>8} {'end s':>8}"
+    header += f" {'beat':>6} {'to beat':>7}" if beats else ""
+    header += f" {'speed':>6}" + (f" {'pace':>5}" if paced else "") + "  instruction"
+    rows = [header]
     for entry in timeline:
         text = (lines[entry.line - 1].strip() if 0 < entry.line <= len(lines)
                 else entry.kind)
+        if entry.cue_missed_by:
+            text += f"   <- cue missed by {entry.cue_missed_by:.1f} s"
         speed = f"{100 * entry.speed_fraction:.0f} %" if entry.speed_fraction < 1.0 else ""
-        rows.append(f"{entry.line:>5} {entry.start:>8.1f} {entry.end:>8.1f} {speed:>6}  {text}")
+        row = f"{entry.line:>5} {entry.start:>8.1f} {entry.end:>8.1f}"
+        if beats:
+            row += (f" {entry.start_beat:>6.1f} {entry.end_beat:>7.1f}"
+                    if entry.start_beat is not None and entry.end_beat is not None else
+                    f" {'':>6} {'':>7}")
+        row += f" {speed:>6}"
+        if paced:
+            row += f" {f'{entry.pace:.2f}' if entry.pace != 1.0 else '':>5}"
+        rows.append(f"{row}  {text}")
     return "\n".join(rows)
 
 

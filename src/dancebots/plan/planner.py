@@ -40,7 +40,7 @@ from dancebots.plan.leader import (
     leader_speed,
     waypoint_command,
 )
-from dancebots.scenario.model import Circle, Formation, Move, Scenario, Span
+from dancebots.scenario.model import Cue, Formation, Motion, Move, Scenario, Span, Wait
 
 __all__ = [
     "TIMINGS",
@@ -125,12 +125,14 @@ TIMINGS: tuple[Timing, ...] = get_args(Timing)
 class InstructionTiming:
     """When a formation's virtual leader executed one instruction: [start, end) in show time;
     speed_fraction: the smallest factor by which the ``feasible`` timing scaled the leader's
-    speeds during it (1.0: never slowed)."""
+    speeds during it (1.0: never slowed); pace: the factor by which a cue scaled them (the
+    instruction's own or a later one's: below 1 slower, above 1 faster; 1.0: none)."""
 
-    instruction: Move | Circle
+    instruction: Motion
     start: float
     end: float
     speed_fraction: float = 1.0
+    pace: float = 1.0
 
     @property
     def span(self) -> Span:
@@ -296,11 +298,15 @@ class RobotTrack:
 @dataclass(frozen=True, slots=True)
 class TimelineEntry:
     """One instruction as the plan runs it: its ``line`` and ``col`` in the scenario, its
-    ``kind`` ("formation", "move" or "circle"), the index of the formation whose leader runs
-    it, and when: [start, end) in show time, s (a formation instruction: from its formation's
-    start to its leader's first move: the newVL hold and any ordered departure; the leader
-    does not wait for its robots to reach their new slots); ``speed_fraction``:
-    :class:`InstructionTiming`'s (1.0 for a formation)."""
+    ``kind`` ("formation", "move", "circle" or "wait"), the index of the formation whose
+    leader runs it, and when: [start, end) in show time, s (a formation instruction: from its
+    formation's start to its leader's first move: the newVL hold and any ordered departure;
+    the leader does not wait for its robots to reach their new slots); ``speed_fraction``
+    and ``pace``: :class:`InstructionTiming`'s (1.0 for a formation); ``start_beat`` and
+    ``end_beat``: the beats then (1 the first; None without a tempo); ``cue``: the
+    instruction's cue as written (``at 12.5``, ``by beat 32``; None: none) and
+    ``cue_missed_by``: how late (s) the cued start or end is (0.0 when it is met, None
+    without a cue)."""
 
     line: int
     col: int
@@ -309,23 +315,49 @@ class TimelineEntry:
     start: float
     end: float
     speed_fraction: float = 1.0
+    pace: float = 1.0
+    start_beat: float | None = None
+    end_beat: float | None = None
+    cue: str | None = None
+    cue_missed_by: float | None = None
+
+
+CUE_TOLERANCE = 0.1
+"""s: a cue counts as met when its instruction starts (or ends) at most this late: the
+plan's steps are 0.05 s, and the leader stands at most a step before a cue."""
 
 
 def instruction_timeline(plan: Plan) -> tuple[TimelineEntry, ...]:
-    """Every formation, move and circle instruction of ``plan`` with the show times its
+    """Every formation, move, circle and wait instruction of ``plan`` with the show times its
     formation's leader runs it (:class:`TimelineEntry`), by start time, then line; a
     formation instruction once, where it first applies."""
+    tempo = plan.scenario.tempo
+
+    def beat(time: float) -> float | None:
+        return None if tempo is None else tempo.beat_at(time)
+
     entries = []
     listed: set[int] = set()  # robots a later formation did not name keep its line
     for index, formation in enumerate(plan.formations):
         first = formation.timings[0].start if formation.timings else formation.start
         if formation.span.line not in listed:
             listed.add(formation.span.line)
+            end = max(first, formation.start)
             entries.append(TimelineEntry(formation.span.line, formation.span.col, "formation",
-                                         index, formation.start, max(first, formation.start)))
-        entries.extend(TimelineEntry(
-            timing.span.line, timing.span.col, type(timing.instruction).__name__.lower(), index,
-            timing.start, timing.end, timing.speed_fraction) for timing in formation.timings)
+                                         index, formation.start, end, 1.0, 1.0,
+                                         beat(formation.start), beat(end)))
+        for timing in formation.timings:
+            cue = timing.instruction.cue
+            written, late = None, None
+            if cue is not None:
+                value = f"beat {cue.beat:g}" if cue.beat is not None else f"{cue.time:g}"
+                written = f"{cue.kind} {value}"
+                late = max(0.0, (timing.start if cue.kind == "at" else timing.end) - cue.time)
+                late = 0.0 if late <= CUE_TOLERANCE else late
+            entries.append(TimelineEntry(
+                timing.span.line, timing.span.col, type(timing.instruction).__name__.lower(),
+                index, timing.start, timing.end, timing.speed_fraction, timing.pace,
+                beat(timing.start), beat(timing.end), written, late))
     return tuple(sorted(entries, key=lambda entry: (entry.start, entry.line)))
 
 
@@ -369,7 +401,7 @@ class _Record:
     spec: Formation | None  # None for what remains of a split formation
     inherit: int | None  # the record whose leader it continues (None: initial or newVL)
     span: Span
-    program: list[Move | Circle] = field(default_factory=list)
+    program: list[Motion] = field(default_factory=list)
 
 
 class _PlanError(Exception):
@@ -526,7 +558,8 @@ def _records(scenario: Scenario, params: PlanParameters) -> tuple[list[_Record],
     return records, joined
 
 
-_LeaderRun = tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState]
+_LeaderRun = tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState,
+                   tuple[Diagnostic, ...]]
 
 
 def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record],
@@ -566,7 +599,8 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
         if key not in runs:
             runs[key] = _run_leader(scenario.path, state, record.program, start, hold, params,
                                     tuple(record.offsets.values()))
-        trajectory, timings, waypoints, final = runs[key]
+        trajectory, timings, waypoints, final, cue_problems = runs[key]
+        diagnostics.extend(cue_problems)
         end = float(trajectory.times[-1])
         finals.append(final)
         ends.append(end)
@@ -585,15 +619,18 @@ def _simulate(scenario: Scenario, params: PlanParameters, records: list[_Record]
     return plan, diagnostics
 
 
-def nominal_duration(ideal: Pose, instruction: Move | Circle,
+def nominal_duration(ideal: Pose, instruction: Motion,
                      params: PlanParameters) -> tuple[float, Pose]:
     """Closed-form duration (s) of one instruction from the ideal pose ``ideal``, and the
     ideal pose after it.
 
     A move: its length (m) at the leader's top speed 0.7 vmax (thesis ch. 4.1), less the
     waypoint tolerance at each end, a lower bound of what eq. 4.1 takes. A circle: its central
-    angle (rad) over the angular speed that eq. 6.1's halving rule leaves.
+    angle (rad) over the angular speed that eq. 6.1's halving rule leaves. A wait: its
+    duration (a cue's pace is not counted: it only slows what is already bounded).
     """
+    if isinstance(instruction, Wait):
+        return instruction.duration, ideal
     if isinstance(instruction, Move):
         goal = ideal.compose(Pose(0.0, 0.0, instruction.angle)).compose(
             Pose(instruction.distance, 0.0, 0.0))
@@ -607,7 +644,7 @@ def nominal_duration(ideal: Pose, instruction: Move | Circle,
     return instruction.angle / omega, end
 
 
-def _check_nominal_duration(path: str, ideal: Pose, program: Sequence[Move | Circle],
+def _check_nominal_duration(path: str, ideal: Pose, program: Sequence[Motion],
                             start: float, params: PlanParameters) -> None:
     """Raise the "longer than" error at the first instruction whose closed-form end time
     (s, :func:`nominal_duration`) passes ``max_duration``: before anything is integrated."""
@@ -619,11 +656,13 @@ def _check_nominal_duration(path: str, ideal: Pose, program: Sequence[Move | Cir
         now += duration
 
 
-def _too_long(path: str, instruction: Move | Circle, begin: float, duration: float,
+def _too_long(path: str, instruction: Motion, begin: float, duration: float,
               params: PlanParameters) -> Diagnostic:
     """The show passes ``max_duration`` during ``instruction`` (begun at ``begin`` s)."""
     takes = f"takes at least {duration:.4g} s" if math.isfinite(duration) else "never ends"
-    if isinstance(instruction, Move):
+    if isinstance(instruction, Wait):
+        hint = f"this wait {takes.replace(' at least', '')}: shorten the waits"
+    elif isinstance(instruction, Move):
         hint = (f"a move of {instruction.distance:g} m {takes} at the leader's speed of "
                 f"{leader_speed(params.vmax):g} m/s: shorten the moves")
     else:
@@ -687,10 +726,20 @@ def _join_warnings(scenario: Scenario, record: _Record, records: Sequence[_Recor
         record.span.end_col)]
 
 
+PACE_RANGE = (0.1, 1.0 / 0.7)
+"""The factors by which a cue may scale the virtual leader's speeds (``_run_leader``): down
+to a tenth (what is left of the time the formation stands before the cued instruction), up
+to the leader at vmax instead of 0.7 vmax (thesis ch. 4.1), the ``feasible`` timing's caps on
+the robots' places still applying."""
+PACE_FITS = 12
+"""At most this many runs of the instructions before a cue fit their pace to it."""
+
+
 def _run_leader(
-    path: str, state: _LeaderState, program: Sequence[Move | Circle], start: float,
+    path: str, state: _LeaderState, program: Sequence[Motion], start: float,
     hold: float, params: PlanParameters, offsets: Sequence[tuple[float, float]] = (),
-) -> tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState]:
+) -> tuple[LeaderTrajectory, tuple[InstructionTiming, ...], FloatArray, _LeaderState,
+           tuple[Diagnostic, ...]]:
     """Integrate the leader through its instructions with the fixed step (thesis eq. 4.1-4.3).
 
     Moves: eq. 4.1 towards the waypoint until it is within the tolerance. Circles: eq. 4.3
@@ -701,7 +750,16 @@ def _run_leader(
     or faces back along it (more than ``ARC_REVERSED`` from its direction), it steers by
     eq. 4.1 towards the point ``ARC_CARROT_LENGTH`` (at most 1 rad) ahead on the arc (an
     addition to the thesis). With ``feasible`` timing every step's (v, w) is scaled down by
-    :func:`slot_speed_scale` of the formation's ``offsets`` (ox, oy), m.
+    :func:`slot_speed_scale` of the formation's ``offsets`` (ox, oy), m. Waits: the leader
+    stands (an addition).
+
+    Cues (an addition): an instruction cued ``at`` T starts at show time T, one cued ``by`` T
+    ends at T: the instructions since the last cue (or the program's start), the cued one
+    too for ``by``, run again with their speeds scaled by one factor (the pace, within
+    :data:`PACE_RANGE`; the waits keep their durations) fitted so that they end at most a step
+    before T, and the leader stands the rest. A cue that cannot be met (the time has passed,
+    or even the fastest pace arrives later) is a warning at the cue; the leader then runs at
+    the fastest pace. The returned diagnostics are those warnings.
     """
     dt = params.step
     slots = np.array(offsets, dtype=float).reshape(-1, 2)
@@ -714,12 +772,14 @@ def _run_leader(
     ideal = state.ideal
     waypoints = [(ideal.x, ideal.y, ideal.theta)]
     timings: list[InstructionTiming] = []
+    problems: list[Diagnostic] = []
     step_count = 0  # t = start + step_count * dt keeps times exact multiples of the step
 
     def now() -> float:
         return start + step_count * dt
 
     speed_fraction = 1.0  # the smallest speed factor of the current instruction
+    pace = 1.0  # a cue's scale of the leader's speeds
 
     arcs: list[float] = []  # the path length (m) the leader had driven at each step's start
     curvatures: list[float] = []  # and the curvature (1/m) it drove that step with
@@ -729,6 +789,8 @@ def _run_leader(
         nonlocal x, y, theta, step_count, speed_fraction, driven
         arcs.append(driven)
         curvatures.append(w / v if v > 0.0 else 0.0)
+        if pace != 1.0:
+            v, w = v * pace, w * pace
         if v != 0.0 and len(slots) and slot_limit < math.inf:
             scale = min(slot_speed_scale(v, w, slot_rows, slot_limit),
                         path_speed_scale(v, slot_rows, arcs, curvatures, slot_limit))
@@ -745,16 +807,21 @@ def _run_leader(
         step_count += 1
 
     last_step = int((params.max_duration - start) / dt)  # no step after max_duration
-    for _ in range(round(hold / dt)):
-        advance(0.0, 0.0)
-    for instruction in program:
+
+    def run(instruction: Motion) -> None:
+        """Integrate one instruction at the current pace."""
+        nonlocal ideal, speed_fraction
         begin = now()
         left = max(0, last_step - step_count)
-        if isinstance(instruction, Move):
+        if isinstance(instruction, Wait):
+            for _ in range(min(round(instruction.duration / dt), left)):
+                advance(0.0, 0.0)
+        elif isinstance(instruction, Move):
             goal = ideal.compose(Pose(0.0, 0.0, instruction.angle))
             goal = goal.compose(Pose(instruction.distance, 0.0, 0.0))
             slowest = min(MIN_LINEAR, leader_speed(params.vmax))  # eq. 4.1a's lowest speed
-            budget = step_budget(math.hypot(goal.x - x, goal.y - y) / slowest, dt, left)
+            budget = step_budget(math.hypot(goal.x - x, goal.y - y) / slowest / min(pace, 1.0),
+                                 dt, left)
             for _ in range(budget):
                 here = Pose(x, y, theta)
                 gx, gy = here.to_local(goal.x, goal.y)
@@ -774,7 +841,7 @@ def _run_leader(
             phi_start = math.atan2(ideal.y - cy, ideal.x - cx)
             phi = math.atan2(y - cy, x - cx)
             progress = sign * wrap_angle(phi - phi_start)
-            budget = step_budget(instruction.angle / omega, dt, left)
+            budget = step_budget(instruction.angle / omega / min(pace, 1.0), dt, left)
             radius = abs(instruction.radius)
             for _ in range(budget):
                 if progress >= instruction.angle:
@@ -808,14 +875,153 @@ def _run_leader(
                     Pose(0.0, -instruction.radius, 0.0))
                 waypoints.append((arc_point.x, arc_point.y, arc_point.theta))
             ideal = end_arc
-        timings.append(InstructionTiming(instruction, begin, now(), speed_fraction))
+        timings.append(InstructionTiming(instruction, begin, now(), speed_fraction,
+                                         1.0 if isinstance(instruction, Wait) else pace))
         speed_fraction = 1.0
+
+    def snapshot() -> tuple[float, float, float, int, float, Pose, int, int]:
+        return (x, y, theta, step_count, driven, ideal, len(waypoints), len(timings))
+
+    def restore(saved: tuple[float, float, float, int, float, Pose, int, int]) -> None:
+        nonlocal x, y, theta, step_count, driven, ideal
+        x, y, theta, step_count, driven, ideal, kept_waypoints, kept_timings = saved
+        steps = step_count - first_step
+        del times[steps:], rows[steps:], arcs[steps:], curvatures[steps:]
+        del waypoints[kept_waypoints:], timings[kept_timings:]
+
+    def stand_until(target: float) -> None:
+        """Stand still until the last step at or before ``target`` s."""
+        for _ in range(max(0, min(math.floor((target - now()) / dt + 1e-9),
+                                  last_step - step_count))):
+            advance(0.0, 0.0)
+
+    def meet(cue: Cue, anchor: tuple[float, float, float, int, float, Pose, int, int],
+             segment: Sequence[Motion], cued: Motion) -> None:
+        """Run ``segment`` again from ``anchor`` at the pace that ends it at the cue's time
+        (at most a step before: the leader stands the rest), or report the cue unmet."""
+        nonlocal pace
+        target = cue.time
+        begin = start + anchor[3] * dt
+        waits = sum(round(m.duration / dt) * dt for m in segment if isinstance(m, Wait))
+        if now() <= target + 1e-9 and not any(not isinstance(m, Wait) for m in segment):
+            stand_until(target)  # only waits before it: stand the rest
+            return
+        if now() > target + 1e-9 and not any(not isinstance(m, Wait) for m in segment):
+            problems.append(_cue_missed(path, cue, cued, now(), begin, None))
+            return
+        available = target - begin - waits  # s of motion that meet the cue
+        natural = now() - begin - waits  # s of motion at pace 1 (already run)
+        if available <= 0.0:
+            problems.append(_cue_missed(path, cue, cued, now(), begin, None))
+            return
+        if natural <= available and natural >= available - 2.0 * dt:
+            stand_until(target)  # on time as it is
+            return
+        path_start = anchor[4]
+        low, high = PACE_RANGE
+        best: float | None = None  # the fastest-arriving pace found that is not late
+        guess = natural / available
+        for _ in range(PACE_FITS):
+            trial = min(max(guess, low), high)
+            restore(anchor)
+            pace = trial
+            for motion in segment:
+                run(motion)
+            pace = 1.0
+            took = now() - begin - waits
+            if took <= available:
+                best = trial if best is None else min(best, trial)  # the latest on time
+                if took >= available - 2.0 * dt or trial <= PACE_RANGE[0]:
+                    break
+                high = trial
+            else:
+                if trial >= PACE_RANGE[1]:
+                    break
+                low = trial
+            guess = trial * took / available
+            if not low < guess < high:
+                guess = 0.5 * (low + high)
+        if best is None:  # late even at the fastest pace: run at it, and say so
+            problems.append(_cue_missed(path, cue, cued, now(), begin,
+                                        (driven - path_start, now() - begin - waits,
+                                         available)))
+            return
+        if pace_of_last_run(anchor) != best:
+            restore(anchor)
+            pace = best
+            for motion in segment:
+                run(motion)
+            pace = 1.0
+        stand_until(target)
+
+    def pace_of_last_run(anchor: tuple[float, float, float, int, float, Pose, int, int],
+                         ) -> float | None:
+        """The pace the segment after ``anchor`` last ran at (from the timings of its
+        motions; waits have none)."""
+        paces = [t.pace for t in timings[anchor[7]:] if not isinstance(t.instruction, Wait)]
+        return paces[0] if paces else None
+
+    first_step = step_count
+    for _ in range(round(hold / dt)):
+        advance(0.0, 0.0)
+    anchor = snapshot()
+    segment: list[Motion] = []
+    for instruction in program:
+        cue = instruction.cue
+        if cue is not None and cue.kind == "at":
+            if segment:
+                meet(cue, anchor, segment, instruction)
+            elif now() <= cue.time + 1e-9:
+                stand_until(cue.time)
+            else:
+                problems.append(_cue_missed(path, cue, instruction, now(), now(), None))
+            anchor, segment = snapshot(), []
+        segment.append(instruction)
+        run(instruction)
+        if cue is not None and cue.kind == "by":
+            meet(cue, anchor, segment, instruction)
+            anchor, segment = snapshot(), []
     times.append(now())
     rows.append((x, y, theta, 0.0, 0.0))
     table = np.array(rows, dtype=float)
     trajectory = LeaderTrajectory(np.array(times), table[:, :3].copy(), table[:, 3:].copy())
     final = _LeaderState(Pose(x, y, theta), ideal)
-    return trajectory, tuple(timings), np.array(waypoints), final
+    return trajectory, tuple(timings), np.array(waypoints), final, tuple(problems)
+
+
+def _cue_missed(path: str, cue: Cue, cued: Motion, arrives: float, begin: float,
+                motion: tuple[float, float, float] | None) -> Diagnostic:
+    """The warning for a cue the leader cannot meet: it arrives at ``arrives`` s (the cued
+    instruction's start for ``at``, its end for ``by``); the instructions since the last
+    cue began at ``begin`` s; ``motion``: (m driven, s they took at the fastest pace, s
+    there were), or None when the time had passed before they began."""
+    when = _clock(cue.time) + (f" (beat {cue.beat:g})" if cue.beat is not None else "")
+    what = "starts" if cue.kind == "at" else "ends"
+    late = arrives - cue.time
+    message = (f"the cue `{cue.kind} {when}` cannot be met: this instruction {what} at "
+               f"{_clock(arrives)}, {late:.1f} s late")
+    if motion is None:
+        hint = (f"its formation's leader gets here at {_clock(begin)} at the earliest: cue a "
+                "later time, or cue the instructions before it earlier")
+    else:
+        length, took, available = motion
+        needed = length / available if available > 0 else math.inf
+        fastest = length / took if took > 0 else math.inf
+        hint = (f"the instructions since {_clock(begin)} drive {length:.1f} m in {took:.1f} s "
+                f"even at the fastest the robots allow ({fastest:.2f} m/s on average); the "
+                f"cue leaves {available:.1f} s, {needed:.2f} m/s: cue a later time, or drive "
+                "less before it")
+    return Diagnostic(path, cue.span.line, cue.span.col, Severity.WARNING, message, hint,
+                      cue.span.end_col)
+
+
+def _clock(seconds: float) -> str:
+    """A show time as the language writes it: ``1:02.5`` (minutes:seconds), ``12.5`` below
+    a minute."""
+    if seconds < 60.0:
+        return f"{seconds:.1f}"
+    minutes, rest = divmod(seconds, 60.0)
+    return f"{int(minutes)}:{rest:04.1f}"
 
 
 def slot_velocities(leader_commands: FloatArray, offsets: FloatArray) -> FloatArray:
@@ -865,7 +1071,7 @@ def step_budget(nominal_duration: float, dt: float, left: int) -> int:
     return int(steps) + 1 if steps < left else left
 
 
-def _unreached(path: str, instruction: Move | Circle, what: str) -> Diagnostic:
+def _unreached(path: str, instruction: Motion, what: str) -> Diagnostic:
     return Diagnostic(path, instruction.span.line, instruction.span.col, Severity.ERROR,
                       f"the virtual leader does not reach the {what}",
                       "report this scenario as a bug: the leader's controller should converge",

@@ -8,15 +8,20 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
+from typing import Literal
 
 __all__ = [
     "Circle",
+    "Cue",
     "Formation",
     "Instruction",
+    "Motion",
     "Move",
     "Scenario",
     "Shape",
     "Span",
+    "Tempo",
+    "Wait",
 ]
 
 
@@ -27,6 +32,38 @@ class Span:
     line: int
     col: int = 1
     end_col: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Cue:
+    """When an instruction must start (``at``) or end (``by``): ``time`` in s of show time;
+    ``beat``: the beat it was written as (None: written as a time); ``span``: the cue's
+    text, from its ``at`` or ``by`` to its value."""
+
+    kind: Literal["at", "by"]
+    time: float
+    span: Span
+    beat: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Tempo:
+    """``tempo BPM [from S] [music FILE]``: ``bpm`` beats per minute, beat 1 at show time
+    ``first_beat`` s; ``music``: the music file that goes with the show, as written (relative
+    to the scenario file), or None."""
+
+    bpm: float
+    first_beat: float
+    music: str | None
+    span: Span
+
+    def beat_time(self, beat: float) -> float:
+        """Show time (s) of ``beat`` (1 is the first beat; fractions between beats)."""
+        return self.first_beat + (beat - 1.0) * 60.0 / self.bpm
+
+    def beat_at(self, time: float) -> float:
+        """The beat (1 the first, fractional between beats) at show time ``time`` s."""
+        return 1.0 + (time - self.first_beat) * self.bpm / 60.0
 
 
 class Shape(enum.Enum):
@@ -75,6 +112,7 @@ class Move:
     group: str | None
     robots: tuple[str, ...]
     span: Span
+    cue: Cue | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,9 +127,26 @@ class Circle:
     group: str | None
     robots: tuple[str, ...]
     span: Span
+    cue: Cue | None = None
 
 
-Instruction = Formation | Move | Circle
+@dataclass(frozen=True, slots=True)
+class Wait:
+    """``wait S [group]`` or ``wait N beats [group]``: the formation's virtual leader stands
+    for ``duration`` s (an addition: a pause in place); ``beats``: the beats it was written
+    as (None: seconds)."""
+
+    duration: float
+    group: str | None
+    robots: tuple[str, ...]
+    span: Span
+    cue: Cue | None = None
+    beats: float | None = None
+
+
+Motion = Move | Circle | Wait
+"""What a formation's virtual leader executes (its program)."""
+Instruction = Formation | Move | Circle | Wait
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,7 +154,8 @@ class Scenario:
     """A parsed and resolved choreography.
 
     ``groups`` keeps the order of the groups section. ``instructions`` are in file order; the
-    first one is a formation of every robot. ``robots_span`` is the ``robots`` line.
+    first one is a formation of every robot. ``robots_span`` is the ``robots`` line;
+    ``tempo`` the show's tempo (None: none declared).
     """
 
     path: str
@@ -107,6 +163,7 @@ class Scenario:
     groups: tuple[tuple[str, tuple[str, ...]], ...]
     instructions: tuple[Instruction, ...]
     robots_span: Span = Span(1)
+    tempo: Tempo | None = None
 
     def group_robots(self, name: str) -> tuple[str, ...]:
         """The robots of a group, in the order the groups section lists them."""

@@ -13,11 +13,24 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from typing import Literal
 
 from dancebots.diagnostics import Diagnostic, Severity, source_lines
-from dancebots.scenario.model import Circle, Formation, Instruction, Move, Scenario, Shape, Span
+from dancebots.scenario.model import (
+    Circle,
+    Cue,
+    Formation,
+    Instruction,
+    Move,
+    Scenario,
+    Shape,
+    Span,
+    Tempo,
+    Wait,
+)
 
-__all__ = ["IDENTIFIER", "MAX_DISTANCE", "MAX_ROBOTS", "MIN_RADIUS", "parse_scenario"]
+__all__ = ["IDENTIFIER", "MAX_DISTANCE", "MAX_ROBOTS", "MAX_TIME", "MIN_RADIUS", "TEMPO_RANGE",
+           "parse_scenario"]
 
 MAX_DISTANCE = 1000.0
 """Largest accepted length in m (move distance, radius, row distance, spacing)."""
@@ -35,14 +48,22 @@ MAX_SUGGESTIONS = 100
 """At most this many unknown names of a file get a "did you mean" hint."""
 MAX_ROBOTS = 1000
 """Most robots a show may list: the cost of checking grows with robots x show length."""
+MAX_TIME = 3600.0
+"""Latest show time (s) a cue, a tempo's first beat or a wait may name: the longest show
+that is planned (``PlanParameters.max_duration``)."""
+TEMPO_RANGE = (10.0, 600.0)
+"""Accepted tempos, beats per minute."""
 
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\Z")
 _NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)\Z", re.IGNORECASE)
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*\Z")
 """A robot or group name of the language: an ASCII letter or _ then letters, digits, _ . -"""
 _SHAPES = {shape.value: shape for shape in Shape}
-_KEYWORDS = ("robots", "groups", "start", "move", "circle", "newVL", *_SHAPES)
-_RESERVED = {k.lower() for k in _KEYWORDS}
+_KEYWORDS = ("robots", "groups", "start", "tempo", "move", "circle", "wait", "newVL", *_SHAPES)
+_CUES = ("at", "by")
+_RESERVED = {k.lower() for k in _KEYWORDS} | set(_CUES)
+_CLOCK = re.compile(r"(\d+):([0-5]\d(?:\.\d*)?)\Z")
+"""A time written ``M:SS`` or ``M:SS.s`` (minutes, then seconds below 60)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -91,6 +112,7 @@ class _State:
     formations: list[frozenset[str]] = field(default_factory=list)  # active formations
     block: list[int] = field(default_factory=list)  # indices of the last formation block
     placed: bool = False  # a first formation (of every robot) has been seen
+    tempo: Tempo | None = None
     uncertain: bool = False  # an earlier formation line was broken: skip resolution errors
 
     def error(self, line: int, col: int, message: str, hint: str | None = None,
@@ -154,6 +176,13 @@ def parse_scenario(text: str, path: str = "<scenario>") -> tuple[Scenario | None
                 state.error(number, head.col, "`start` belongs after the groups section",
                             "remove this line", head.end)
             section = "body"
+        elif keyword == "tempo":
+            _parse_tempo(state, number, tokens)
+            if section == "groups":
+                state.error(number, head.col, "the groups section is not closed by `start`",
+                            "declare the tempo before `groups`, or close the groups with "
+                            "`start` first", head.end)
+                section = "body"
         elif section == "groups" and keyword.lower() not in _RESERVED:
             _parse_group(state, number, tokens)
         else:
@@ -176,7 +205,7 @@ def parse_scenario(text: str, path: str = "<scenario>") -> tuple[Scenario | None
     if any(d.is_error for d in state.diagnostics) or state.robots is None:
         return None, state.diagnostics
     scenario = Scenario(path, state.robots, tuple(state.groups.items()),
-                        tuple(state.instructions), state.robots_span)
+                        tuple(state.instructions), state.robots_span, state.tempo)
     return scenario, state.diagnostics
 
 
@@ -275,7 +304,7 @@ def _parse_instruction(state: _State, line: int, tokens: Sequence[_Token]) -> No
     if keyword.lower() == "newvl":
         _parse_new_vl(state, line, tokens)
         return
-    if keyword in ("move", "circle"):
+    if keyword in ("move", "circle", "wait"):
         if not state.placed and not state.uncertain:
             state.error(line, head.col, "the first instruction must be a formation",
                         "place the robots first, e.g. `row "
@@ -284,15 +313,19 @@ def _parse_instruction(state: _State, line: int, tokens: Sequence[_Token]) -> No
         # after a broken formation its own arguments are still checked (the group it moves
         # is not resolved: _resolve_group is silent while the formations are uncertain)
         state.block = []
+        tokens, cue, ok = _split_cue(state, line, tokens)
         if keyword == "move":
-            _parse_move(state, line, tokens)
+            _parse_move(state, line, tokens, cue, ok)
+        elif keyword == "circle":
+            _parse_circle(state, line, tokens, cue, ok)
         else:
-            _parse_circle(state, line, tokens)
+            _parse_wait(state, line, tokens, cue, ok)
         return
     close = difflib.get_close_matches(keyword.lower(), [k.lower() for k in _KEYWORDS], n=1)
     originals = {k.lower(): k for k in _KEYWORDS}
     hint = (f"did you mean `{originals[close[0]]}`?" if close else
-            "an instruction is one of: row, column, triangle, square, newVL, move, circle")
+            "an instruction is one of: row, column, triangle, square, newVL, move, circle, "
+            "wait")
     state.error(line, head.col, f"unknown instruction {_quote(keyword)}", hint, head.end)
 
 
@@ -616,7 +649,8 @@ def _formations_listing(state: _State, shown: int = 5) -> str:
     return " | ".join(parts)
 
 
-def _parse_move(state: _State, line: int, tokens: Sequence[_Token]) -> None:
+def _parse_move(state: _State, line: int, tokens: Sequence[_Token], cue: Cue | None = None,
+                cue_ok: bool = True) -> None:
     head = tokens[0]
     usage = "move 2 -90"
     if len(tokens) not in (3, 4):
@@ -633,13 +667,14 @@ def _parse_move(state: _State, line: int, tokens: Sequence[_Token]) -> None:
             state.diagnostics[-1],
             hint="the virtual leader never reverses; turn around with an angle: `move 2 180`")
     target = _resolve_group(state, line, tokens[3] if len(tokens) == 4 else None, usage)
-    if distance is None or angle is None or target is None:
+    if distance is None or angle is None or target is None or not cue_ok:
         return
     state.instructions.append(Move(distance, math.radians(angle), target[0], target[1],
-                                   Span(line, head.col, head.end)))
+                                   Span(line, head.col, head.end), cue))
 
 
-def _parse_circle(state: _State, line: int, tokens: Sequence[_Token]) -> None:
+def _parse_circle(state: _State, line: int, tokens: Sequence[_Token], cue: Cue | None = None,
+                  cue_ok: bool = True) -> None:
     head = tokens[0]
     usage = "circle -3 270 0.1"
     if len(tokens) not in (4, 5):
@@ -669,7 +704,165 @@ def _parse_circle(state: _State, line: int, tokens: Sequence[_Token]) -> None:
     omega = _number(state, line, tokens[3].text, tokens[3].col, "the angular speed",
                     positive=True, low=MIN_OMEGA, high=MAX_OMEGA)
     target = _resolve_group(state, line, tokens[4] if len(tokens) == 5 else None, usage)
-    if radius is None or angle is None or omega is None or target is None:
+    if radius is None or angle is None or omega is None or target is None or not cue_ok:
         return
     state.instructions.append(Circle(radius, math.radians(angle), omega, target[0], target[1],
-                                     Span(line, head.col, head.end)))
+                                     Span(line, head.col, head.end), cue))
+
+
+# --- timing: tempo, cues, wait ----------------------------------------------------------------
+
+def _parse_tempo(state: _State, line: int, tokens: Sequence[_Token]) -> None:
+    """``tempo BPM [from TIME] [music FILE]``, once, before the first formation."""
+    head = tokens[0]
+    usage = "e.g. `tempo 120`, `tempo 120 from 0.35` or `tempo 120 music song.wav`"
+    if state.tempo is not None:
+        state.error(line, head.col, f"the tempo is already declared at line "
+                    f"{state.tempo.span.line}", "declare the tempo once", head.end)
+        return
+    if state.instructions or state.placed:
+        state.error(line, head.col, "the tempo belongs before the first formation",
+                    "move this line up, right after the robots line", head.end)
+        return
+    if len(tokens) < 2:
+        state.error(line, head.end, "the tempo needs its beats per minute", usage)
+        return
+    bpm = _number(state, line, tokens[1].text, tokens[1].col, "the tempo",
+                  low=TEMPO_RANGE[0], high=TEMPO_RANGE[1])
+    first_beat: float | None = 0.0
+    music: str | None = None
+    seen: set[str] = set()
+    rest = list(tokens[2:])
+    ok = bpm is not None
+    while rest:
+        word = rest.pop(0)
+        if word.text not in ("from", "music"):
+            state.error(line, word.col, f"unexpected {_quote(word.text)} in the tempo",
+                        f"after the beats per minute come `from TIME` (when beat 1 is) and "
+                        f"`music FILE`: {usage}", word.end)
+            return
+        if word.text in seen:
+            state.error(line, word.col, f"`{word.text}` is given twice", None, word.end)
+            return
+        seen.add(word.text)
+        if not rest:
+            what = "a time: `from 0.35`" if word.text == "from" else "a file: `music song.wav`"
+            state.error(line, word.end, f"`{word.text}` needs {what}")
+            return
+        value = rest.pop(0)
+        if word.text == "from":
+            first_beat = _time(state, line, value, "the first beat's time")
+            ok = ok and first_beat is not None
+        else:
+            music = value.text
+    if ok and bpm is not None and first_beat is not None:
+        state.tempo = Tempo(bpm, first_beat, music, Span(line, head.col, tokens[-1].end))
+
+
+def _time(state: _State, line: int, token: _Token, what: str) -> float | None:
+    """A show time: seconds (``12.5``) or minutes and seconds (``0:12.5``), 0 to
+    :data:`MAX_TIME`; a diagnostic and None when it is not one."""
+    clock = _CLOCK.match(token.text)
+    if clock:
+        value = int(clock.group(1)) * 60.0 + float(clock.group(2))
+        if value > MAX_TIME:
+            state.error(line, token.col, f"{what} must be at most {_fmt(MAX_TIME)} s (1 h), "
+                        f"not {token.text}", None, token.end)
+            return None
+        return value
+    if ":" in token.text:
+        state.error(line, token.col, f"{what} {_quote(token.text)} is not a time",
+                    "write seconds (`12.5`) or minutes:seconds with two digits of seconds "
+                    "below 60 (`1:02.5`)", token.end)
+        return None
+    return _number(state, line, token.text, token.col, what, low=0.0, high=MAX_TIME)
+
+
+def _split_cue(state: _State, line: int, tokens: Sequence[_Token],
+               ) -> tuple[Sequence[_Token], Cue | None, bool]:
+    """A motion instruction's tokens without its cue (``at TIME``, ``by TIME``, ``at beat
+    N``, ``by beat N`` at its end), the cue, and whether the cue was valid."""
+    where = next((k for k, token in enumerate(tokens) if k > 0 and token.text in _CUES), None)
+    if where is None:
+        return tokens, None, True
+    word, rest = tokens[where], tokens[where + 1:]
+    kind: Literal["at", "by"] = "at" if word.text == "at" else "by"
+    usage = (f"`{kind} 12.5`, `{kind} 0:12.5` (minutes:seconds) or `{kind} beat 32`")
+    if not rest:
+        state.error(line, word.end, f"`{kind}` needs a time", f"e.g. {usage}")
+        return tokens[:where], None, False
+    beat: float | None = None
+    if rest[0].text == "beat":
+        if len(rest) < 2:
+            state.error(line, rest[0].end, "`beat` needs the beat's number", f"e.g. {usage}")
+            return tokens[:where], None, False
+        value_token = rest[1]
+        extra = rest[2:]
+        beat = _number(state, line, value_token.text, value_token.col, "the beat", low=1.0,
+                       high=1e6)
+        if beat is not None and state.tempo is None:
+            state.error(line, rest[0].col, "a beat needs the show's tempo",
+                        "declare it after the robots line: `tempo 120` (beats per minute)",
+                        value_token.end)
+            beat = None
+        time = state.tempo.beat_time(beat) if beat is not None and state.tempo else None
+        if time is not None and not 0.0 <= time <= MAX_TIME:
+            state.error(line, value_token.col, f"beat {value_token.text} is at {time:.1f} s, "
+                        f"outside the show (0 to {_fmt(MAX_TIME)} s)", None, value_token.end)
+            time = None
+        ok = time is not None
+    else:
+        value_token = rest[0]
+        extra = rest[1:]
+        time = _time(state, line, value_token, f"the `{kind}` time")
+        ok = time is not None
+    if extra:
+        state.error(line, extra[0].col, f"unexpected {_quote(extra[0].text)} after the cue",
+                    f"the cue ends the line: {usage}", extra[-1].end)
+        ok = False
+    if not ok or time is None:
+        return tokens[:where], None, False
+    return tokens[:where], Cue(kind, time, Span(line, word.col, value_token.end), beat), True
+
+
+def _parse_wait(state: _State, line: int, tokens: Sequence[_Token], cue: Cue | None,
+                cue_ok: bool) -> None:
+    """``wait S [group]`` or ``wait N beats [group]`` (a cue already split off)."""
+    head = tokens[0]
+    usage = "wait 2"
+    if len(tokens) < 2:
+        state.error(line, head.end, "wait takes a duration in s (or `N beats`) and an "
+                    "optional group", f"e.g. `{usage}`, `wait 4 beats` or `{usage} group1`")
+        return
+    rest = list(tokens[2:])
+    in_beats = bool(rest) and rest[0].text in ("beats", "beat")
+    if in_beats:
+        rest.pop(0)
+    if len(rest) > 1:
+        state.error(line, rest[1].col, "wait takes a duration in s (or `N beats`) and an "
+                    f"optional group, found more: {_quote(rest[1].text)}",
+                    f"e.g. `{usage}`, `wait 4 beats` or `{usage} group1`", rest[-1].end)
+        return
+    amount = _number(state, line, tokens[1].text, tokens[1].col,
+                     "the wait in beats" if in_beats else "the wait", positive=True,
+                     high=MAX_TIME)
+    duration = amount
+    if amount is not None and in_beats:
+        if state.tempo is None:
+            state.error(line, tokens[2].col, "a wait in beats needs the show's tempo",
+                        "declare it after the robots line: `tempo 120` (beats per minute), "
+                        "or give the wait in seconds", tokens[2].end)
+            duration = None
+        else:
+            duration = amount * 60.0 / state.tempo.bpm
+            if duration > MAX_TIME:
+                state.error(line, tokens[1].col, f"{tokens[1].text} beats last "
+                            f"{duration:.0f} s, more than the longest show "
+                            f"({_fmt(MAX_TIME)} s)", None, tokens[1].end)
+                duration = None
+    target = _resolve_group(state, line, rest[0] if rest else None, usage)
+    if duration is None or target is None or not cue_ok:
+        return
+    state.instructions.append(Wait(duration, target[0], target[1],
+                                   Span(line, head.col, head.end), cue,
+                                   amount if in_beats else None))
