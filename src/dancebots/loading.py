@@ -9,10 +9,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from dancebots.check import CheckOptions, CheckReport, check_plan
 from dancebots.diagnostics import (
     Diagnostic,
+    Severity,
     has_errors,
     read_source_file,
     source_lines,
@@ -21,7 +23,7 @@ from dancebots.plan.compile import compile_scenario
 from dancebots.plan.planner import Plan, PlanParameters, Timing
 from dancebots.world import MISSING_WORLD_HINT, World, parse_world
 
-__all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show"]
+__all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show", "music_path"]
 
 DEFAULT_VMAX = 0.5
 """m/s: the slowest robot's maximum speed when neither the caller nor a world gives one."""
@@ -84,6 +86,15 @@ def load_show(scenario_path: str, world_path: str | None = None, vmax: float | N
     diagnostics.extend(problems)
     if plan is None or has_errors(diagnostics):
         return LoadedShow(scenario_path, world_path, None, world, tuple(diagnostics), sources)
+    tempo = plan.scenario.tempo
+    if tempo is not None and tempo.music is not None and music_path(
+            scenario_path, tempo.music) is None:
+        diagnostics.append(Diagnostic(
+            scenario_path, tempo.span.line, tempo.span.col, Severity.WARNING,
+            f"the music file {tempo.music} is not there (looked next to the scenario: "
+            f"{Path(scenario_path).parent / tempo.music})",
+            "fix the path (relative to the scenario file), or leave `music` out; `dancebots "
+            "run --music FILE` takes one too", tempo.span.end_col))
     report = None
     if check is not None:
         report = check_plan(plan, world, check)
@@ -93,3 +104,10 @@ def load_show(scenario_path: str, world_path: str | None = None, vmax: float | N
                               sources, report)
     return LoadedShow(scenario_path, world_path, plan, world, tuple(diagnostics), sources,
                       report)
+
+
+def music_path(scenario_path: str, music: str) -> Path | None:
+    """The music file a show's tempo names (``music``, relative to the scenario file's
+    directory), or None when there is no such file."""
+    path = Path(scenario_path).parent / music
+    return path if path.is_file() else None

@@ -99,3 +99,24 @@ def test_run_with_music_writes_the_preview_and_refuses_what_has_no_sound(
                      "--out", str(tmp_path / "refused")]) == 2
         assert f"--music {bad}: {message}" in capsys.readouterr().err
     assert not (tmp_path / "refused").exists()
+
+
+def test_the_music_the_tempo_names_goes_into_the_preview_and_a_missing_one_is_a_warning(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """`tempo 120 music FILE` (FILE next to the scenario) is run's default --music; a file
+    that is not there is a warning at the tempo line, and the run goes on without it."""
+    write_wav(tmp_path / "song.wav", 0.1 * np.sin(np.arange(SAMPLE_RATE) * 0.05))
+    show = tmp_path / "to_music.dance"
+    show.write_text("robots R1\ntempo 120 music song.wav\nrow R1 0 0\nmove 1 0 by beat 9\n")
+    out = tmp_path / "out"
+    assert main(["run", str(show), "--no-animation", "--out", str(out)]) == 0
+    assert audio_streams(str(out / "preview.mp4")) == 1
+    capsys.readouterr()
+    show.write_text("robots R1\ntempo 120 music gone.wav\nrow R1 0 0\nmove 1 0\n")
+    assert main(["check", str(show)]) == 0
+    err = capsys.readouterr().err
+    assert (f"{show}:2:1: warning: the music file gone.wav is not there (looked next to the "
+            f"scenario: {tmp_path / 'gone.wav'})") in err
+    out = tmp_path / "without"
+    assert main(["run", str(show), "--no-animation", "--out", str(out)]) == 0
+    assert not (out / "preview.mp4").exists()

@@ -10,19 +10,24 @@ from dancebots.diagnostics import Diagnostic, read_text_source, source_lines
 from dancebots.plan.compile import compile_scenario
 
 KEYWORDS = ["robots", "groups", "start", "row", "column", "triangle", "square", "move",
-            "circle", "newVL", "newvl", "#", "# note", "Move", "mvoe"]
+            "circle", "newVL", "newvl", "#", "# note", "Move", "mvoe", "tempo", "wait", "at",
+            "by", "beat", "beats", "from", "music", "song.wav"]
 NAMES = ["R1", "R2", "R3", "R4", "g1", "g2", "R1,R2", "R1;R2", "R1,R2;R3,R4", "R3,R4;R1,R2",
          "R1;R3", "R2;R4", "R1,R3", "R1,,R2", ";", ",", "R5", "\x00", "é"]
 NUMBERS = ["0", "1", "-1", "2.5", "90", "-45", "270", "0.1", "1.2", "1;1", "1,1", "1e308",
            "nan", "inf", "-inf", "1,5", "1000", "360", "-3", "1e-9", ".5", "5.", "+2", "1e3"]
 HOSTILE = ["5e-324", "-5e-324", "1e-300", "1e-320", "-0", "-0.0", "1" + "0" * 400, "36000",
            "-1000", "999.999", "0.001", "0.01", "10", "1e-3", "NaN", "Infinity", "0x10", "1_0",
-           "١", "1e99999"]
+           "١", "1e99999", "0:12.5", "1:02", "59:59.9", "60:00", "1:60", ":5", "1:", "9" * 30 +
+           ":00", "at 1e308", "at beat 1e308", "at beat 0", "by beat 1"]
 
 token = st.sampled_from(KEYWORDS + NAMES + NUMBERS + HOSTILE)
 line = st.lists(token, min_size=0, max_size=6).map(" ".join)
 header = st.sampled_from([
     "robots R1 R2 R3 R4\n",
+    "robots R1 R2 R3 R4\ntempo 120\n",
+    "robots R1 R2\ntempo 600 from 3599 music m.wav\n",
+    "robots R1 R2 R3 R4\ntempo 10\ngroups\ng1 R1 R3\ng2 R2 R4\nstart\n",
     "robots R1 R2 R3 R4\ngroups\ng1 R1 R3\ng2 R2 R4\nstart\n",
     "robots R1 R2\n",
     "",
@@ -108,3 +113,20 @@ def test_long_shows_are_refused_in_closed_form(moves: list[str]) -> None:
     """Whatever its numbers, a show compiles or is refused before its leader runs for more
     than the longest show; either way only diagnostics come out."""
     compile_and_check("robots R1 R2\nrow R1,R2 0 1.2\n" + "\n".join(moves) + "\n")
+
+
+CUES = ["", " at 0", " at 1e-300", " by 5", " at 0:30", " by 59:59.9", " at 3600", " by 3600",
+        " at beat 1", " by beat 9", " at beat 7200", " by beat 1e6", " at 1", " by 0.05"]
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(["move 1 0", "move 3 90", "circle 2 45 0.2",
+                                           "wait 1e-300", "wait 2", "wait 4 beats",
+                                           "wait 3600", "move 1000 0", "move 0 180"]),
+                          st.sampled_from(CUES)), min_size=1, max_size=5))
+def test_cued_shows_with_hostile_times_plan_or_say_why(parts: list[tuple[str, str]]) -> None:
+    """Cues at 0 s, at the last second of the longest show, on beats past its end, waits of
+    1e-300 s and of an hour: every show plans (missed cues are warnings at the cue) or is
+    refused with a positioned error, in bounded time."""
+    compile_and_check("robots R1 R2\ntempo 120\nrow R1,R2 0 1.2\n"
+                      + "\n".join(body + cue for body, cue in parts) + "\n")

@@ -81,7 +81,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also write preview.mp4: the show in real time with this music "
                         "from its start (WAV, MP3, OGG, ... anything ffmpeg reads) and the "
                         "robots' speech and beeps mixed in (needs ffmpeg; the speech "
-                        "espeak-ng)")
+                        "espeak-ng); default: the music the show's `tempo` line names, if "
+                        "any")
     parser.add_argument("--show-lidar", action="store_true",
                         help="draw each robot's latest LIDAR scan in the animation")
     parser.add_argument("--no-lidar", action="store_true",
@@ -136,6 +137,13 @@ def run(args: argparse.Namespace) -> int:
         if not espeak_available():
             return refuse(NAME, args.json, "--sound needs espeak-ng (Debian package espeak-ng; "
                         "scripts/dev.sh installs it)")
+    tempo = show.plan.scenario.tempo if show.plan is not None else None
+    if args.music is None and tempo is not None and tempo.music is not None:
+        from dancebots.loading import music_path
+
+        found = music_path(args.scenario, tempo.music)
+        if found is not None:  # the show's own music (its tempo line) goes into the preview
+            args.music = str(found)
     if args.music is not None:
         from dancebots.report.frames import ffmpeg_available
         from dancebots.report.preview import audio_streams

@@ -929,7 +929,7 @@ def _run_leader(
                 run(motion)
             pace = 1.0
             took = now() - begin - waits
-            if took <= available:
+            if took <= available + 0.5 * dt:  # (times are whole steps)
                 best = trial if best is None else min(best, trial)  # the latest on time
                 if took >= available - 2.0 * dt or trial <= PACE_RANGE[0]:
                     break
