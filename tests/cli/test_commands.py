@@ -154,7 +154,7 @@ def test_demo_passes_strict_check(capsys: Capture, tmp_path: Path) -> None:
     status, out, _ = run(capsys, "demo")
     assert status == 0
     for keyword in ("robots", "groups", "start", "row", "column", "triangle", "square",
-                    "move", "circle", "newVL"):
+                    "move", "circle", "newVL", "tempo", "wait", " at beat ", " by beat "):
         assert keyword in out
     demo = tmp_path / "demo.dance"
     demo.write_text(out)
