@@ -1,4 +1,5 @@
-"""Draw a :class:`Plan`: the scenario path, every virtual leader, every robot's desired path."""
+"""Draw a :class:`Plan`: the scenario path, every virtual leader, every robot's desired path,
+and under it the show's timeline (each instruction when its leader runs it, beats, cues)."""
 
 from __future__ import annotations
 
@@ -7,11 +8,11 @@ from typing import Any
 import numpy as np
 
 from dancebots.geometry import Pose, footprint_corners, points_to_world
-from dancebots.plan.planner import Plan
+from dancebots.plan.planner import Plan, instruction_timeline
 from dancebots.report.drawing import draw_arena
 from dancebots.world import DEFAULT_ROBOT_TYPE, World
 
-__all__ = ["plot_plan"]
+__all__ = ["plot_plan", "plot_timeline"]
 
 
 def plot_plan(plan: Plan, world: World | None = None, transform: Pose | None = None,
@@ -19,13 +20,16 @@ def plot_plan(plan: Plan, world: World | None = None, transform: Pose | None = N
     """Plot the plan (in the world frame when ``transform`` is given); returns the figure.
 
     Scenario waypoints: dashed grey; virtual leaders: black; robots: one colour each, with
-    their footprints at the start (solid) and at the end (dashed).
+    their footprints at the start (solid) and at the end (dashed). Without ``ax`` the figure
+    also has the show's timeline under the map (:func:`plot_timeline`).
     """
     import matplotlib.pyplot as plt
     from matplotlib.patches import Polygon as PolygonPatch
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=(8, 8), layout="constrained")
+        fig, (ax, strip) = plt.subplots(2, 1, figsize=(8, 10), layout="constrained",
+                                        height_ratios=(8, 2))
+        plot_timeline(plan, strip)
     else:
         fig = ax.figure
     place = transform or Pose(0.0, 0.0, 0.0)
@@ -68,3 +72,47 @@ def plot_plan(plan: Plan, world: World | None = None, transform: Pose | None = N
     ax.grid(True, linewidth=0.3)
     ax.legend(loc="best", fontsize="small")
     return fig
+
+
+def plot_timeline(plan: Plan, ax: Any) -> None:
+    """The show's time axis on ``ax``: each instruction as a bar from its start to its end
+    (``plan.planner.instruction_timeline``), a lane per formation, labelled with its line;
+    with a tempo, a tick every beat and a line every fourth; each cue as a triangle at its
+    time (green when met, red when missed), on the instruction's lane."""
+    timeline = instruction_timeline(plan)
+    tempo = plan.scenario.tempo
+    end = max([plan.duration, *(entry.end for entry in timeline)], default=plan.duration)
+    lanes = sorted({entry.formation for entry in timeline})
+    lane = {formation: k for k, formation in enumerate(lanes)}
+    colours = {"move": "tab:blue", "circle": "tab:orange", "wait": "0.7",
+               "formation": "tab:purple"}
+    for entry in timeline:
+        y = lane[entry.formation]
+        width = max(entry.end - entry.start, end * 0.002)
+        ax.barh(y, width, left=entry.start, height=0.6, color=colours.get(entry.kind, "0.5"),
+                edgecolor="white", linewidth=0.5)
+        if entry.end - entry.start > end * 0.03:
+            ax.text(entry.start + 0.5 * (entry.end - entry.start), y, str(entry.line),
+                    ha="center", va="center", fontsize=6, color="white")
+        if entry.cue is not None:
+            at = entry.start if entry.cue.startswith("at") else entry.end
+            cue_time = at - (entry.cue_missed_by or 0.0)
+            ax.plot([cue_time], [y + 0.45], marker="v", markersize=6, linestyle="none",
+                    color="tab:red" if entry.cue_missed_by else "tab:green")
+    if tempo is not None:
+        period = 60.0 / tempo.bpm
+        first = max(0, int(np.ceil((0.0 - tempo.first_beat) / period)))
+        count = int((end - tempo.first_beat) / period) + 1
+        for beat in range(first, count):
+            time = tempo.first_beat + beat * period
+            bar = beat % 4 == 0
+            ax.axvline(time, color="0.4" if bar else "0.85", linewidth=0.6 if bar else 0.3,
+                       zorder=0)
+        ax.set_title(f"timeline: {tempo.bpm:g} beats per minute (a line every 4 beats), cues "
+                     "met (green) and missed (red)", fontsize="small")
+    else:
+        ax.set_title("timeline", fontsize="small")
+    ax.set_xlim(0.0, end * 1.01 if end > 0 else 1.0)
+    ax.set_ylim(-0.6, len(lanes) - 0.4 + 0.3)
+    ax.set_yticks(range(len(lanes)), [f"formation {f}" for f in lanes], fontsize=6)
+    ax.set_xlabel("show time [s]")
