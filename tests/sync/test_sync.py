@@ -32,9 +32,11 @@ from dancebots.sync import (
 
 
 def test_messages_round_trip() -> None:
-    for message in (EchoMessage("R1"), EchoMessage("R1", "R2"), StartProposal("R3", 17.25)):
+    for message in (EchoMessage("R1"), EchoMessage("R1", "R2"), StartProposal("R3", 17.25),
+                    StartProposal("R3", 1.8e9, 1.7e9 + 0.1)):
         assert parse_message(format_message(message)) == message
     assert format_message(StartProposal("R1", 0.1 + 0.2)) == "sync R1 0.30000000000000004"
+    assert format_message(StartProposal("R1", 20.0, 3.5)) == "sync R1 20.0 3.5"
 
 
 @pytest.mark.parametrize(("text", "reason"), [
@@ -42,7 +44,11 @@ def test_messages_round_trip() -> None:
     ("hello R1", "unknown kind 'hello'"),
     ("test", "'test' takes 1 or 2 roles, not 0"),
     ("test R1 R2 R3", "'test' takes 1 or 2 roles, not 3"),
-    ("sync R1", "'sync' takes a role and a time, not 1 words"),
+    ("sync R1", "'sync' takes a role, a time and optionally the sender's clock, not 1 words"),
+    ("sync R1 1 2 3", "'sync' takes a role, a time and optionally the sender's clock, not 4 "
+     "words"),
+    ("sync R1 1 later", "'later' is not a time in seconds"),
+    ("sync R1 1 inf", "'inf' is not a finite time"),
     ("sync R1 soon", "'soon' is not a time in seconds"),
     ("sync R1 nan", "'nan' is not a finite time"),
 ])
@@ -51,7 +57,7 @@ def test_bad_messages_say_what_was_expected(text: str, reason: str) -> None:
         parse_message(text)
     assert error.value.reason == reason
     assert str(error.value) == (f"bad /sync message {text!r}: {reason}; expected 'test ROLE', "
-                                "'test ROLE ECHOER' or 'sync ROLE SECONDS'")
+                                "'test ROLE ECHOER' or 'sync ROLE SECONDS [SENT]'")
 
 
 @given(st.text(max_size=40))
@@ -324,3 +330,94 @@ def test_roles_are_exactly_the_names_the_choreography_language_accepts(name: str
     from dancebots.scenario.parser import IDENTIFIER  # the language's robot names
 
     assert is_role(name) == (IDENTIFIER.match(name) is not None)
+
+
+EPOCH_T = 1.8e9  # a start time of the timecode strategy (s since the epoch)
+
+
+def timecode_robot(role: str = "R1", roles: tuple[str, ...] = ("R1", "R2", "R3"),
+                   now: float = EPOCH_T - 60.0):
+    return agreement_ready(new_agreement(role, roles, "timecode", EPOCH_T), now)
+
+
+def hear_for_a_second(agreement, roles: tuple[str, ...], sent: float, offset: float,
+                      delay: float):
+    """``agreement`` after a second of /sync messages (10 Hz) from ``roles``, sent at their
+    clock ``sent`` (+ 0.1 s each), whose clocks are ``offset`` s ahead of the receiver's,
+    each ``delay`` s in transit."""
+    for k in range(10):
+        for role in roles:
+            agreement = agreement_receive(
+                agreement, StartProposal(role, EPOCH_T, sent + 0.1 * k),
+                sent + 0.1 * k - offset + delay)
+    return agreement
+
+
+def test_a_timecode_start_is_the_given_time_once_every_robot_proposed_it() -> None:
+    r1 = timecode_robot()
+    assert r1.message(EPOCH_T - 59.0) == StartProposal("R1", EPOCH_T, EPOCH_T - 59.0)
+    for role in ("R2", "R3"):
+        assert r1.start is None
+        r1 = agreement_receive(r1, StartProposal(role, EPOCH_T, EPOCH_T - 50.0), EPOCH_T - 50.0)
+    assert r1.start is None  # every start is heard, the clocks not yet measured
+    r1 = hear_for_a_second(r1, ("R2", "R3"), EPOCH_T - 50.0, 0.0, 0.002)
+    assert r1.start == EPOCH_T
+    assert r1.refused is None
+    assert show_time(r1, EPOCH_T + 2.0) == 2.0
+
+
+def test_a_robot_whose_clock_is_off_refuses_the_timecode_start_and_says_why() -> None:
+    # R1's clock is 0.4 s behind R2's and R3's (2 ms in transit)
+    r1 = hear_for_a_second(timecode_robot(), ("R2", "R3"), EPOCH_T - 30.0, 0.4, 0.002)
+    assert r1.start is None
+    assert r1.offset("R2") == pytest.approx(0.398)
+    assert r1.refused == ("this robot's clock is 0.398 s behind the formation's (the median "
+                          "of the robots' clocks, R1, R2, R3, measured from their /sync "
+                          "messages; at most 0.1 s): the show would be off the music by as "
+                          "much; synchronise the clocks (NTP, chrony) and start again")
+    # R2 sees R1 0.4 s behind and R3 on time: the median of the three clocks is its own
+    r2 = hear_for_a_second(timecode_robot("R2"), ("R1",), EPOCH_T - 30.4, -0.4, 0.002)
+    r2 = hear_for_a_second(r2, ("R3",), EPOCH_T - 30.0, 0.0, 0.002)
+    assert r2.refused is None
+    assert r2.start == EPOCH_T
+
+
+def test_the_least_delayed_message_bounds_the_offset() -> None:
+    r1 = timecode_robot(roles=("R1", "R2"))
+    for k, delay in enumerate([0.3] * 5 + [0.002] + [0.1] * 4):
+        r1 = agreement_receive(r1, StartProposal("R2", EPOCH_T, EPOCH_T - 40.0 + 0.1 * k),
+                               EPOCH_T - 40.0 + 0.1 * k + delay)
+    assert r1.offset("R2") == pytest.approx(-0.002, abs=1e-6)  # not the slow messages' 0.3 s
+    assert r1.refused is None
+    assert r1.start == EPOCH_T
+    # two robots 0.4 s apart: each sees the other's clock off, and neither can tell whose
+    r2 = hear_for_a_second(timecode_robot(roles=("R1", "R2")), ("R2",), EPOCH_T - 40.0, 0.4,
+                           0.002)
+    assert r2.refused is not None
+    assert r2.refused.startswith("this robot's clock is 0.199 s behind")
+
+
+@pytest.mark.parametrize(("ready_at", "other", "reason"), [
+    (EPOCH_T + 5.0, EPOCH_T, "the start time 2027-01-15 08:00:00.000 UTC has passed: this "
+     "robot was ready at 2027-01-15 08:00:05.000 UTC; give a later --start-at"),
+    (EPOCH_T - 3 * 86400.0, EPOCH_T, "the start time 2027-01-15 08:00:00.000 UTC is 259200.0 "
+     "s after this robot's clock (at most 24 h); is the date or the clock wrong?"),
+    (EPOCH_T - 60.0, EPOCH_T + 60.0, "R2 was given another start time (2027-01-15 "
+     "08:01:00.000 UTC) than this robot (2027-01-15 08:00:00.000 UTC): give every robot the "
+     "same --start-at"),
+])
+def test_a_timecode_that_cannot_be_the_start_is_refused(ready_at: float, other: float,
+                                                        reason: str) -> None:
+    r1 = timecode_robot(roles=("R1", "R2"), now=ready_at)
+    r1 = agreement_receive(r1, StartProposal("R2", other, ready_at), ready_at)
+    assert r1.refused == reason
+    assert r1.start is None
+
+
+def test_the_timecode_strategy_needs_its_time_and_only_it_takes_one() -> None:
+    with pytest.raises(ValueError, match="the timecode start needs a start time"):
+        new_agreement("R1", ("R1",), "timecode")
+    with pytest.raises(ValueError, match="the timecode start needs a start time"):
+        new_agreement("R1", ("R1",), "agreed", 5.0)
+    with pytest.raises(ValueError, match="is not a finite time"):
+        new_agreement("R1", ("R1",), "timecode", math.nan)

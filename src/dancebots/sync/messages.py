@@ -3,6 +3,8 @@
 ``test R1``            R1 asks who hears it (published at 10 Hz by ``network_test``)
 ``test R1 R2``         R2 heard R1 and echoes it back (R1 then knows the link works both ways)
 ``sync R1 1732.25``    R1 proposes to start at 1732.25 s (its clock, seconds since the epoch)
+``sync R1 1800.0 1732.2``  the same with R1's clock when it sent the message (the
+                       ``timecode`` start: a receiver measures the clocks' offset from it)
 
 Roles are the scenario's robot names: plain ASCII identifiers, a letter or ``_`` then
 letters, digits, ``_``, ``.`` or ``-`` (the names the choreography language accepts for
@@ -42,10 +44,12 @@ class EchoMessage:
 
 @dataclass(frozen=True, slots=True)
 class StartProposal:
-    """``role`` proposes to start the show at ``start`` (s, the robots' common clock)."""
+    """``role`` proposes to start the show at ``start`` (s, the robots' common clock);
+    ``sent``: its clock when it sent the proposal (s; None: not said)."""
 
     role: str
     start: float
+    sent: float | None = None
 
 
 class SyncMessageError(ValueError):
@@ -54,7 +58,7 @@ class SyncMessageError(ValueError):
 
     def __init__(self, text: str, reason: str) -> None:
         super().__init__(f"bad /sync message {_shown(text)}: {reason}; expected 'test ROLE', "
-                         "'test ROLE ECHOER' or 'sync ROLE SECONDS'")
+                         "'test ROLE ECHOER' or 'sync ROLE SECONDS [SENT]'")
         self.text = text
         self.reason = reason
 
@@ -79,15 +83,19 @@ def parse_message(text: str) -> EchoMessage | StartProposal:
         _check_roles(text, rest)
         return EchoMessage(rest[0], rest[1] if len(rest) == 2 else None)
     if kind == "sync":
-        if len(rest) != 2:
-            raise SyncMessageError(text, f"'sync' takes a role and a time, not {len(rest)} words")
+        if len(rest) not in (2, 3):
+            raise SyncMessageError(text, "'sync' takes a role, a time and optionally the "
+                                   f"sender's clock, not {len(rest)} words")
         _check_roles(text, rest[:1])
-        start = _number(rest[1])
-        if start is None:
-            raise SyncMessageError(text, f"{_shown(rest[1])} is not a time in seconds")
-        if not math.isfinite(start):
-            raise SyncMessageError(text, f"{_shown(rest[1])} is not a finite time")
-        return StartProposal(rest[0], start)
+        times = []
+        for word in rest[1:]:
+            value = _number(word)
+            if value is None:
+                raise SyncMessageError(text, f"{_shown(word)} is not a time in seconds")
+            if not math.isfinite(value):
+                raise SyncMessageError(text, f"{_shown(word)} is not a finite time")
+            times.append(value)
+        return StartProposal(rest[0], times[0], times[1] if len(times) == 2 else None)
     raise SyncMessageError(text, f"unknown kind {_shown(kind)}")
 
 
@@ -95,7 +103,8 @@ def format_message(message: EchoMessage | StartProposal) -> str:
     """The /sync text of a message (inverse of :func:`parse_message`; times in full
     precision, so every robot holds the very same proposal)."""
     if isinstance(message, StartProposal):
-        return f"sync {message.role} {message.start!r}"
+        sent = f" {message.sent!r}" if message.sent is not None else ""
+        return f"sync {message.role} {message.start!r}{sent}"
     if message.echoed_by is None:
         return f"test {message.origin}"
     return f"test {message.origin} {message.echoed_by}"

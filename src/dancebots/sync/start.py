@@ -16,7 +16,18 @@ waits until the start time and the virtual leader starts to move. The clocks are
     that hears the last proposal after the start time starts late and catches up: its virtual
     leader is computed from the same start.
 
-Both strategies ignore implausible proposals (:func:`implausible`): a start more than
+``timecode`` (an addition: shows synchronised to music and lights): the start is an
+    absolute time given to every robot (``formation_member``'s ``~start_at``, ``dancebots ros
+    formation --start-at``). Each robot still waits for its network test, then repeats that
+    time with its own clock (``sync ROLE T SENT``); the start is agreed once every role
+    proposed the same time. Each robot measures the offset of every other robot's clock from
+    its own from those messages (the largest ``SENT - now`` over a role's messages: transit
+    only makes it smaller, so it approaches the offset from below) and refuses to start, and
+    says why, when the median offset to the others exceeds :data:`TIMECODE_OFFSET` (its own
+    clock is off: the music would be off by as much), when another robot was given another
+    time, or when the time has passed by the time it is ready.
+
+All strategies ignore implausible proposals (:func:`implausible`): a start more than
 :data:`PLAUSIBLE_AHEAD` s after the receiver's clock or more than :data:`PLAUSIBLE_BEHIND` s
 before it. Such a proposal neither strikes its role off nor moves the start, so one stray or
 hostile ``sync R2 1e308`` cannot make the formation wait for ever; the receiver keeps waiting
@@ -33,12 +44,13 @@ from typing import Literal, get_args
 from dancebots.sync.messages import StartProposal
 
 __all__ = ["MAX_CLOCK_OFFSET", "PLAUSIBLE_AHEAD", "PLAUSIBLE_BEHIND", "START_DELAY",
-           "START_STRATEGIES", "StartAgreement", "StartStrategy", "agreement_ready",
-           "agreement_receive", "implausible", "new_agreement", "show_time"]
+           "START_STRATEGIES", "TIMECODE_AHEAD", "TIMECODE_OFFSET", "StartAgreement",
+           "StartStrategy", "agreement_ready", "agreement_receive", "implausible",
+           "new_agreement", "show_time"]
 
 START_DELAY = 4.0
 """Seconds between a robot's clock when it proposes and the start it proposes (thesis 4.2)."""
-StartStrategy = Literal["thesis", "agreed"]
+StartStrategy = Literal["thesis", "agreed", "timecode"]
 START_STRATEGIES: tuple[StartStrategy, ...] = get_args(StartStrategy)
 MAX_CLOCK_OFFSET = 1.0
 """s: the largest offset between two robots' clocks the agreement tolerates (NTP on the
@@ -52,6 +64,17 @@ PLAUSIBLE_BEHIND = 3600.0
 repeats the proposal it made when it became ready, so a robot whose sensors come up late
 hears old proposals; an hour covers any start-up of a show, while a clock that was never
 synchronised (1970, 0 s) or a number that is no time is refused."""
+TIMECODE_AHEAD = 86400.0
+"""s: a ``timecode`` start is at most a day after a robot's clock when it gets ready (the
+show of tonight; more is a mistyped date)."""
+TIMECODE_OFFSET = 0.1
+"""s: the largest offset of a robot's clock from the formation's (the median of all the
+robots' clocks against its own) with which it starts a ``timecode`` show: a tenth of a
+second against the music."""
+TIMECODE_SAMPLES = 10
+"""Messages of every other robot (1 s of them at 10 Hz) a robot measures its clock against
+before it judges the offset and agrees on a ``timecode`` start: the least delayed of them
+bounds the offset."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,11 +94,27 @@ class StartAgreement:
     proposal: float | None = None
     heard: frozenset[str] = frozenset()
     value: float | None = None
+    timecode: float | None = None
+    offsets: tuple[tuple[str, float, int], ...] = ()
+    max_offset: float = TIMECODE_OFFSET
+    refused: str | None = None
 
     @property
     def start(self) -> float | None:
-        """The agreed start time (s, common clock) once every role is heard, else None."""
-        return self.value if self.heard >= self.roles else None
+        """The agreed start time (s, common clock) once every role is heard (under
+        ``timecode``: and the clocks measured, :data:`TIMECODE_SAMPLES`), else None (and
+        None for good once the robot refused to start: ``refused`` says why)."""
+        if self.refused is not None or not self.heard >= self.roles:
+            return None
+        if self.strategy == "timecode" and not self._clocks_measured():
+            return None
+        return self.value
+
+    def _clocks_measured(self) -> bool:
+        """Whether every other role's clock is measured from enough messages."""
+        counts = {role: count for role, _, count in self.offsets}
+        return all(counts.get(role, 0) >= TIMECODE_SAMPLES for role in self.roles
+                   if role != self.role)
 
     def message(self, now: float) -> StartProposal | None:
         """What to publish on /sync at ``now`` (10 Hz), None before the robot is ready."""
@@ -84,21 +123,39 @@ class StartAgreement:
         if self.strategy == "thesis":
             return StartProposal(self.role, now + START_DELAY)
         assert self.proposal is not None
+        if self.strategy == "timecode":
+            return StartProposal(self.role, self.proposal, now)
         return StartProposal(self.role, self.proposal)
+
+    def offset(self, role: str) -> float | None:
+        """The measured offset (s) of ``role``'s clock from this robot's (its clock less
+        this one's; a lower bound), None before a message of it with its clock."""
+        return next((offset for name, offset, _ in self.offsets if name == role), None)
 
 
 def new_agreement(role: str, roles: tuple[str, ...] | frozenset[str],
-                  strategy: str = "agreed") -> StartAgreement:
+                  strategy: str = "agreed", timecode: float | None = None,
+                  max_offset: float = TIMECODE_OFFSET) -> StartAgreement:
     """The agreement of robot ``role`` in a formation of ``roles`` (which include it).
     ``strategy`` is a plain string because it comes from a node parameter: it is checked
-    against :data:`START_STRATEGIES` here (a ``ValueError`` names the choices)."""
+    against :data:`START_STRATEGIES` here (a ``ValueError`` names the choices). ``timecode``
+    (s, common clock; the ``timecode`` strategy only, which needs it) and ``max_offset``
+    (s, at least 0): see the module."""
     if strategy not in START_STRATEGIES:
         raise ValueError(f"unknown start strategy {strategy!r}; use one of "
                          f"{', '.join(START_STRATEGIES)}")
     if role not in roles:
         raise ValueError(f"role {role!r} is not one of the scenario's robots "
                          f"({', '.join(sorted(roles))})")
-    return StartAgreement(strategy, role, frozenset(roles))
+    if (strategy == "timecode") != (timecode is not None):
+        raise ValueError("the timecode start needs a start time (start_at), and only it takes "
+                         "one")
+    if timecode is not None and not math.isfinite(timecode):
+        raise ValueError(f"the start time {timecode!r} is not a finite time")
+    if not max_offset >= 0.0:
+        raise ValueError(f"the largest clock offset must be 0 s or more, not {max_offset!r}")
+    return StartAgreement(strategy, role, frozenset(roles), timecode=timecode,
+                          max_offset=max_offset)
 
 
 def agreement_ready(agreement: StartAgreement, now: float) -> StartAgreement:
@@ -108,6 +165,18 @@ def agreement_ready(agreement: StartAgreement, now: float) -> StartAgreement:
         return agreement
     if agreement.strategy == "thesis":  # its own role is struck off when its message returns
         return replace(agreement, ready=True)
+    if agreement.strategy == "timecode":
+        assert agreement.timecode is not None
+        refused = None
+        if agreement.timecode < now:
+            refused = (f"the start time {_instant(agreement.timecode)} has passed: this robot "
+                       f"was ready at {_instant(now)}; give a later --start-at")
+        elif agreement.timecode > now + TIMECODE_AHEAD:
+            refused = (f"the start time {_instant(agreement.timecode)} is "
+                       f"{_span(agreement.timecode - now)} after this robot's clock (at most "
+                       f"{TIMECODE_AHEAD / 3600:g} h); is the date or the clock wrong?")
+        ready = replace(agreement, ready=True, proposal=agreement.timecode, refused=refused)
+        return _hear(ready, StartProposal(agreement.role, agreement.timecode))
     proposal = now + START_DELAY
     return _hear(replace(agreement, ready=True, proposal=proposal),
                  StartProposal(agreement.role, proposal))
@@ -135,7 +204,11 @@ def agreement_receive(agreement: StartAgreement, proposal: StartProposal, now: f
     (any order, any number of times). Roles outside the formation and implausible
     proposals (:func:`implausible`) are ignored; a role's first plausible proposal is the
     one kept."""
-    if proposal.role not in agreement.roles or proposal.role in agreement.heard:
+    if proposal.role not in agreement.roles:
+        return agreement
+    if agreement.strategy == "timecode":
+        return _hear_timecode(agreement, proposal, now)
+    if proposal.role in agreement.heard:
         return agreement
     if implausible(proposal.start, now) is not None:
         return agreement
@@ -144,11 +217,62 @@ def agreement_receive(agreement: StartAgreement, proposal: StartProposal, now: f
     return _hear(agreement, proposal)
 
 
+def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
+                   now: float) -> StartAgreement:
+    """The ``timecode`` agreement after ``proposal``: another start time refuses; a
+    message with the sender's clock updates that role's offset (the largest ``sent - now``
+    of its messages: the least delayed one bounds it best); once every other role's clock
+    is measured from :data:`TIMECODE_SAMPLES` messages, the median of all the robots'
+    clocks against this one's (its own 0 included) beyond ``max_offset`` refuses."""
+    if proposal.role == agreement.role or agreement.refused is not None:
+        return agreement
+    if not (math.isfinite(proposal.start) and math.isfinite(now)):
+        return agreement
+    if proposal.start != agreement.timecode:
+        assert agreement.timecode is not None
+        return replace(agreement, refused=(
+            f"{proposal.role} was given another start time ({_instant(proposal.start)}) "
+            f"than this robot ({_instant(agreement.timecode)}): give every robot the same "
+            "--start-at"))
+    offsets = {role: (offset, count) for role, offset, count in agreement.offsets}
+    if proposal.sent is not None and math.isfinite(proposal.sent):
+        offset, count = offsets.get(proposal.role, (-math.inf, 0))
+        offsets[proposal.role] = (max(proposal.sent - now, offset), count + 1)
+    heard = replace(agreement, heard=agreement.heard | {proposal.role},
+                    value=agreement.timecode,
+                    offsets=tuple(sorted((role, o, c) for role, (o, c) in offsets.items())))
+    if not (heard.heard >= heard.roles and heard._clocks_measured()):
+        return heard
+    values = sorted([0.0, *(offset for offset, _ in offsets.values())])
+    middle = len(values) // 2
+    median = values[middle] if len(values) % 2 else 0.5 * (values[middle - 1] + values[middle])
+    if abs(median) <= heard.max_offset:
+        return heard
+    side = "behind" if median > 0 else "ahead of"
+    return replace(heard, refused=(
+        f"this robot's clock is {abs(median):.3f} s {side} the formation's (the median of "
+        f"the robots' clocks, {', '.join(sorted(heard.roles))}, measured from their /sync "
+        f"messages; at most {heard.max_offset:g} s): the show would be off the music by as "
+        "much; synchronise the clocks (NTP, chrony) and start again"))
+
+
 def show_time(agreement: StartAgreement, now: float) -> float | None:
     """Seconds since the agreed start at ``now`` (negative before it), None while the start
     is not agreed yet."""
     start = agreement.start
     return None if start is None else now - start
+
+
+def _instant(seconds: float) -> str:
+    """A clock time for a message: UTC date and time to the millisecond (seconds since the
+    epoch), or the number itself where it is no date."""
+    import datetime
+
+    try:
+        moment = datetime.datetime.fromtimestamp(seconds, tz=datetime.UTC)
+    except (OverflowError, OSError, ValueError):
+        return f"{seconds:g} s"
+    return moment.strftime("%Y-%m-%d %H:%M:%S.%f")[:-3] + " UTC"
 
 
 def _span(seconds: float) -> str:
