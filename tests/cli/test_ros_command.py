@@ -76,3 +76,28 @@ def test_the_strategies_reach_every_node(capsys) -> None:  # type: ignore[no-unt
     assert '<param name="follower" value="$(arg follower)"/>' in formation
     assert '<param name="timing" value="$(arg timing)"/>' in formation
     assert '<param name="stop_rule" value="$(arg stop_rule)"/>' in formation
+
+
+def test_start_at_sets_the_timecode_start(capsys) -> None:  # type: ignore[no-untyped-def]
+    import argparse
+    import datetime
+
+    from dancebots.cli.ros import start_time
+
+    assert main(["ros", "formation", str(EXAMPLE), "--role", "R1", "--start-at",
+                 "2026-11-27T20:00:00+01:00", "--print-command"]) == 0
+    words = shlex.split(capsys.readouterr().out)
+    expected = datetime.datetime(2026, 11, 27, 19, 0, tzinfo=datetime.UTC).timestamp()
+    assert "start_strategy:=timecode" in words
+    assert f"start_at:={expected!r}" in words
+    assert start_time("1795810800") == 1795810800.0
+    assert start_time("+30", now=1000.0) == 1030.0
+    for bad in ("soon", "+", "nan", "+inf", "0", "2026-13-40", "1e999"):
+        with pytest.raises(argparse.ArgumentTypeError, match="is not a time: give an ISO"):
+            start_time(bad)
+    with pytest.raises(SystemExit) as exit_info:
+        main(["ros", "formation", str(EXAMPLE), "--role", "R1", "--start-strategy",
+              "timecode", "--print-command"])
+    assert exit_info.value.code == 2
+    assert capsys.readouterr().err.endswith(
+        "error: --start-strategy timecode needs --start-at TIME\n")

@@ -169,6 +169,62 @@ def test_a_robot_cut_off_while_it_holds_keeps_the_show_waiting(tmp_path: Path) -
                 and _logged_at(line) > pulled_at], r2_log
 
 
+@pytest.mark.parametrize("r2_clock_offset", [0.0, 0.5], ids=["clocks-agree", "clock-off"])
+def test_a_timecode_start_across_network_namespaces(tmp_path: Path,
+                                                    r2_clock_offset: float) -> None:
+    """`dancebots ros formation --start-at T` on each host: after the network test every
+    robot agrees on T itself (not a proposal of its own), and the show starts then. With R2's
+    clock 0.5 s off (injected in-process into its start agreement: the hosts here share one
+    kernel clock) neither robot starts: each refuses and says why (two robots cannot tell
+    whose clock is off), and the bridge records no motion."""
+    _require_ros_and_namespaces()
+    timecode = time.time() + START_ALLOWANCE + 10.0
+    with hosts(("R1", "R2")) as network:
+        master, roscore = start_master(tmp_path, network.master_address, network.master)
+        show = RosShow(master, tmp_path)
+        try:
+            show.launch("bridge", ["dancebots_ros", "sim_bridge.launch",
+                                   f"scenario:={SCENARIO_7_1}",
+                                   f"record:={tmp_path / 'record.npz'}",
+                                   f"stop_after:={START_ALLOWANCE + 25}"],
+                        network.master, dict(master.env))
+            for robot in ("R1", "R2"):
+                env = dict(master.env, ROS_IP=network.addresses[robot])
+                offset = r2_clock_offset if robot == "R2" else 0.0
+                show.start_robot(SCENARIO_7_1, robot, network.robots[robot], env, extra=(
+                    "start_strategy:=timecode", f"start_at:={timecode!r}",
+                    f"clock_offset:={offset!r}"))
+            if r2_clock_offset == 0.0:
+                wait_until(lambda: all("start agreed at" in show.log(r) for r in ("R1", "R2")),
+                           START_ALLOWANCE + 15, "the timecode start")
+                wait_until(lambda: "R1: ok at show time" in show.log("R1"), 20,
+                           "R1 driving")
+            else:
+                wait_until(lambda: all("refuses to start" in show.log(r) for r in ("R1", "R2")),
+                           START_ALLOWANCE + 15, "both robots refusing")
+                time.sleep(max(0.0, timecode + 3.0 - time.time()))  # past the start time
+            logs = {robot: show.log(robot) for robot in ("R1", "R2")}
+            show.wait_bridge(START_ALLOWANCE + 40)
+        finally:
+            show.stop_all()
+            stop(roscore)
+    record = Record.load(tmp_path / "record.npz")
+    assert all("every robot answered" in log for log in logs.values())  # the network test
+    if r2_clock_offset == 0.0:
+        for robot, log in logs.items():
+            match = re.search(rf"{robot}: start agreed at (\S+) \(timecode\)", log)
+            assert match is not None, log
+            assert float(match.group(1)) == timecode
+        moving = np.any(record.commands != 0.0, axis=(0, 2))
+        assert record.times[moving].min() >= timecode - 0.2  # nobody moved before T
+    else:
+        assert "R2: refuses to start: this robot's clock is 0.5" in logs["R2"]
+        assert "ahead of the formation's" in logs["R2"]
+        assert "R1: refuses to start: this robot's clock is 0.2" in logs["R1"]  # the median
+        assert not any("start agreed" in log for log in logs.values())
+        assert np.all(record.commands == 0.0)
+
+
 def _logged_at(line: str) -> float:
     """The wall-clock stamp (s) of a rospy log line ``[INFO] [1795719589.849273]: ...``."""
     match = re.search(r"\[(\d+\.\d+)\]", line)

@@ -35,7 +35,7 @@ HELP = "run the show through ROS 1 (real robots or the ROS simulation)"
 DESCRIPTION = ("Run a show through ROS 1: `formation` on each real robot (one per robot, the "
                "same files everywhere), `simulate` for every robot's nodes and the simulator "
                "bridge on this machine.")
-START_STRATEGIES = ("agreed", "thesis")
+START_STRATEGIES = ("agreed", "thesis", "timecode")
 """``sync.start.START_STRATEGIES`` (a test keeps them equal); the first is the default."""
 PROFILES = ("ideal", "realistic")
 
@@ -56,7 +56,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                            help="topic/frame prefix when robots share one master")
     formation.add_argument("--start-strategy", choices=START_STRATEGIES, default="agreed",
                            help="agreed (default): one start every robot agrees on whatever "
-                           "the network does; thesis: as thesis 4.2 wrote it (docs/ros.md)")
+                           "the network does; thesis: as thesis 4.2 wrote it; timecode: at "
+                           "--start-at (docs/ros.md)")
+    formation.add_argument("--start-at", type=start_time, metavar="TIME",
+                           help="start the show at this wall-clock time, the same on every "
+                           "robot (the timecode start, for shows set to music and lights): "
+                           "ISO 8601 (2026-11-27T20:00:00, local time unless it names a zone "
+                           "such as Z or +01:00), seconds since the epoch, or +S for S seconds "
+                           "from now (on each robot: give every robot the same absolute time "
+                           "instead); a robot whose clock is more than 0.1 s off the others' "
+                           "refuses to start and says why")
     formation.add_argument("--no-lidar", action="store_true",
                            help="run without obstacle detection (no stops, no force field)")
     add_follower_argument(formation)
@@ -116,9 +125,13 @@ def run(args: argparse.Namespace) -> int:
         roslaunch = "roslaunch" if args.print_command else _roslaunch()
         if roslaunch is None:
             return EXIT_INVALID
+        strategy = "timecode" if args.start_at is not None else args.start_strategy
+        if strategy == "timecode" and args.start_at is None:
+            args.subparser.error("--start-strategy timecode needs --start-at TIME")
+        timecode = [f"start_at:={args.start_at!r}"] if args.start_at is not None else []
         command = [roslaunch, "dancebots_ros", "formation.launch", f"scenario:={scenario}",
                    f"role:={args.role}", f"world:={world_file}", f"vmax:={vmax}",
-                   f"robot_name:={args.robot_name}", f"start_strategy:={args.start_strategy}",
+                   f"robot_name:={args.robot_name}", f"start_strategy:={strategy}", *timecode,
                    f"lidar:={str(not args.no_lidar).lower()}", f"follower:={args.follower}",
                    f"timing:={args.timing}", f"hold:={args.hold or ''}",
                    f"stop_rule:={args.stop_rule}",
@@ -150,3 +163,29 @@ def run(args: argparse.Namespace) -> int:
     sys.stdout.flush()
     os.execve(roslaunch, [roslaunch, str(launch)], ros_environment())
     return EXIT_OK  # not reached
+
+
+def start_time(text: str, now: float | None = None) -> float:
+    """``--start-at``: a wall-clock time as seconds since the epoch, from ISO 8601 (local
+    time unless it names a zone), seconds since the epoch, or ``+S`` (S seconds after
+    ``now``, default the clock now). Raises ``argparse.ArgumentTypeError`` saying what is
+    accepted."""
+    import datetime
+    import math
+    import time as clock
+
+    hint = ("give an ISO 8601 time (2026-11-27T20:00:00, 20:00 today is 2026-11-27T20:00), "
+            "seconds since the epoch (1795810800) or +SECONDS from now (+30)")
+    value: float | None = None
+    try:
+        if text.startswith("+"):
+            value = (clock.time() if now is None else now) + float(text[1:])
+        elif text.replace(".", "", 1).isdigit():
+            value = float(text)
+        else:
+            value = datetime.datetime.fromisoformat(text).timestamp()
+    except (ValueError, OverflowError, OSError):
+        value = None
+    if value is None or not math.isfinite(value) or value <= 0.0:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a time: {hint}")
+    return value

@@ -92,6 +92,7 @@ from dancebots.ros1.convert import (
 from dancebots.ros1.naming import HOLD_TOPIC, SYNC_TOPIC, RobotNames, robot_type_for_host
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
+    TIMECODE_OFFSET,
     StartAgreement,
     StartProposal,
     agreement_ready,
@@ -136,8 +137,12 @@ def main() -> None:
     width = float(rospy.get_param(names.param("width"), kind.width))
     use_lidar = bool(rospy.get_param("~lidar", True))
     try:
-        agreement = new_agreement(role, plan.robots,
-                                  str(rospy.get_param("~start_strategy", "agreed")))
+        strategy = str(rospy.get_param("~start_strategy", "agreed"))
+        start_at = float(rospy.get_param("~start_at", 0.0)) or None
+        agreement = new_agreement(
+            role, plan.robots, strategy, start_at if strategy == "timecode" else None,
+            float(rospy.get_param("~max_clock_offset", TIMECODE_OFFSET)))
+        clock_offset = float(rospy.get_param("~clock_offset", 0.0))  # tests only
         this_robot = RobotType(
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
@@ -158,7 +163,8 @@ def main() -> None:
         detector = _launch_detector(names)
         life.take_signals()  # roslaunch's process class installed handlers of its own
     try:
-        _run(life, log, role, names, agreement, brain, use_lidar, hold == "together")
+        _run(life, log, role, names, agreement, brain, use_lidar, hold == "together",
+             clock_offset)
     finally:
         if detector is not None:
             detector.stop([])  # SIGINT, then SIGTERM, then SIGKILL: bounded
@@ -169,9 +175,11 @@ def main() -> None:
 
 def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
          agreement: StartAgreement, brain: RobotBrain, use_lidar: bool,
-         together: bool) -> None:
+         together: bool, clock_offset: float = 0.0) -> None:
     """The node's loop: subscriptions, then a 20 Hz wall-clock loop until ``life`` ends; the
-    robot's last command is zero. ``together``: the formation's shared show clock."""
+    robot's last command is zero. ``together``: the formation's shared show clock;
+    ``clock_offset`` (tests only, s): the start agreement's clock is off by this much (a
+    robot whose clock is not synchronised, injected in-process)."""
     lock = threading.Lock()
     latest_cloud: list[tuple[float, Any]] = []
     inbox: list[HoldMessage] = []  # hold messages heard since the last tick
@@ -197,11 +205,12 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
         parsed = parse_sync(message.data, log)
         if not isinstance(parsed, StartProposal):
             return
-        now = rospy.get_time()
+        now = rospy.get_time() + clock_offset
         with lock:
             waiting = parsed.role in agreement.roles and parsed.role not in agreement.heard
             agreement = agreement_receive(agreement, parsed, now)
-        reason = implausible(parsed.start, now) if waiting else None
+        reason = implausible(parsed.start, now) if (
+            waiting and agreement.strategy != "timecode") else None
         if reason is not None:
             log.warn(f"{role}: ignoring the start proposed by {parsed.role}: {reason}",
                      every=5.0, key=f"implausible {parsed.role}")
@@ -254,7 +263,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
     waiting: tuple[float, bool] | None = None
     command = Twist()
     status = "waiting"
-    start_logged = False
+    start_logged = refusal_logged = False
     period = 1.0 / PUBLISH_HZ
     next_tick = time.monotonic()
     tick = 0
@@ -267,13 +276,16 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                         and look_up_pose(now) is not None):
                     # ready when the network test passed and the sensors deliver: only
                     # then does the robot propose a start (and its safety watch begin)
-                    agreement = agreement_ready(agreement, now)
+                    agreement = agreement_ready(agreement, now + clock_offset)
                 current = agreement
                 arrived = latest_cloud.pop() if latest_cloud else None
-            proposal = current.message(now)
+            proposal = current.message(now + clock_offset)
             if proposal is not None:
                 sync.publish(String(format_message(proposal)))
-            elapsed = show_time(current, now)
+            if current.refused is not None and not refusal_logged:
+                log.error(f"{role}: refuses to start: {current.refused}")
+                refusal_logged = True
+            elapsed = show_time(current, now + clock_offset)
             if elapsed is not None and not start_logged:
                 log.info(f"{role}: start agreed at {current.start!r} "
                          f"({current.strategy}), show time now {elapsed:.2f} s")
