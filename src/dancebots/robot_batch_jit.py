@@ -253,6 +253,8 @@ def _pose_at(history: FloatArray, size: int, stamp: float) -> int:
     equally near); -1 without history."""
     if size == 0:
         return -1
+    if math.isnan(stamp):
+        return 0  # ``bisect_left`` compares nothing with NaN: the oldest record
     after = size  # ``bisect_left`` on the times
     for k in range(size):
         if history[k, 0] >= stamp:
@@ -365,7 +367,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 for j in range(count):
                     if j != r and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
                         heard_count += 1
-            if heard_count > 0 and mates_now.shape[0] > 0 and (
+            if lidar and heard_count > 0 and mates_now.shape[0] > 0 and (
                     seen_front or seen_rear or behind > rules[HOLD_LAG]
                     or n_nearest < rules[NEAR_GAP]):
                 # ``RobotBrain._without_mates`` with the mates heard (``compose_points``)

@@ -10,6 +10,7 @@ from dancebots.plan.compile import compile_scenario
 from dancebots.plan.planner import (
     CUE_TOLERANCE,
     PlanParameters,
+    _clock,
     instruction_timeline,
 )
 from dancebots.scenario import Wait
@@ -67,7 +68,7 @@ def test_a_cue_that_has_passed_is_a_warning_at_the_cue() -> None:
     assert (warning.line, warning.col, warning.end_col) == (6, 10, 14)
     start = instruction_timeline(plan)[-1].start
     assert warning.message == (f"the cue `at 3.0` cannot be met: this instruction starts at "
-                               f"{start:.1f}, {start - 3.0:.1f} s late")
+                               f"{_clock(start)}, {start - 3.0:.1f} s late")
     assert warning.hint is not None
     assert warning.hint.startswith("the instructions since 0.0 drive ")
     assert warning.hint.endswith("cue a later time, or drive less before it")

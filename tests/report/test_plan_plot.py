@@ -7,10 +7,10 @@ import matplotlib.pyplot as plt  # the Agg backend: tests/conftest.py
 from matplotlib.colors import to_rgba
 
 from dancebots.plan.planner import PlanParameters, instruction_timeline
-from dancebots.report.plan_plot import plot_plan, plot_timeline
+from dancebots.report.plan_plot import MAX_BEAT_LINES, plot_plan, plot_timeline
 from tests_support import plan_of
 
-SHOW = ("robots A B\ntempo 120\nstart\nrow A,B 0 1.2\nmove 2 0 by beat 21\nwait 2\n"
+SHOW = ("robots A B\ntempo 120\nstart\nrow A,B 0 1.2\nmove 1 0 by beat 21\nwait 2\n"
         "move 6 0 by 14\n")
 
 
@@ -29,9 +29,22 @@ def test_the_timeline_has_a_bar_per_instruction_beats_and_cues_met_and_missed() 
         assert sorted(to_rgba(m.get_color()) for m in markers) == sorted(
             [to_rgba("tab:green"), to_rgba("tab:red")])
         end = max(plan.duration, max(e.end for e in entries))
-        beat_lines = [line for line in ax.lines if line.get_marker() != "v"]
-        assert len(beat_lines) == int(end / 0.5) + 1  # a line per beat at 120 bpm from 0 s
-        assert "120 beats per minute" in ax.get_title()
+        beat_lines = sum(len(c.get_segments()) for c in ax.collections)
+        assert beat_lines == int(end / 0.5) + 1  # a line per beat at 120 bpm from 0 s
+        assert "120 beats per minute (a line per beat" in ax.get_title()
+        [met_marker] = [m for m in markers if to_rgba(m.get_color()) == to_rgba("tab:green")]
+        assert met_marker.get_xdata()[0] == 10.0  # at its cue (beat 21), not its end
+    finally:
+        plt.close(figure)
+
+
+def test_a_long_fast_show_gets_fewer_beat_lines() -> None:
+    plan = plan_of("robots A B\ntempo 600\nstart\nrow A,B 0 1.2\nwait 600\n")
+    figure, ax = plt.subplots()
+    try:
+        plot_timeline(plan, ax)
+        assert sum(len(c.get_segments()) for c in ax.collections) <= MAX_BEAT_LINES
+        assert "a line every 16 beats" in ax.get_title()
     finally:
         plt.close(figure)
 

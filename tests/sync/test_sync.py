@@ -394,7 +394,12 @@ def test_the_least_delayed_message_bounds_the_offset() -> None:
     r2 = hear_for_a_second(timecode_robot(roles=("R1", "R2")), ("R2",), EPOCH_T - 40.0, 0.4,
                            0.002)
     assert r2.refused is not None
-    assert r2.refused.startswith("this robot's clock is 0.199 s behind")
+    assert r2.refused.startswith("this robot's clock is 0.398 s behind")
+    # 0.15 s apart: more than the 0.1 s allowed, whoever is off
+    r3 = hear_for_a_second(timecode_robot(roles=("R1", "R2")), ("R2",), EPOCH_T - 40.0, 0.15,
+                           0.002)
+    assert r3.refused is not None
+    assert r3.message(EPOCH_T - 38.0) is None  # a robot that refused says nothing more
 
 
 @pytest.mark.parametrize(("ready_at", "other", "reason"), [
@@ -412,6 +417,15 @@ def test_a_timecode_that_cannot_be_the_start_is_refused(ready_at: float, other: 
     r1 = agreement_receive(r1, StartProposal("R2", other, ready_at), ready_at)
     assert r1.refused == reason
     assert r1.start is None
+
+
+def test_a_start_time_that_passes_while_the_clocks_are_measured_is_refused() -> None:
+    r1 = timecode_robot(roles=("R1", "R2"), now=EPOCH_T - 0.5)
+    r1 = hear_for_a_second(r1, ("R2",), EPOCH_T - 0.5, 0.0, 0.002)  # ends at T + 0.4 s
+    assert r1.start is None
+    assert r1.refused is not None
+    assert r1.refused.startswith("the start time 2027-01-15 08:00:00.000 UTC passed before "
+                                 "the clocks were measured")
 
 
 def test_the_timecode_strategy_needs_its_time_and_only_it_takes_one() -> None:

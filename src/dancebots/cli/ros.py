@@ -64,8 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                            "ISO 8601 (2026-11-27T20:00:00, local time unless it names a zone "
                            "such as Z or +01:00), seconds since the epoch, or +S for S seconds "
                            "from now (on each robot: give every robot the same absolute time "
-                           "instead); a robot whose clock is more than 0.1 s off the others' "
-                           "refuses to start and says why")
+                           "instead); a robot whose clock is more than 0.1 s off the "
+                           "formation's (the median of the robots' clocks; of two robots, each "
+                           "other's) refuses to start and says why (docs/ros.md)")
     formation.add_argument("--no-lidar", action="store_true",
                            help="run without obstacle detection (no stops, no force field)")
     add_follower_argument(formation)

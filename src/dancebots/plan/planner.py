@@ -85,7 +85,9 @@ class PlanParameters:
     new_vl_hold: after newVL the robots stop and the new leader waits this long, s.
     max_duration: longest show that is planned, s. Checked in closed form before the leader
         is integrated and again while it is, so that planning costs at most
-        ``max_duration / step`` leader steps per formation whatever the numbers of the show.
+        ``max_duration / step`` leader steps per formation whatever the numbers of the show
+        (times ``PACE_FITS`` + 2 for a show with cues, whose instructions run again to fit
+        their pace).
     arc_recovery_distance: on a circle, a leader further than this from the arc (m) steers
         back to it by eq. 4.1 instead of eq. 4.3 (see ``_run_leader``).
     timing: ``feasible`` (an addition): wherever a slot of the formation would move
@@ -304,9 +306,9 @@ class TimelineEntry:
     the leader does not wait for its robots to reach their new slots); ``speed_fraction``
     and ``pace``: :class:`InstructionTiming`'s (1.0 for a formation); ``start_beat`` and
     ``end_beat``: the beats then (1 the first; None without a tempo); ``cue``: the
-    instruction's cue as written (``at 12.5``, ``by beat 32``; None: none) and
+    instruction's cue as written (``at 12.5``, ``by beat 32``; None: none),
     ``cue_missed_by``: how late (s) the cued start or end is (0.0 when it is met, None
-    without a cue)."""
+    without a cue) and ``cue_time`` its time (s)."""
 
     line: int
     col: int
@@ -320,6 +322,7 @@ class TimelineEntry:
     end_beat: float | None = None
     cue: str | None = None
     cue_missed_by: float | None = None
+    cue_time: float | None = None
 
 
 CUE_TOLERANCE = 0.1
@@ -348,8 +351,9 @@ def instruction_timeline(plan: Plan) -> tuple[TimelineEntry, ...]:
                                          beat(formation.start), beat(end)))
         for timing in formation.timings:
             cue = timing.instruction.cue
-            written, late = None, None
+            written, late, when = None, None, None
             if cue is not None:
+                when = cue.time
                 value = f"beat {cue.beat:g}" if cue.beat is not None else f"{cue.time:g}"
                 written = f"{cue.kind} {value}"
                 late = max(0.0, (timing.start if cue.kind == "at" else timing.end) - cue.time)
@@ -357,7 +361,7 @@ def instruction_timeline(plan: Plan) -> tuple[TimelineEntry, ...]:
             entries.append(TimelineEntry(
                 timing.span.line, timing.span.col, type(timing.instruction).__name__.lower(),
                 index, timing.start, timing.end, timing.speed_fraction, timing.pace,
-                beat(timing.start), beat(timing.end), written, late))
+                beat(timing.start), beat(timing.end), written, late, when))
     return tuple(sorted(entries, key=lambda entry: (entry.start, entry.line)))
 
 
@@ -756,10 +760,11 @@ def _run_leader(
     Cues (an addition): an instruction cued ``at`` T starts at show time T, one cued ``by`` T
     ends at T: the instructions since the last cue (or the program's start), the cued one
     too for ``by``, run again with their speeds scaled by one factor (the pace, within
-    :data:`PACE_RANGE`; the waits keep their durations) fitted so that they end at most a step
-    before T, and the leader stands the rest. A cue that cannot be met (the time has passed,
-    or even the fastest pace arrives later) is a warning at the cue; the leader then runs at
-    the fastest pace. The returned diagnostics are those warnings.
+    :data:`PACE_RANGE`; the waits keep their durations) fitted so that they end at most two
+    steps before T (the leader stands the rest). A cue that cannot be met (the time has
+    passed, or even the fastest pace arrives more than :data:`CUE_TOLERANCE` later) is a
+    warning at the cue; the leader then runs at the fastest pace. The returned diagnostics are those
+    warnings. Each cue runs its instructions again at most :data:`PACE_FITS` + 1 times.
     """
     dt = params.step
     slots = np.array(offsets, dtype=float).reshape(-1, 2)
@@ -898,8 +903,8 @@ def _run_leader(
     def meet(cue: Cue, anchor: tuple[float, float, float, int, float, Pose, int, int],
              segment: Sequence[Motion], cued: Motion) -> None:
         """Run ``segment`` again from ``anchor`` at the pace that ends it at the cue's time
-        (at most a step before: the leader stands the rest), or report the cue unmet."""
-        nonlocal pace
+        (at most two steps before, the leader standing the rest), or at the fastest pace and
+        report the cue unmet when that is more than :data:`CUE_TOLERANCE` late."""
         target = cue.time
         begin = start + anchor[3] * dt
         waits = sum(round(m.duration / dt) * dt for m in segment if isinstance(m, Wait))
@@ -914,44 +919,53 @@ def _run_leader(
         if available <= 0.0:
             problems.append(_cue_missed(path, cue, cued, now(), begin, None))
             return
-        if natural <= available and natural >= available - 2.0 * dt:
+        on_time_within = 0.5 * dt  # (times are whole steps)
+        if available - 2.0 * dt <= natural <= available + on_time_within:
             stand_until(target)  # on time as it is
             return
         path_start = anchor[4]
-        low, high = PACE_RANGE
-        best: float | None = None  # the fastest-arriving pace found that is not late
-        guess = natural / available
-        for _ in range(PACE_FITS):
-            trial = min(max(guess, low), high)
+        slowest, fastest = PACE_RANGE
+
+        def run_at(trial: float) -> float:
+            """Run the segment again at pace ``trial``; the s of motion it took."""
+            nonlocal pace
             restore(anchor)
             pace = trial
             for motion in segment:
                 run(motion)
             pace = 1.0
-            took = now() - begin - waits
-            if took <= available + 0.5 * dt:  # (times are whole steps)
-                best = trial if best is None else min(best, trial)  # the latest on time
-                if took >= available - 2.0 * dt or trial <= PACE_RANGE[0]:
+            return now() - begin - waits
+
+        # the pace that is not late (within the tolerance) and least early: bracketed
+        # between the fastest pace known to be late and the slowest known not to be
+        late_pace: float | None = None
+        on_time: float | None = None
+        trial = min(max(natural / available, slowest), fastest)
+        for _ in range(PACE_FITS):
+            took = run_at(trial)
+            if took <= available + on_time_within:
+                on_time = trial if on_time is None else min(on_time, trial)
+                if took >= available - 2.0 * dt or trial <= slowest:
                     break
-                high = trial
             else:
-                if trial >= PACE_RANGE[1]:
-                    break
-                low = trial
-            guess = trial * took / available
-            if not low < guess < high:
-                guess = 0.5 * (low + high)
-        if best is None:  # late even at the fastest pace: run at it, and say so
-            problems.append(_cue_missed(path, cue, cued, now(), begin,
-                                        (driven - path_start, now() - begin - waits,
-                                         available)))
+                late_pace = trial if late_pace is None else max(late_pace, trial)
+                if trial >= fastest:
+                    break  # late even at the fastest pace
+                if on_time is None:
+                    trial = fastest  # can it be met at all?
+                    continue
+            low = late_pace if late_pace is not None else slowest
+            high = on_time if on_time is not None else fastest
+            guess = trial * took / available  # time goes about as 1 / pace
+            trial = guess if low < guess < high else 0.5 * (low + high)
+        if on_time is None:  # late even at the fastest pace: run at it, and say so
+            took = run_at(fastest) if pace_of_last_run(anchor) != fastest else took
+            if took > available + CUE_TOLERANCE:  # (a little late counts as met)
+                problems.append(_cue_missed(path, cue, cued, now(), begin,
+                                            (driven - path_start, took, available)))
             return
-        if pace_of_last_run(anchor) != best:
-            restore(anchor)
-            pace = best
-            for motion in segment:
-                run(motion)
-            pace = 1.0
+        if pace_of_last_run(anchor) != on_time:
+            run_at(on_time)
         stand_until(target)
 
     def pace_of_last_run(anchor: tuple[float, float, float, int, float, Pose, int, int],
@@ -1016,12 +1030,13 @@ def _cue_missed(path: str, cue: Cue, cued: Motion, arrives: float, begin: float,
 
 
 def _clock(seconds: float) -> str:
-    """A show time as the language writes it: ``1:02.5`` (minutes:seconds), ``12.5`` below
-    a minute."""
+    """A show time as the language writes it, to the hundredth: ``1:02.5`` (minutes:seconds),
+    ``12.35`` below a minute."""
     if seconds < 60.0:
-        return f"{seconds:.1f}"
-    minutes, rest = divmod(seconds, 60.0)
-    return f"{int(minutes)}:{rest:04.1f}"
+        return f"{seconds:.2f}".rstrip("0").rstrip(".") if seconds % 1 else f"{seconds:.1f}"
+    minutes, rest = divmod(round(seconds, 2), 60.0)
+    text = f"{rest:05.2f}".rstrip("0").rstrip(".")
+    return f"{int(minutes)}:{text if len(text) >= 2 else '0' + text}"
 
 
 def slot_velocities(leader_commands: FloatArray, offsets: FloatArray) -> FloatArray:

@@ -12,7 +12,11 @@ from dancebots.plan.planner import Plan, instruction_timeline
 from dancebots.report.drawing import draw_arena
 from dancebots.world import DEFAULT_ROBOT_TYPE, World
 
-__all__ = ["plot_plan", "plot_timeline"]
+__all__ = ["MAX_BEAT_LINES", "plot_plan", "plot_timeline"]
+
+MAX_BEAT_LINES = 400
+"""Most beat lines the timeline draws (a 1 h show at 600 beats per minute has 36,000 beats:
+it gets a line every 256)."""
 
 
 def plot_plan(plan: Plan, world: World | None = None, transform: Pose | None = None,
@@ -94,22 +98,28 @@ def plot_timeline(plan: Plan, ax: Any) -> None:
         if entry.end - entry.start > end * 0.03:
             ax.text(entry.start + 0.5 * (entry.end - entry.start), y, str(entry.line),
                     ha="center", va="center", fontsize=6, color="white")
-        if entry.cue is not None:
-            at = entry.start if entry.cue.startswith("at") else entry.end
-            cue_time = at - (entry.cue_missed_by or 0.0)
-            ax.plot([cue_time], [y + 0.45], marker="v", markersize=6, linestyle="none",
+        if entry.cue_time is not None:
+            ax.plot([entry.cue_time], [y + 0.45], marker="v", markersize=6, linestyle="none",
                     color="tab:red" if entry.cue_missed_by else "tab:green")
     if tempo is not None:
         period = 60.0 / tempo.bpm
         first = max(0, int(np.ceil((0.0 - tempo.first_beat) / period)))
         count = int((end - tempo.first_beat) / period) + 1
-        for beat in range(first, count):
-            time = tempo.first_beat + beat * period
-            bar = beat % 4 == 0
-            ax.axvline(time, color="0.4" if bar else "0.85", linewidth=0.6 if bar else 0.3,
-                       zorder=0)
-        ax.set_title(f"timeline: {tempo.bpm:g} beats per minute (a line every 4 beats), cues "
-                     "met (green) and missed (red)", fontsize="small")
+        # a line per beat, a darker one every 4; fewer on a long show (at most MAX_BEAT_LINES)
+        every = 1
+        while (count - first) / every > MAX_BEAT_LINES:
+            every *= 4
+        beats = np.arange(first, count)
+        beats = beats[beats % every == 0]
+        times = tempo.first_beat + beats * period
+        bars = beats % (4 * every) == 0
+        ax.vlines(times[~bars], 0, 1, transform=ax.get_xaxis_transform(), color="0.85",
+                  linewidth=0.3, zorder=0)
+        ax.vlines(times[bars], 0, 1, transform=ax.get_xaxis_transform(), color="0.4",
+                  linewidth=0.6, zorder=0)
+        lines = "a line per beat" if every == 1 else f"a line every {every} beats"
+        ax.set_title(f"timeline: {tempo.bpm:g} beats per minute ({lines}, darker every "
+                     f"{4 * every}), cues met (green) and missed (red)", fontsize="small")
     else:
         ax.set_title("timeline", fontsize="small")
     ax.set_xlim(0.0, end * 1.01 if end > 0 else 1.0)

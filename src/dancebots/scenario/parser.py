@@ -62,8 +62,10 @@ _SHAPES = {shape.value: shape for shape in Shape}
 _KEYWORDS = ("robots", "groups", "start", "tempo", "move", "circle", "wait", "newVL", *_SHAPES)
 _CUES = ("at", "by")
 _RESERVED = {k.lower() for k in _KEYWORDS} | set(_CUES)
-_CLOCK = re.compile(r"(\d+):([0-5]\d(?:\.\d*)?)\Z")
-"""A time written ``M:SS`` or ``M:SS.s`` (minutes, then seconds below 60)."""
+_CLOCK = re.compile(r"(\d{1,4}):([0-5]\d(?:\.\d*)?)\Z")
+"""A time written ``M:SS`` or ``M:SS.s`` (up to 4 digits of minutes, then seconds below
+60; longer ones are no time: at most 1 h is accepted, and ``int`` refuses thousands of
+digits)."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -22,10 +22,13 @@ waits until the start time and the virtual leader starts to move. The clocks are
     time with its own clock (``sync ROLE T SENT``); the start is agreed once every role
     proposed the same time. Each robot measures the offset of every other robot's clock from
     its own from those messages (the largest ``SENT - now`` over a role's messages: transit
-    only makes it smaller, so it approaches the offset from below) and refuses to start, and
-    says why, when the median offset to the others exceeds :data:`TIMECODE_OFFSET` (its own
-    clock is off: the music would be off by as much), when another robot was given another
-    time, or when the time has passed by the time it is ready.
+    only makes it smaller, so it approaches the offset from below) and refuses to start, says
+    why and sends nothing more, when the median of the formation's clocks against its own
+    (its own included; of two middle values the one further from its own) is off by more
+    than :data:`TIMECODE_OFFSET` (its own clock is off: the music would be off by as much;
+    two robots cannot tell whose clock is off, and both refuse), when another robot was
+    given another time, or when the time has passed before it is ready and the clocks are
+    measured.
 
 All strategies ignore implausible proposals (:func:`implausible`): a start more than
 :data:`PLAUSIBLE_AHEAD` s after the receiver's clock or more than :data:`PLAUSIBLE_BEHIND` s
@@ -124,7 +127,9 @@ class StartAgreement:
             return StartProposal(self.role, now + START_DELAY)
         assert self.proposal is not None
         if self.strategy == "timecode":
-            return StartProposal(self.role, self.proposal, now)
+            # a robot that refused says nothing more: the others do not count it as agreed
+            return None if self.refused is not None else StartProposal(
+                self.role, self.proposal, now)
         return StartProposal(self.role, self.proposal)
 
     def offset(self, role: str) -> float | None:
@@ -243,9 +248,19 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
                     offsets=tuple(sorted((role, o, c) for role, (o, c) in offsets.items())))
     if not (heard.heard >= heard.roles and heard._clocks_measured()):
         return heard
+    assert heard.timecode is not None
+    if now > heard.timecode:
+        return replace(heard, refused=(
+            f"the start time {_instant(heard.timecode)} passed before the clocks were "
+            f"measured (at {_instant(now)}: 1 s of every robot's messages); give a later "
+            "--start-at"))
+    # the formation's clock against this one's: the middle of all of them (this one's 0
+    # included), of two middle ones the one further from this one's (two robots, or two
+    # halves, cannot tell whose clock is off: each judges the other's)
     values = sorted([0.0, *(offset for offset, _ in offsets.values())])
     middle = len(values) // 2
-    median = values[middle] if len(values) % 2 else 0.5 * (values[middle - 1] + values[middle])
+    median = values[middle] if len(values) % 2 else max(values[middle - 1], values[middle],
+                                                        key=abs)
     if abs(median) <= heard.max_offset:
         return heard
     side = "behind" if median > 0 else "ahead of"
