@@ -296,7 +296,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                 if arrived is not None:  # stamps on the time since the start, as the brain's
                     cloud = obstacle_cloud(arrived[0] - (now - elapsed), arrived[1])
                 shown, mates_heard = elapsed, None
-                if together:
+                if together and elapsed >= 0.0:  # (the shared clock runs from the start)
                     with lock:
                         received, inbox[:] = list(inbox), []
                     before = clock
@@ -317,7 +317,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                 state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,
                                                   mates_heard=mates_heard)
                 command.linear.x, command.angular.z = cmd.linear, cmd.angular
-                if together:
+                if clock is not None:
                     hold_out.publish(String(format_hold(HoldMessage(
                         role, now, shown, state.holding_the_show,
                         None if pose is None else brain.show_position(pose)))))

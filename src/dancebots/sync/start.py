@@ -22,10 +22,11 @@ waits until the start time and the virtual leader starts to move. The clocks are
     time with its own clock (``sync ROLE T SENT``); the start is agreed once every role
     proposed the same time. Each robot measures the offset of every other robot's clock from
     its own from those messages (the largest ``SENT - now`` over a role's messages: transit
-    only makes it smaller, so it approaches the offset from below) and refuses to start, says
-    why and sends nothing more, when the median of the formation's clocks against its own
-    (its own included; of two middle values the one further from its own) is off by more
-    than :data:`TIMECODE_OFFSET` (its own clock is off: the music would be off by as much;
+    only makes it smaller, so it approaches the offset from below) and refuses to start and
+    says why (it goes on sending, so that the others can measure its clock), when the median
+    of the formation's clocks against its own (its own included; of two middle values the
+    one further from its own) is off by more than :data:`TIMECODE_OFFSET` (its own clock
+    is off: the music would be off by as much;
     two robots cannot tell whose clock is off, and both refuse), when another robot was
     given another time, or when the time has passed before it is ready and the clocks are
     measured.
@@ -127,9 +128,8 @@ class StartAgreement:
             return StartProposal(self.role, now + START_DELAY)
         assert self.proposal is not None
         if self.strategy == "timecode":
-            # a robot that refused says nothing more: the others do not count it as agreed
-            return None if self.refused is not None else StartProposal(
-                self.role, self.proposal, now)
+            # (also once it refused: the others measure its clock and judge for themselves)
+            return StartProposal(self.role, self.proposal, now)
         return StartProposal(self.role, self.proposal)
 
     def offset(self, role: str) -> float | None:
