@@ -362,6 +362,10 @@ def test_a_timecode_start_is_the_given_time_once_every_robot_proposed_it() -> No
     assert r1.start is None  # every start is heard, the clocks not yet measured
     r1 = hear_for_a_second(r1, ("R2", "R3"), EPOCH_T - 50.0, 0.0, 0.002)
     assert r1.start == EPOCH_T
+    # judged once: messages after the start (and a slower one) change nothing
+    r1 = agreement_receive(r1, StartProposal("R2", EPOCH_T, EPOCH_T + 1.0), EPOCH_T + 1.5)
+    assert r1.start == EPOCH_T
+    assert r1.refused is None
     assert r1.refused is None
     assert show_time(r1, EPOCH_T + 2.0) == 2.0
 

@@ -226,9 +226,11 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
                    now: float) -> StartAgreement:
     """The ``timecode`` agreement after ``proposal``: another start time refuses; a
     message with the sender's clock updates that role's offset (the largest ``sent - now``
-    of its messages: the least delayed one bounds it best); once every other role's clock
-    is measured from :data:`TIMECODE_SAMPLES` messages, the median of all the robots'
-    clocks against this one's (its own 0 included) beyond ``max_offset`` refuses."""
+    of its messages: the least delayed one bounds it best); when every other role's clock
+    is first measured from :data:`TIMECODE_SAMPLES` messages, the agreement is judged once:
+    a start time that has passed, or a median of all the robots' clocks against this one's
+    (its own 0 included) beyond ``max_offset``, refuses; else the start stands (later
+    messages do not stop a show that runs)."""
     if proposal.role == agreement.role or agreement.refused is not None:
         return agreement
     if not (math.isfinite(proposal.start) and math.isfinite(now)):
@@ -239,6 +241,7 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
             f"{proposal.role} was given another start time ({_instant(proposal.start)}) "
             f"than this robot ({_instant(agreement.timecode)}): give every robot the same "
             "--start-at"))
+    judged = agreement.heard >= agreement.roles and agreement._clocks_measured()
     offsets = {role: (offset, count) for role, offset, count in agreement.offsets}
     if proposal.sent is not None and math.isfinite(proposal.sent):
         offset, count = offsets.get(proposal.role, (-math.inf, 0))
@@ -246,8 +249,8 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
     heard = replace(agreement, heard=agreement.heard | {proposal.role},
                     value=agreement.timecode,
                     offsets=tuple(sorted((role, o, c) for role, (o, c) in offsets.items())))
-    if not (heard.heard >= heard.roles and heard._clocks_measured()):
-        return heard
+    if judged or not (heard.heard >= heard.roles and heard._clocks_measured()):
+        return heard  # judged once, when the clocks are first measured: then it stands
     assert heard.timecode is not None
     if now > heard.timecode:
         return replace(heard, refused=(
