@@ -23,7 +23,7 @@ from dancebots.plan.compile import compile_scenario
 from dancebots.plan.planner import Plan, PlanParameters, Timing
 from dancebots.world import MISSING_WORLD_HINT, World, parse_world
 
-__all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show", "music_path"]
+__all__ = ["DEFAULT_VMAX", "LoadedShow", "load_show", "music_path", "show_digests"]
 
 DEFAULT_VMAX = 0.5
 """m/s: the slowest robot's maximum speed when neither the caller nor a world gives one."""
@@ -111,3 +111,20 @@ def music_path(scenario_path: str, music: str) -> Path | None:
     directory), or None when there is no such file."""
     path = Path(scenario_path).parent / music
     return path if path.is_file() else None
+
+
+def show_digests(scenario_path: str, world_path: str | None,
+                 parameters: Mapping[str, object]) -> tuple[str, str, str]:
+    """What a robot runs, as digests (16 hexadecimal digits of SHA-256) of the scenario
+    file's bytes, the world file's (``-`` without one) and the motion ``parameters``
+    (name -> value, sorted by name: vmax, timing, follower, ... as the node resolved them):
+    the ``show`` message of the start agreement (``sync.start.agreement_show``). Raises
+    OSError when a file cannot be read (the node has read both already)."""
+    import hashlib
+
+    def digest(data: bytes) -> str:
+        return hashlib.sha256(data).hexdigest()[:16]
+
+    world = "-" if not world_path else digest(Path(world_path).read_bytes())
+    text = "\n".join(f"{name}={parameters[name]!r}" for name in sorted(parameters))
+    return digest(Path(scenario_path).read_bytes()), world, digest(text.encode())

@@ -218,3 +218,32 @@ def test_robots_agree_on_the_start_over_a_slow_lossy_sync(roscore: Master, tmp_p
         show.stop_all()
     starts = {agreed_start(show.log(role), role) for role in robots}
     assert len(starts) == 1, starts
+
+
+def test_robots_that_run_different_shows_refuse_to_start(roscore: Master,
+                                                         tmp_path: Path) -> None:
+    """Thesis 7.2.2's crash came from robots that ran different versions of the scenario. R2
+    is given listing 7.1 with one move changed (a different file): after the network test
+    both robots refuse to start, each naming the scenario file, and nothing moves."""
+    changed = tmp_path / "thesis_7_1_edited.dance"
+    text = SCENARIO_7_1.read_text()
+    edited = re.sub(r"^move (\S+)", lambda m: f"move {float(m.group(1)) + 0.5:g}", text,
+                    count=1, flags=re.MULTILINE)
+    assert edited != text
+    changed.write_text(edited)
+    show = RosShow(roscore, tmp_path)
+    try:
+        record_path = show.start_bridge(SCENARIO_7_1, START_ALLOWANCE)
+        show.start_robot(SCENARIO_7_1, "R1")
+        show.start_robot(changed, "R2")
+        wait_until(lambda: all("refuses to start" in show.log(r) for r in ("R1", "R2")),
+                   START_ALLOWANCE, "both robots refusing")
+        show.wait_bridge(START_ALLOWANCE + 30)
+    finally:
+        show.stop_all()
+    for role, other in (("R1", "R2"), ("R2", "R1")):
+        log = show.log(role)
+        assert "every robot answered" in log  # the network test passed
+        assert f"{role}: refuses to start: {other} runs another show: its scenario file (" in log
+        assert "start agreed" not in log
+    assert np.all(Record.load(record_path).commands == 0.0)

@@ -16,10 +16,12 @@ from dancebots.sync import (
     PLAUSIBLE_BEHIND,
     START_DELAY,
     EchoMessage,
+    ShowMessage,
     StartProposal,
     SyncMessageError,
     agreement_ready,
     agreement_receive,
+    agreement_show,
     format_message,
     implausible,
     is_role,
@@ -57,7 +59,8 @@ def test_bad_messages_say_what_was_expected(text: str, reason: str) -> None:
         parse_message(text)
     assert error.value.reason == reason
     assert str(error.value) == (f"bad /sync message {text!r}: {reason}; expected 'test ROLE', "
-                                "'test ROLE ECHOER' or 'sync ROLE SECONDS [SENT]'")
+                                "'test ROLE ECHOER', 'sync ROLE SECONDS [SENT]' or "
+                                "'show ROLE S W P'")
 
 
 @given(st.text(max_size=40))
@@ -440,3 +443,52 @@ def test_the_timecode_strategy_needs_its_time_and_only_it_takes_one() -> None:
         new_agreement("R1", ("R1",), "agreed", 5.0)
     with pytest.raises(ValueError, match="is not a finite time"):
         new_agreement("R1", ("R1",), "timecode", math.nan)
+
+
+SHOW = ("0123456789abcdef", "-", "fedcba9876543210")
+
+
+def test_show_messages_round_trip_and_bad_ones_say_why() -> None:
+    message = ShowMessage("R2", *SHOW)
+    assert format_message(message) == "show R2 0123456789abcdef - fedcba9876543210"
+    assert parse_message(format_message(message)) == message
+    for text, reason in (("show R2 abc - def", "'abc' is not a digest (16 hexadecimal digits, "
+                          "or - for no file)"),
+                         ("show R2 - -", "'show' takes a role and three digests, not 3 words")):
+        with pytest.raises(SyncMessageError) as error:
+            parse_message(text)
+        assert error.value.reason == reason
+
+
+def test_a_robot_that_runs_another_show_is_refused_naming_what_differs() -> None:
+    r1 = agreement_ready(new_agreement("R1", ("R1", "R2", "R3"), show=SHOW), 10.0)
+    for role in ("R2", "R3"):
+        r1 = agreement_receive(r1, StartProposal(role, 13.0), 11.0)
+    assert r1.start is None  # every start proposal, but no robot's show heard yet
+    r1 = agreement_show(r1, ShowMessage("R2", *SHOW))
+    assert r1.start is None
+    r1 = agreement_show(r1, ShowMessage("R1", "0" * 16, "-", "1" * 16))  # its own echo
+    assert r1.refused is None
+    other = agreement_show(r1, ShowMessage("R3", "aaaaaaaaaaaaaaaa", "-", SHOW[2]))
+    assert other.start is None
+    assert other.refused == (
+        "R3 runs another show: its scenario file (aaaaaaaaaaaaaaaa there, 0123456789abcdef "
+        "here) differ from this robot's (SHA-256 digests); give every robot the same scenario "
+        "and world files and the same options (vmax, timing, follower, hold, stop rule, LIDAR)")
+    same = agreement_show(r1, ShowMessage("R3", *SHOW))
+    assert same.start == 14.0
+    assert agreement_show(new_agreement("R1", ("R1", "R2")),
+                          ShowMessage("R2", *SHOW)).shows_heard == frozenset()  # not compared
+
+
+def test_show_digests_cover_the_files_and_the_parameters(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from dancebots.loading import show_digests
+
+    scenario = tmp_path / "a.dance"
+    scenario.write_text("robots R1\nrow R1 0 0\nmove 1 0\n")
+    first = show_digests(str(scenario), None, {"vmax": 0.5, "timing": "feasible"})
+    assert first[1] == "-"
+    assert first == show_digests(str(scenario), "", {"timing": "feasible", "vmax": 0.5})
+    assert show_digests(str(scenario), None, {"vmax": 0.4, "timing": "feasible"})[2] != first[2]
+    scenario.write_text("robots R1\nrow R1 0 0\nmove 2 0\n")
+    assert show_digests(str(scenario), None, {"vmax": 0.5, "timing": "feasible"})[0] != first[0]

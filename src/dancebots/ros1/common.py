@@ -20,7 +20,13 @@ from typing import Any, cast
 import numpy as np
 
 from dancebots.plan.planner import Plan, Timing
-from dancebots.sync import EchoMessage, StartProposal, SyncMessageError, parse_message
+from dancebots.sync import (
+    EchoMessage,
+    ShowMessage,
+    StartProposal,
+    SyncMessageError,
+    parse_message,
+)
 from dancebots.world import World
 
 __all__ = ["EXIT_TIMEOUT", "SHUTDOWN_TIMEOUT", "DelayedPublisher", "NodeLife", "QueuedLog",
@@ -112,7 +118,7 @@ def sync_publisher(role: str, stream: int, topic: str | None = None) -> DelayedP
                             float(rospy.get_param("~sync_loss", 0.0)), seed + stream)
 
 
-def parse_sync(text: str, log: QueuedLog) -> EchoMessage | StartProposal | None:
+def parse_sync(text: str, log: QueuedLog) -> EchoMessage | StartProposal | ShowMessage | None:
     """A /sync message, or None (logged, at most every 5 s) for text that is none."""
     try:
         return parse_message(text)

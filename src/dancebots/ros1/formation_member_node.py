@@ -65,6 +65,7 @@ from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import Bool, String
 
 from dancebots.geometry import wrap_angle
+from dancebots.loading import show_digests
 from dancebots.perception.cloud import PointCloud
 from dancebots.plan.planner import virtual_leader_pose
 from dancebots.robot import (
@@ -93,10 +94,12 @@ from dancebots.ros1.naming import HOLD_TOPIC, SYNC_TOPIC, RobotNames, robot_type
 from dancebots.ros1.sound import SoundRequest, beep_request, say_request
 from dancebots.sync import (
     TIMECODE_OFFSET,
+    ShowMessage,
     StartAgreement,
     StartProposal,
     agreement_ready,
     agreement_receive,
+    agreement_show,
     format_message,
     implausible,
     new_agreement,
@@ -139,9 +142,6 @@ def main() -> None:
     try:
         strategy = str(rospy.get_param("~start_strategy", "agreed"))
         start_at = float(rospy.get_param("~start_at", 0.0)) or None
-        agreement = new_agreement(
-            role, plan.robots, strategy, start_at if strategy == "timecode" else None,
-            float(rospy.get_param("~max_clock_offset", TIMECODE_OFFSET)))
         clock_offset = float(rospy.get_param("~clock_offset", 0.0))  # tests only
         this_robot = RobotType(
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
@@ -155,7 +155,15 @@ def main() -> None:
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks both
             follower=follower, lidar=use_lidar, stop_rule=stop_rule,
             actuator_lag=float(rospy.get_param("~actuator_lag", 0.0))))
-    except ValueError as exc:
+        # the show every robot must run alike: its files and what changes the motion (each
+        # robot's own size and speed limits may differ: they come from its host)
+        show = show_digests(scenario, world_file, {
+            "vmax": plan.parameters.vmax, "timing": plan.parameters.timing,
+            "follower": follower, "hold": hold, "stop_rule": stop_rule, "lidar": use_lidar})
+        agreement = new_agreement(
+            role, plan.robots, strategy, start_at if strategy == "timecode" else None,
+            float(rospy.get_param("~max_clock_offset", TIMECODE_OFFSET)), show)
+    except (ValueError, OSError) as exc:
         rospy.logfatal(str(exc))
         raise SystemExit(2) from None
     detector = None
@@ -203,6 +211,10 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
     def heard(message: String) -> None:
         nonlocal agreement
         parsed = parse_sync(message.data, log)
+        if isinstance(parsed, ShowMessage):
+            with lock:
+                agreement = agreement_show(agreement, parsed)
+            return
         if not isinstance(parsed, StartProposal):
             return
         now = rospy.get_time() + clock_offset
@@ -279,6 +291,8 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     agreement = agreement_ready(agreement, now + clock_offset)
                 current = agreement
                 arrived = latest_cloud.pop() if latest_cloud else None
+            if current.show is not None:  # which show it runs, from the start on
+                sync.publish(String(format_message(ShowMessage(role, *current.show))))
             proposal = current.message(now + clock_offset)
             if proposal is not None:
                 sync.publish(String(format_message(proposal)))

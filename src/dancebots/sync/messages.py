@@ -5,6 +5,9 @@
 ``sync R1 1732.25``    R1 proposes to start at 1732.25 s (its clock, seconds since the epoch)
 ``sync R1 1800.0 1732.2``  the same with R1's clock when it sent the message (the
                        ``timecode`` start: a receiver measures the clocks' offset from it)
+``show R1 S W P``      R1 runs the show whose scenario file, world file and motion parameters
+                       have the SHA-256 digests (hexadecimal, 16 digits) S, W and P (``-``:
+                       no world file): robots that run different shows refuse to start
 
 Roles are the scenario's robot names: plain ASCII identifiers, a letter or ``_`` then
 letters, digits, ``_``, ``.`` or ``-`` (the names the choreography language accepts for
@@ -24,12 +27,14 @@ from dataclasses import dataclass
 
 from dancebots.sync.hold import HoldMessage
 
-__all__ = ["EchoMessage", "HoldMessageError", "StartProposal", "SyncMessageError",
-           "format_hold", "format_message", "is_role", "parse_hold", "parse_message"]
+__all__ = ["EchoMessage", "HoldMessageError", "ShowMessage", "StartProposal",
+           "SyncMessageError", "format_hold", "format_message", "is_role", "parse_hold",
+           "parse_message"]
 
 _ROLE = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
 _SECONDS = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NONFINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+_DIGEST = re.compile(r"[0-9a-f]{16}|-")
 _SHOWN = 80
 """Characters of a bad message quoted in its error (the rest is counted, not copied)."""
 
@@ -52,13 +57,28 @@ class StartProposal:
     sent: float | None = None
 
 
+@dataclass(frozen=True, slots=True)
+class ShowMessage:
+    """``role`` runs the show whose ``scenario``, ``world`` and ``parameters`` have these
+    digests (16 hexadecimal digits of SHA-256; world ``-``: none)."""
+
+    role: str
+    scenario: str
+    world: str
+    parameters: str
+
+    @property
+    def digests(self) -> tuple[str, str, str]:
+        return self.scenario, self.world, self.parameters
+
+
 class SyncMessageError(ValueError):
     """A /sync message that is not one of the three forms; ``text`` is what was received,
     ``reason`` why it is refused."""
 
     def __init__(self, text: str, reason: str) -> None:
         super().__init__(f"bad /sync message {_shown(text)}: {reason}; expected 'test ROLE', "
-                         "'test ROLE ECHOER' or 'sync ROLE SECONDS [SENT]'")
+                         "'test ROLE ECHOER', 'sync ROLE SECONDS [SENT]' or 'show ROLE S W P'")
         self.text = text
         self.reason = reason
 
@@ -68,7 +88,7 @@ def is_role(word: str) -> bool:
     return _ROLE.fullmatch(word) is not None
 
 
-def parse_message(text: str) -> EchoMessage | StartProposal:
+def parse_message(text: str) -> EchoMessage | StartProposal | ShowMessage:
     """The message a /sync text carries (see the module's docstring for the forms); raises
     :class:`SyncMessageError`, and nothing else, for any other text."""
     if not isinstance(text, str):
@@ -96,12 +116,24 @@ def parse_message(text: str) -> EchoMessage | StartProposal:
                 raise SyncMessageError(text, f"{_shown(word)} is not a finite time")
             times.append(value)
         return StartProposal(rest[0], times[0], times[1] if len(times) == 2 else None)
+    if kind == "show":
+        if len(rest) != 4:
+            raise SyncMessageError(text, "'show' takes a role and three digests, not "
+                                   f"{len(rest)} words")
+        _check_roles(text, rest[:1])
+        for word in rest[1:]:
+            if not _DIGEST.fullmatch(word):
+                raise SyncMessageError(text, f"{_shown(word)} is not a digest (16 hexadecimal "
+                                       "digits, or - for no file)")
+        return ShowMessage(*rest)
     raise SyncMessageError(text, f"unknown kind {_shown(kind)}")
 
 
-def format_message(message: EchoMessage | StartProposal) -> str:
+def format_message(message: EchoMessage | StartProposal | ShowMessage) -> str:
     """The /sync text of a message (inverse of :func:`parse_message`; times in full
     precision, so every robot holds the very same proposal)."""
+    if isinstance(message, ShowMessage):
+        return f"show {message.role} {message.scenario} {message.world} {message.parameters}"
     if isinstance(message, StartProposal):
         sent = f" {message.sent!r}" if message.sent is not None else ""
         return f"sync {message.role} {message.start!r}{sent}"

@@ -31,6 +31,13 @@ waits until the start time and the virtual leader starts to move. The clocks are
     given another time, or when the time has passed before it is ready and the clocks are
     measured.
 
+Every strategy refuses a show that is not the same everywhere (an addition; thesis 7.2.2's
+crash came from robots that ran different versions of the scenario): each robot says which
+show it runs (``show ROLE S W P``: the digests of its scenario file, world file and motion
+parameters, ``loading.show_digests``), agrees on a start only once it has heard every other
+robot's, and refuses to start, naming what differs, when one is not its own
+(:func:`agreement_show`).
+
 All strategies ignore implausible proposals (:func:`implausible`): a start more than
 :data:`PLAUSIBLE_AHEAD` s after the receiver's clock or more than :data:`PLAUSIBLE_BEHIND` s
 before it. Such a proposal neither strikes its role off nor moves the start, so one stray or
@@ -45,12 +52,12 @@ import math
 from dataclasses import dataclass, replace
 from typing import Literal, get_args
 
-from dancebots.sync.messages import StartProposal
+from dancebots.sync.messages import ShowMessage, StartProposal
 
 __all__ = ["MAX_CLOCK_OFFSET", "PLAUSIBLE_AHEAD", "PLAUSIBLE_BEHIND", "START_DELAY",
            "START_STRATEGIES", "TIMECODE_AHEAD", "TIMECODE_OFFSET", "StartAgreement",
-           "StartStrategy", "agreement_ready", "agreement_receive", "implausible",
-           "new_agreement", "show_time"]
+           "StartStrategy", "agreement_ready", "agreement_receive", "agreement_show",
+           "implausible", "new_agreement", "show_time"]
 
 START_DELAY = 4.0
 """Seconds between a robot's clock when it proposes and the start it proposes (thesis 4.2)."""
@@ -102,13 +109,18 @@ class StartAgreement:
     offsets: tuple[tuple[str, float, int], ...] = ()
     max_offset: float = TIMECODE_OFFSET
     refused: str | None = None
+    show: tuple[str, str, str] | None = None
+    shows_heard: frozenset[str] = frozenset()
 
     @property
     def start(self) -> float | None:
         """The agreed start time (s, common clock) once every role is heard (under
-        ``timecode``: and the clocks measured, :data:`TIMECODE_SAMPLES`), else None (and
-        None for good once the robot refused to start: ``refused`` says why)."""
+        ``timecode``: and the clocks measured, :data:`TIMECODE_SAMPLES`; with ``show``: and
+        every other robot's show heard, the same), else None (and None for good once the
+        robot refused to start: ``refused`` says why)."""
         if self.refused is not None or not self.heard >= self.roles:
+            return None
+        if self.show is not None and not self.shows_heard >= self.roles - {self.role}:
             return None
         if self.strategy == "timecode" and not self._clocks_measured():
             return None
@@ -140,12 +152,14 @@ class StartAgreement:
 
 def new_agreement(role: str, roles: tuple[str, ...] | frozenset[str],
                   strategy: str = "agreed", timecode: float | None = None,
-                  max_offset: float = TIMECODE_OFFSET) -> StartAgreement:
+                  max_offset: float = TIMECODE_OFFSET,
+                  show: tuple[str, str, str] | None = None) -> StartAgreement:
     """The agreement of robot ``role`` in a formation of ``roles`` (which include it).
     ``strategy`` is a plain string because it comes from a node parameter: it is checked
     against :data:`START_STRATEGIES` here (a ``ValueError`` names the choices). ``timecode``
     (s, common clock; the ``timecode`` strategy only, which needs it) and ``max_offset``
-    (s, at least 0): see the module."""
+    (s, at least 0): see the module. ``show``: the digests of the show this robot runs
+    (scenario, world, parameters: ``loading.show_digests``; None: not compared)."""
     if strategy not in START_STRATEGIES:
         raise ValueError(f"unknown start strategy {strategy!r}; use one of "
                          f"{', '.join(START_STRATEGIES)}")
@@ -160,7 +174,7 @@ def new_agreement(role: str, roles: tuple[str, ...] | frozenset[str],
     if not max_offset >= 0.0:
         raise ValueError(f"the largest clock offset must be 0 s or more, not {max_offset!r}")
     return StartAgreement(strategy, role, frozenset(roles), timecode=timecode,
-                          max_offset=max_offset)
+                          max_offset=max_offset, show=show)
 
 
 def agreement_ready(agreement: StartAgreement, now: float) -> StartAgreement:
@@ -272,6 +286,28 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
         f"the robots' clocks, {', '.join(sorted(heard.roles))}, measured from their /sync "
         f"messages; at most {heard.max_offset:g} s): the show would be off the music by as "
         "much; synchronise the clocks (NTP, chrony) and start again"))
+
+
+SHOW_PARTS = ("scenario file", "world file", "motion parameters")
+"""What each of a show's three digests covers (``ShowMessage``)."""
+
+
+def agreement_show(agreement: StartAgreement, message: ShowMessage) -> StartAgreement:
+    """The agreement after hearing which show ``message.role`` runs: the same as this
+    robot's, it counts; another one refuses the start, naming what differs (without
+    ``show``, or for roles outside the formation and its own echo: unchanged). A robot
+    that already refused stays refused."""
+    if (agreement.show is None or message.role not in agreement.roles
+            or message.role == agreement.role or agreement.refused is not None):
+        return agreement
+    differ = [f"{part} ({theirs} there, {ours} here)" for part, theirs, ours in zip(
+        SHOW_PARTS, message.digests, agreement.show, strict=True) if theirs != ours]
+    if differ:
+        return replace(agreement, refused=(
+            f"{message.role} runs another show: its {' and its '.join(differ)} differ from "
+            "this robot's (SHA-256 digests); give every robot the same scenario and world "
+            "files and the same options (vmax, timing, follower, hold, stop rule, LIDAR)"))
+    return replace(agreement, shows_heard=agreement.shows_heard | {message.role})
 
 
 def show_time(agreement: StartAgreement, now: float) -> float | None:
