@@ -12,11 +12,15 @@ machines; deterministic: ideal and realistic profiles with seed 0). Sections:
    TRADR), and the crash of 7.2.2 (``examples/crash_7_2_2.dance``) against the LIDAR lag.
 3. The paper (MAGESys 2019): the PID responses of figs. 7-10 (the first follower's commands
    with the first and the tuned gains) and the detector/controller comparison of sec. 3.
+4. The experiment both seeds imply: formation error against message delay, loss and clock
+   offset for the virtual leader, a formation that shares the leader's pose and the LIDAR
+   queue (``benchmarks/eval_network.py``).
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -242,6 +246,57 @@ def paper_section() -> list[str]:
     return [*out, ""]
 
 
+def network_section() -> list[str]:
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import eval_network
+
+    points, queue = eval_network.sweep()
+    out = ["## 4. Network trouble: the experiment both seeds imply", "",
+           "The thesis argues that a virtual leader computed on every robot needs no "
+           "communication while moving and so is robust to network trouble, where a "
+           "leader-follower formation that shares poses is not; the paper's queue needs no "
+           "network but suffers from occlusion and kidnapping. "
+           "`benchmarks/eval_network.py`: three robots in a column 1.8 m apart drive 3 m, "
+           "stop 2 s, a quarter circle, 2 m, stop 2 s, a right-angle corner and 2 m (ideal "
+           "profile, LIDAR on, the `tracking` follower for both formations, so that both are "
+           "measured against the same rigid slots). *Virtual leader*: the project's system "
+           "(the shared show clock's messages over the lossy transport; a clock offset shifts "
+           "a robot's show time). *Shared pose* (`SimConfig.formation_control`): robot 1 "
+           "follows its slot, the others their slots relative to robot 1's pose, broadcast at "
+           "10 Hz over the same transport and extrapolated by the velocity it sent. *LIDAR "
+           "queue*: the paper's queue (A2 with tracking, VO) on its static course, with no "
+           "network: its figures do not move along the axes. Delay and loss are injected "
+           "in-process (the kernel here has no netem); one axis at a time, the others at 0; "
+           "the clock offset is that between the first and the last robot. Formation error: "
+           "the change of the distance between two robots against their slots' (RMS and "
+           "largest, cm).", ""]
+    figure = eval_network.figure(points, queue)
+    out += [f"![formation error against network trouble]({save(figure, 'network.png')})", ""]
+    out += table(eval_network.table_rows(points, queue), eval_network.HEADER)
+    worst = max(eval_network.AXES["delay s"])
+    vl_zero = points["virtual leader", "delay s", 0.0]
+    vl_worst = points["virtual leader", "delay s", worst]
+    sp_zero = points["shared pose", "delay s", 0.0]
+    sp_worst = points["shared pose", "delay s", worst]
+    contacts = sum(p.contacts for p in points.values())
+    out += ["", f"Result. The virtual leader keeps its formation whatever the network does "
+            f"here: {100 * vl_zero.rms:.1f} cm RMS without trouble and "
+            f"{100 * vl_worst.rms:.1f} cm with {worst:g} s of delay; loss and a clock offset "
+            f"of up to 0.2 s (6 cm of path at its 0.3 m/s) change it by millimetres. The "
+            f"formation that shares the leader's pose starts worse "
+            f"({100 * sp_zero.rms:.1f} cm: the followers inherit the leader robot's own "
+            f"tracking error) and breaks down once the delay outlasts its extrapolation: "
+            f"{100 * sp_worst.rms:.1f} cm RMS and {100 * sp_worst.largest:.0f} cm at worst "
+            f"with {worst:g} s: the largest errors come at the right-angle corner, where a "
+            "pose that old, extrapolated with the velocity it was sent with, misplaces the "
+            f"slots of the robots behind (their LIDAR keeps them apart: {contacts} contacts in "
+            "all runs). Loss up to 30 % of 10 Hz messages hardly matters to either. The "
+            f"LIDAR queue needs no network at all ({100 * queue[0]:.1f} cm median error, "
+            f"{queue[1]} kidnappings on the static course), but is exposed to occlusion and "
+            "kidnapping instead (section 3: a crossing person breaks most pairings).", ""]
+    return out
+
+
 def main() -> None:
     argparse.ArgumentParser(description=__doc__,
                             formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
@@ -253,11 +308,8 @@ def main() -> None:
     lines += thesis_sections()
     lines += real_robot_section()
     lines += paper_section()
+    lines += network_section()
     lines += ["## Not yet here", "",
-              "- The experiment both seeds imply (issue 16, item 3): formation error, contacts "
-              "and kidnappings against message delay, loss and clock offset for the virtual "
-              "leader, a leader-follower formation that shares the leader's pose, and the "
-              "LIDAR-only queue.",
               "- A physics engine's counterpart of the thesis's 3D simulation (issue 17).", ""]
     DOC.write_text("\n".join(lines), encoding="utf-8")
     print(f"wrote {DOC.relative_to(ROOT)} and {FIGURES.relative_to(ROOT)}/ in "

@@ -202,11 +202,13 @@ class BatchBrains:
 
     def step(self, now: float, show_times: FloatArray, poses: FloatArray,
              pose_known: NDArray[np.bool_], arrived: list[PointCloud | None],
-             heard: FloatArray | None) -> BatchTick:
+             heard: FloatArray | None, override: FloatArray | None = None) -> BatchTick:
         """One tick of every robot (``RobotBrain.step`` with ``clock=now``): show times (R,)
         s; poses (R, 3) in each robot's own map frame where ``pose_known`` (R,); the clouds
         that arrived (None: none); ``heard`` (R, 2) where each robot last said it stands
-        (show frame, NaN: nothing heard; None: no shared clock, ``mates_heard`` None)."""
+        (show frame, NaN: nothing heard; None: no shared clock, ``mates_heard`` None);
+        ``override`` (R, 5): references to track instead of the plan's where its row is not
+        NaN (own frame; the ``shared-pose`` formation control), never final."""
         count = len(self.brains)
         arrivals = np.array([cloud is not None for cloud in arrived], dtype=bool)
         stamps = np.zeros(count)
@@ -219,6 +221,10 @@ class BatchBrains:
             self.columns = np.concatenate(self.latest) if count > 1 else self.latest[0]
             self.offsets[1:] = np.cumsum([len(c) for c in self.latest])
         references, finals = self.references(show_times)
+        if override is not None:
+            given = ~np.isnan(override[:, 0])
+            references[given] = override[given]
+            finals = finals & ~given
         steps = np.rint(show_times / self.period)
         index = np.clip(steps, 0, self.mates.shape[2] - 1).astype(np.int64)
         mates = self.mates[self.robot_index, :, index] if count > 1 else np.zeros((1, 0, 2))

@@ -175,3 +175,63 @@ def test_the_numpy_references_simulate_the_same_show(examples: Path, name: str) 
     assert np.allclose(compiled.commands, numpy_only.commands, rtol=0.0, atol=1e-12)
     assert compiled.collisions == numpy_only.collisions
     assert compiled.events == numpy_only.events
+
+
+COLUMN = ("robots R1 R2 R3\ncolumn R1;R2;R3 1.8 0\nmove 3 0\nwait 2\ncircle 4 90 0.08\n"
+          "move 2 0\nwait 2\nmove 3 -90\nmove 2 0\n")
+
+
+def _column_run(**options: object) -> RunResult:
+    from dancebots.plan.planner import PlanParameters
+    from dancebots.robot import BrainOptions
+
+    plan = plan_of(COLUMN, PlanParameters(timing="feasible"))
+    arena, placement = prepare_show(place_show(plan, None))
+    return simulate(plan, arena, placement,
+                    SimConfig(brain=BrainOptions(follower="tracking"), **options))  # type: ignore[arg-type]
+
+
+def test_a_shared_pose_formation_suffers_from_delay_where_the_virtual_leader_does_not() -> None:
+    """The network experiment's mechanism (benchmarks/eval_network.py): robots that track
+    their slots relative to the leader robot's broadcast pose misplace them when the pose is
+    0.9 s late (the right-angle corner); robots that follow the plan's virtual leader only
+    exchange the shared clock's messages and do not care."""
+    from dancebots.report.metrics import run_metrics
+
+    def error(**options: object) -> float:
+        metrics = run_metrics(_column_run(**options))
+        assert metrics.collisions == 0
+        assert metrics.rms_formation_error is not None
+        return metrics.rms_formation_error
+
+    leader, leader_late = error(), error(hold_delay=0.9)
+    shared = error(formation_control="shared-pose")
+    shared_late = error(formation_control="shared-pose", hold_delay=0.9)
+    assert abs(leader_late - leader) < 0.01
+    assert shared_late > shared + 0.1  # tens of centimetres worse
+
+
+def test_clock_offsets_shift_what_a_robot_runs_not_what_is_recorded() -> None:
+    plain = _column_run()
+    offset = _column_run(clock_offsets=(0.5, 0.0, 0.0))
+    # the recorded show times are the formation's; R1 runs half a second ahead of them
+    n = min(len(plain.times), len(offset.times))
+    assert np.array_equal(plain.show_time[:, :n], offset.show_time[:, :n])
+    ahead = np.hypot(*(offset.poses[0, :n, :2] - plain.poses[0, :n, :2]).T)
+    assert ahead.max() > 0.1
+
+
+def test_network_options_are_checked() -> None:
+    with pytest.raises(ValueError, match="clock offsets must be finite"):
+        SimConfig(clock_offsets=(float("nan"),))
+    with pytest.raises(ValueError, match="unknown formation control 'mesh'"):
+        SimConfig(formation_control="mesh")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="2 clock offsets for 3 robots"):
+        _column_run(clock_offsets=(0.1, 0.2))
+    from dancebots.robot import BrainOptions
+
+    plan = plan_of(COLUMN)
+    arena, placement = prepare_show(place_show(plan, None))
+    config = SimConfig(brain=BrainOptions(follower="thesis"), formation_control="shared-pose")
+    with pytest.raises(ValueError, match="needs the tracking or path follower"):
+        simulate(plan, arena, placement, config)

@@ -20,7 +20,13 @@ import shapely
 from numpy.typing import NDArray
 
 from dancebots.control.tracking import follower_references
-from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
+from dancebots.geometry import (
+    Pose,
+    compose_points,
+    compose_poses,
+    footprint_corners,
+    integrate_unicycle,
+)
 from dancebots.perception.cloud import PointCloud
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
@@ -41,8 +47,9 @@ from dancebots.sync.hold import (
     formation_tick,
 )
 
-__all__ = ["STATUS", "CollisionEvent", "Fault", "FaultKind", "RobotEvent", "RunResult", "SimConfig",
-           "hold_strategy", "simulate"]
+__all__ = ["FORMATION_CONTROLS", "STATUS", "CollisionEvent", "Fault", "FaultKind",
+           "FormationControl", "RobotEvent", "RunResult", "SimConfig", "hold_strategy",
+           "simulate"]
 
 STATUS = ("ok", "stopped", "error")
 """Codes of ``RunResult.status``: 0 moving freely, 1 held by a stop flag, 2 error state."""
@@ -101,6 +108,17 @@ class SimConfig:
         same decisions, several times faster) where the brains allow it (the ``tracking`` and
         ``path`` followers with the ``fixed`` stop rule, compiled); else, or when off, each
         :class:`~dancebots.robot.RobotBrain` ticks in turn (the reference).
+    clock_offsets: per robot (R,), s its clock is off (the network experiment,
+        ``benchmarks/eval_network.py``, injected in-process): its brain runs the show at its
+        show time plus its offset; the result records the formation's show times without them
+        (the audience's, against which the formation error is measured). Empty: none.
+    formation_control: ``virtual-leader`` (the thesis's design, default): every robot follows
+        its slot of the plan's virtual leader; ``shared-pose`` (for the network experiment: a
+        leader-follower formation that shares the leader's pose): the plan's first robot
+        follows its slot, and every other robot its slot relative to the pose that robot
+        broadcasts at 10 Hz over the same transport as the hold messages (``hold_delay``,
+        ``hold_loss``), extrapolated by the velocity it sent over the message's age on the
+        receiver's clock. One formation, batched brains only.
     """
 
     profile: Profile = IDEAL
@@ -119,12 +137,24 @@ class SimConfig:
     hold_loss: float = 0.0
     max_pause: float = 120.0
     batched: bool = True
+    clock_offsets: tuple[float, ...] = ()
+    formation_control: FormationControl = "virtual-leader"
 
     def __post_init__(self) -> None:
         if not (0.0 <= self.hold_delay < HoldParams().heartbeat_timeout
                 and 0.0 <= self.hold_loss < 1.0 and self.max_pause >= 0.0):
             raise ValueError("hold_delay must be 0 s or more and below the heartbeat timeout "
                              "(1 s), hold_loss in [0, 1) and max_pause 0 s or more")
+        if not all(math.isfinite(offset) for offset in self.clock_offsets):
+            raise ValueError("clock offsets must be finite")
+        if self.formation_control not in FORMATION_CONTROLS:
+            raise ValueError(f"unknown formation control {self.formation_control!r}; choose "
+                             f"from {', '.join(FORMATION_CONTROLS)}")
+
+
+FormationControl = Literal["virtual-leader", "shared-pose"]
+FORMATION_CONTROLS: tuple[FormationControl, ...] = ("virtual-leader", "shared-pose")
+"""How robots keep formation (``SimConfig.formation_control``)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -295,6 +325,15 @@ class _Crew:
         self.batch: BatchBrains | None = None
         if config.batched and config.compiled and batch_supported(brains):
             self.batch = BatchBrains(brains)
+        if config.clock_offsets and len(config.clock_offsets) != count:
+            raise ValueError(f"{len(config.clock_offsets)} clock offsets for {count} robots")
+        self.offsets = np.array(config.clock_offsets or [0.0] * count, dtype=float)
+        self.shared = None
+        if config.formation_control == "shared-pose":
+            if self.batch is None:
+                raise ValueError("the shared-pose formation control needs the tracking or path "
+                                 "follower with the fixed stop rule (batched brains)")
+            self.shared = _SharedPose(brains[0].plan, stage, self.offsets, config)
 
     def _show_times(self, now: float) -> None:
         """Each robot's show time at ``now``: with the shared clock, the messages due are
@@ -347,10 +386,14 @@ class _Crew:
                 arrived[i] = None
         known = self.all_known if not self.pose_faults else np.array(
             [now < self.pose_faults.get(i, math.inf) for i in range(len(self.robots))])
+        believed = self.show_times + self.offsets  # each robot's clock (network experiment)
         if self.batch is not None:
-            self._batch_step(now, arrived, own, known)
+            override = self.shared.references(now) if self.shared is not None else None
+            self._batch_step(now, believed, arrived, own, known, override)
         else:
-            self._brains_step(now, arrived, own, known)
+            self._brains_step(now, believed, arrived, own, known)
+        if self.shared is not None:
+            self.shared.send(now)
         self._tell(now, own, known)
         stage.speaking = self.asking.copy()  # the crowd hears them (sim/crowd.py)
         return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
@@ -359,12 +402,13 @@ class _Crew:
                                    "show_times": self.show_times, "holds": self.holding},
                     float(self.show_times.min()), bool(self.waiting.any()))
 
-    def _batch_step(self, now: float, arrived: list[PointCloud | None], own: np.ndarray,
-                    known: np.ndarray) -> None:
+    def _batch_step(self, now: float, show_times: np.ndarray, arrived: list[PointCloud | None],
+                    own: np.ndarray, known: np.ndarray,
+                    override: np.ndarray | None = None) -> None:
         """Every brain's tick in one compiled pass (``robot_batch.BatchBrains``)."""
         assert self.batch is not None
-        tick = self.batch.step(now, self.show_times, own, known, arrived,
-                               self.clocks.position if self.together else None)
+        tick = self.batch.step(now, show_times, own, known, arrived,
+                               self.clocks.position if self.together else None, override)
         self.command[:] = tick.commands
         self.status[:] = tick.status
         self.holding[:] = tick.holding
@@ -373,7 +417,8 @@ class _Crew:
         self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                            for i, e in tick.events)
 
-    def _brains_step(self, now: float, arrived: list[PointCloud | None], own: np.ndarray,
+    def _brains_step(self, now: float, show_times: np.ndarray,
+                     arrived: list[PointCloud | None], own: np.ndarray,
                      known: np.ndarray) -> None:
         """Each brain's tick in turn (``RobotBrain.step``, the reference)."""
         states = self.states
@@ -381,7 +426,7 @@ class _Crew:
         heard = self._mates_heard()
         for i, brain in enumerate(self.brains):
             seen = (own_poses[i][0], own_poses[i][1], own_poses[i][2]) if known[i] else None
-            states[i], cmd, happened = brain.step(states[i], float(self.show_times[i]), seen,
+            states[i], cmd, happened = brain.step(states[i], float(show_times[i]), seen,
                                                   arrived[i], clock=now,
                                                   mates_heard=heard[i])
             self.command[i] = (cmd.linear, cmd.angular)
@@ -392,6 +437,65 @@ class _Crew:
             if happened:
                 self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                                    for e in happened)
+
+
+class _SharedPose:
+    """The ``shared-pose`` formation control (``SimConfig.formation_control``): robot 0
+    broadcasts its pose and velocity at every control tick, stamped with its clock; the
+    messages reach the others ``hold_delay`` s later unless lost (``hold_loss``, a generator
+    of its own); every other robot tracks its slot relative to robot 0's slot, placed on
+    robot 0's latest pose heard, extrapolated along its arc by the velocity it sent over the
+    message's age on the receiver's clock (so a clock offset misplaces it)."""
+
+    def __init__(self, plan: Plan, stage: Stage, offsets: FloatArray,
+                 config: SimConfig) -> None:
+        if len(plan.formations) != 1:
+            raise ValueError("the shared-pose formation control takes a show of one "
+                             "formation")
+        formation = plan.formations[0]
+        robots = plan.robots
+        leader = np.array(formation.offsets[robots[0]])
+        # each robot's slot in robot 0's slot frame (the slots share the leader's heading)
+        self.relative = np.array([np.array(formation.offsets[r]) - leader for r in robots])
+        self.stage, self.offsets = stage, offsets
+        self.delay, self.loss = config.hold_delay, config.hold_loss
+        self.rng = np.random.default_rng([config.seed, 7_919])
+        self.in_flight: list[tuple[float, float, FloatArray, FloatArray]] = []
+        self.heard: tuple[float, FloatArray, FloatArray] | None = None  # stamp, pose, (v, w)
+
+    def send(self, now: float) -> None:
+        """Robot 0's message of this tick: its clock, world pose and velocity."""
+        if self.loss > 0 and self.rng.random() < self.loss:
+            return
+        self.in_flight.append((now + self.delay, now + float(self.offsets[0]),
+                               self.stage.pose[0].copy(), self.stage.velocity[0].copy()))
+
+    def references(self, now: float) -> FloatArray:
+        """The references (R, 5) each robot tracks in its own frame (NaN rows: its plan's,
+        robot 0's and all before the first message)."""
+        due = [m for m in self.in_flight if m[0] <= now + 1e-9]
+        self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
+        for _, stamp, pose, velocity in due:
+            if self.heard is None or stamp > self.heard[0]:
+                self.heard = (stamp, pose, velocity)
+        count = len(self.relative)
+        rows = np.full((count, 5), np.nan)
+        if self.heard is None or count < 2:
+            return rows
+        stamp, pose, (v, w) = self.heard
+        age = np.maximum(now + self.offsets[1:] - stamp, 0.0)  # (R - 1,) on each clock
+        x, y, theta = integrate_unicycle(np.full(count - 1, pose[0]),
+                                         np.full(count - 1, pose[1]),
+                                         np.full(count - 1, pose[2]), np.full(count - 1, v),
+                                         np.full(count - 1, w), age)
+        c, s = np.cos(theta), np.sin(theta)
+        dx, dy = self.relative[1:, 0], self.relative[1:, 1]
+        slots = np.column_stack([x + c * dx - s * dy, y + s * dx + c * dy, theta])
+        own = compose_poses(self.stage.to_own[1:], slots)
+        rows[1:, :3] = own
+        rows[1:, 3] = v - w * dy  # the slot's speed along the heading
+        rows[1:, 4] = w
+        return rows
 
 
 def _corners(poses: FloatArray, lengths: FloatArray | float,
