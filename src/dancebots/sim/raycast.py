@@ -7,6 +7,8 @@ is hit.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -16,10 +18,21 @@ __all__ = ["ray_directions", "rays_to_convex_walls", "rays_to_discs", "rays_to_s
 FloatArray = NDArray[np.float64]
 
 
+def _trig(values: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """cos and sin (shape of ``values``) from libm (``math``), as the compiled caster takes
+    them (NumPy's own cos may round the last bit otherwise), so that both cast alike."""
+    flat = values.ravel().tolist()
+    return (np.array([math.cos(v) for v in flat]).reshape(values.shape),
+            np.array([math.sin(v) for v in flat]).reshape(values.shape))
+
+
 def ray_directions(headings: FloatArray, angles: FloatArray) -> FloatArray:
-    """Unit directions (R, N, 2) of rays at ``angles`` (N,) rad relative to ``headings`` (R,)."""
-    absolute = headings[:, None] + angles[None, :]
-    return np.stack([np.cos(absolute), np.sin(absolute)], axis=-1)
+    """Unit directions (R, N, 2) of rays at ``angles`` (N,) rad relative to ``headings`` (R,):
+    each angle's unit vector turned by the heading (the compiled caster's arithmetic)."""
+    ch, sh = _trig(headings)
+    ca, sa = _trig(angles)
+    return np.stack([ch[:, None] * ca[None, :] - sh[:, None] * sa[None, :],
+                     sh[:, None] * ca[None, :] + ch[:, None] * sa[None, :]], axis=-1)
 
 
 def rays_to_segments(origins: FloatArray, directions: FloatArray, segments: FloatArray,
@@ -111,8 +124,10 @@ def rays_to_segments_culled(origins: FloatArray, headings: FloatArray, angles: F
     offsets = np.arange(pair.size) - np.repeat(np.cumsum(size) - size, size)
     ray = np.remainder(start[pair] + offsets, rays)
     owner = sensor[pair]
-    absolute = headings[owner] + angles[ray]
-    dx, dy = np.cos(absolute), np.sin(absolute)
+    ch, sh = _trig(headings)
+    ca, sa = _trig(angles)
+    dx = ch[owner] * ca[ray] - sh[owner] * sa[ray]  # as ``ray_directions``
+    dy = sh[owner] * ca[ray] + ch[owner] * sa[ray]
     seg = segment[pair]
     edge = segments[seg, 1] - segments[seg, 0]
     offset = segments[seg, 0] - origins[owner]

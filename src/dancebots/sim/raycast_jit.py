@@ -75,7 +75,9 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
     ray_y = np.empty(rays)
     # each ray's direction: its angle's unit vector (once per scan) turned by the heading
     # (a rotation per robot instead of two libm calls per ray, which cost half the scan)
-    angle_cos, angle_sin = np.cos(angles), np.sin(angles)
+    angle_cos, angle_sin = np.empty(rays), np.empty(rays)
+    for k in range(rays):  # (libm, as ``sim.raycast`` takes them)
+        angle_cos[k], angle_sin[k] = math.cos(angles[k]), math.sin(angles[k])
     for r in range(count):
         ox, oy = origins[r, 0], origins[r, 1]
         base = headings[r] + angles[0]
