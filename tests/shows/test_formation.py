@@ -194,8 +194,9 @@ def _column_run(**options: object) -> RunResult:
 def test_a_shared_pose_formation_suffers_from_delay_where_the_virtual_leader_does_not() -> None:
     """The network experiment's mechanism (benchmarks/eval_network.py): robots that track
     their slots relative to the leader robot's broadcast pose misplace them when the pose is
-    0.9 s late (the right-angle corner); robots that follow the plan's virtual leader only
-    exchange the shared clock's messages and do not care."""
+    0.9 s late (extrapolated on the velocity it was sent with, wrong where the leader turns
+    or stops); robots that follow the plan's virtual leader only exchange the shared clock's
+    messages and do not care."""
     from dancebots.report.metrics import run_metrics
 
     def error(**options: object) -> float:
@@ -207,8 +208,8 @@ def test_a_shared_pose_formation_suffers_from_delay_where_the_virtual_leader_doe
     leader, leader_late = error(), error(hold_delay=0.9)
     shared = error(formation_control="shared-pose")
     shared_late = error(formation_control="shared-pose", hold_delay=0.9)
-    assert abs(leader_late - leader) < 0.01
-    assert shared_late > shared + 0.1  # tens of centimetres worse
+    assert abs(leader_late - leader) < 0.005
+    assert shared_late > shared + 0.01  # centimetres worse (its extrapolation is late)
 
 
 def test_clock_offsets_shift_what_a_robot_runs_not_what_is_recorded() -> None:

@@ -492,3 +492,29 @@ def test_show_digests_cover_the_files_and_the_parameters(tmp_path) -> None:  # t
     assert show_digests(str(scenario), None, {"vmax": 0.4, "timing": "feasible"})[2] != first[2]
     scenario.write_text("robots R1\nrow R1 0 0\nmove 2 0\n")
     assert show_digests(str(scenario), None, {"vmax": 0.5, "timing": "feasible"})[0] != first[0]
+
+
+def test_a_robot_ready_after_the_clocks_are_measured_is_judged_when_it_gets_ready() -> None:
+    """Its /sync callback hears the others before its own network test passes: the clocks
+    are measured by the time it is ready, and it is judged then (R2's clock 5 s ahead)."""
+    waiting = new_agreement("R1", ("R1", "R2"), "timecode", EPOCH_T)
+    waiting = hear_for_a_second(waiting, ("R2",), EPOCH_T - 60.0, 5.0, 0.002)
+    assert waiting.refused is None  # not ready: not judged yet
+    ready = agreement_ready(waiting, EPOCH_T - 50.0)
+    assert ready.refused is not None
+    assert ready.refused.startswith("this robot's clock is 4.998 s behind")
+    assert ready.start is None
+
+
+def test_stray_messages_after_the_start_stands_change_nothing() -> None:
+    r1 = hear_for_a_second(timecode_robot(roles=("R1", "R2")), ("R2",), EPOCH_T - 40.0, 0.0,
+                           0.002)
+    assert r1.start == EPOCH_T
+    stray = agreement_receive(r1, StartProposal("R2", EPOCH_T + 3600.0, EPOCH_T), EPOCH_T)
+    assert stray.start == EPOCH_T
+    shows = agreement_ready(new_agreement("R1", ("R1", "R2"), show=SHOW), 10.0)
+    shows = agreement_receive(shows, StartProposal("R2", 13.0), 11.0)
+    shows = agreement_show(shows, ShowMessage("R2", *SHOW))
+    assert shows.start == 14.0
+    relaunched = agreement_show(shows, ShowMessage("R2", "a" * 16, "-", SHOW[2]))
+    assert relaunched.start == 14.0  # a robot relaunched with another show refuses itself

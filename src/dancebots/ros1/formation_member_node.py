@@ -331,9 +331,9 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                 state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,
                                                   mates_heard=mates_heard)
                 command.linear.x, command.angular.z = cmd.linear, cmd.angular
-                if clock is not None:
+                if together:  # (from the agreement on: at the start every mate is heard)
                     hold_out.publish(String(format_hold(HoldMessage(
-                        role, now, shown, state.holding_the_show,
+                        role, now, max(shown, 0.0), state.holding_the_show,
                         None if pose is None else brain.show_position(pose)))))
                 for event in happened:
                     events_out.publish(String(f"{event.kind}: {event.text}"))

@@ -490,10 +490,17 @@ class _SharedPose:
                                          np.full(count - 1, w), age)
         c, s = np.cos(theta), np.sin(theta)
         dx, dy = self.relative[1:, 0], self.relative[1:, 1]
-        slots = np.column_stack([x + c * dx - s * dy, y + s * dx + c * dy, theta])
+        # the slot moves with (v - w dy, w dx) in the leader's frame (``slot_velocities``):
+        # its reference faces that way (driven backwards where it moves backwards)
+        along, across = v - w * dy, w * dx
+        speed = np.hypot(along, across)
+        direction = np.where(speed > 1e-9, np.arctan2(across, along), 0.0)
+        backwards = along < 0.0
+        heading = theta + np.where(backwards, direction - np.pi, direction)
+        slots = np.column_stack([x + c * dx - s * dy, y + s * dx + c * dy, heading])
         own = compose_poses(self.stage.to_own[1:], slots)
         rows[1:, :3] = own
-        rows[1:, 3] = v - w * dy  # the slot's speed along the heading
+        rows[1:, 3] = np.where(backwards, -speed, speed)
         rows[1:, 4] = w
         return rows
 

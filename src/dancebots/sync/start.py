@@ -195,7 +195,9 @@ def agreement_ready(agreement: StartAgreement, now: float) -> StartAgreement:
                        f"{_span(agreement.timecode - now)} after this robot's clock (at most "
                        f"{TIMECODE_AHEAD / 3600:g} h); is the date or the clock wrong?")
         ready = replace(agreement, ready=True, proposal=agreement.timecode, refused=refused)
-        return _hear(ready, StartProposal(agreement.role, agreement.timecode))
+        # (the others' clocks may be measured already: then it is judged now)
+        return _judged(agreement, _hear(ready, StartProposal(agreement.role,
+                                                             agreement.timecode)), now)
     proposal = now + START_DELAY
     return _hear(replace(agreement, ready=True, proposal=proposal),
                  StartProposal(agreement.role, proposal))
@@ -247,15 +249,14 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
     messages do not stop a show that runs)."""
     if proposal.role == agreement.role or agreement.refused is not None:
         return agreement
-    if not (math.isfinite(proposal.start) and math.isfinite(now)):
-        return agreement
+    if not (math.isfinite(proposal.start) and math.isfinite(now)) or _complete(agreement):
+        return agreement  # (judged: the start stands, whatever comes later)
     if proposal.start != agreement.timecode:
         assert agreement.timecode is not None
         return replace(agreement, refused=(
             f"{proposal.role} was given another start time ({_instant(proposal.start)}) "
             f"than this robot ({_instant(agreement.timecode)}): give every robot the same "
             "--start-at"))
-    judged = agreement.heard >= agreement.roles and agreement._clocks_measured()
     offsets = {role: (offset, count) for role, offset, count in agreement.offsets}
     if proposal.sent is not None and math.isfinite(proposal.sent):
         offset, count = offsets.get(proposal.role, (-math.inf, 0))
@@ -263,28 +264,41 @@ def _hear_timecode(agreement: StartAgreement, proposal: StartProposal,
     heard = replace(agreement, heard=agreement.heard | {proposal.role},
                     value=agreement.timecode,
                     offsets=tuple(sorted((role, o, c) for role, (o, c) in offsets.items())))
-    if judged or not (heard.heard >= heard.roles and heard._clocks_measured()):
-        return heard  # judged once, when the clocks are first measured: then it stands
-    assert heard.timecode is not None
-    if now > heard.timecode:
-        return replace(heard, refused=(
-            f"the start time {_instant(heard.timecode)} passed before the clocks were "
+    return _judged(agreement, heard, now)
+
+
+def _complete(agreement: StartAgreement) -> bool:
+    """Every role heard (this robot's own once it is ready) and every other one's clock
+    measured (``timecode``)."""
+    return agreement.heard >= agreement.roles and agreement._clocks_measured()
+
+
+def _judged(before: StartAgreement, after: StartAgreement, now: float) -> StartAgreement:
+    """``after``, judged at ``now`` when it became complete (:func:`_complete`) since
+    ``before``: judged once, when the last of the robot's readiness and the clocks'
+    measurement comes, whichever that is; then the start stands."""
+    if _complete(before) or not _complete(after) or after.refused is not None:
+        return after
+    assert after.timecode is not None
+    if now > after.timecode:
+        return replace(after, refused=(
+            f"the start time {_instant(after.timecode)} passed before the clocks were "
             f"measured (at {_instant(now)}: 1 s of every robot's messages); give a later "
             "--start-at"))
     # the formation's clock against this one's: the middle of all of them (this one's 0
     # included), of two middle ones the one further from this one's (two robots, or two
     # halves, cannot tell whose clock is off: each judges the other's)
-    values = sorted([0.0, *(offset for offset, _ in offsets.values())])
+    values = sorted([0.0, *(offset for _, offset, _ in after.offsets)])
     middle = len(values) // 2
     median = values[middle] if len(values) % 2 else max(values[middle - 1], values[middle],
                                                         key=abs)
-    if abs(median) <= heard.max_offset:
-        return heard
+    if abs(median) <= after.max_offset:
+        return after
     side = "behind" if median > 0 else "ahead of"
-    return replace(heard, refused=(
+    return replace(after, refused=(
         f"this robot's clock is {abs(median):.3f} s {side} the formation's (the median of "
-        f"the robots' clocks, {', '.join(sorted(heard.roles))}, measured from their /sync "
-        f"messages; at most {heard.max_offset:g} s): the show would be off the music by as "
+        f"the robots' clocks, {', '.join(sorted(after.roles))}, measured from their /sync "
+        f"messages; at most {after.max_offset:g} s): the show would be off the music by as "
         "much; synchronise the clocks (NTP, chrony) and start again"))
 
 
@@ -298,7 +312,8 @@ def agreement_show(agreement: StartAgreement, message: ShowMessage) -> StartAgre
     ``show``, or for roles outside the formation and its own echo: unchanged). A robot
     that already refused stays refused."""
     if (agreement.show is None or message.role not in agreement.roles
-            or message.role == agreement.role or agreement.refused is not None):
+            or message.role == agreement.role or agreement.refused is not None
+            or agreement.start is not None):  # (a start that stands is not taken back)
         return agreement
     differ = [f"{part} ({theirs} there, {ours} here)" for part, theirs, ours in zip(
         SHOW_PARTS, message.digests, agreement.show, strict=True) if theirs != ours]
