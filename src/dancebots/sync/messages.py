@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from dancebots.sync.hold import HoldMessage
@@ -107,14 +108,8 @@ def parse_message(text: str) -> EchoMessage | StartProposal | ShowMessage:
             raise SyncMessageError(text, "'sync' takes a role, a time and optionally the "
                                    f"sender's clock, not {len(rest)} words")
         _check_roles(text, rest[:1])
-        times = []
-        for word in rest[1:]:
-            value = _number(word)
-            if value is None:
-                raise SyncMessageError(text, f"{_shown(word)} is not a time in seconds")
-            if not math.isfinite(value):
-                raise SyncMessageError(text, f"{_shown(word)} is not a finite time")
-            times.append(value)
+        times = _finite_numbers(rest[1:], lambda why: SyncMessageError(text, why),
+                                "a time in seconds", "a finite time")
         return StartProposal(rest[0], times[0], times[1] if len(times) == 2 else None)
     if kind == "show":
         if len(rest) != 4:
@@ -173,17 +168,27 @@ def parse_hold(text: str) -> HoldMessage:
                                "then letters, digits, _, . or -)")
     if rest[3] not in ("0", "1"):
         raise HoldMessageError(text, f"HOLDS must be 0 or 1, not {_shown(rest[3])}")
-    numbers = []
-    for word in (rest[1], rest[2], *rest[4:]):
-        value = _number(word)
-        if value is None:
-            raise HoldMessageError(text, f"{_shown(word)} is not a number")
-        if not math.isfinite(value):
-            raise HoldMessageError(text, f"{_shown(word)} is not a finite number")
-        numbers.append(value)
+    numbers = _finite_numbers((rest[1], rest[2], *rest[4:]),
+                              lambda why: HoldMessageError(text, why), "a number",
+                              "a finite number")
     stamp, show_time, *position = numbers
     return HoldMessage(rest[0], stamp, show_time, rest[3] == "1",
                        (position[0], position[1]) if position else None)
+
+
+def _finite_numbers(words: Sequence[str], error: Callable[[str], ValueError], kind: str,
+                    finite: str) -> list[float]:
+    """The words as finite numbers; raises ``error(why)`` at the first that is not ``kind``
+    (a plain decimal number) or not ``finite``."""
+    values = []
+    for word in words:
+        value = _number(word)
+        if value is None:
+            raise error(f"{_shown(word)} is not {kind}")
+        if not math.isfinite(value):
+            raise error(f"{_shown(word)} is not {finite}")
+        values.append(value)
+    return values
 
 
 def format_hold(message: HoldMessage) -> str:
