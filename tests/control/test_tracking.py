@@ -269,3 +269,22 @@ def test_a_column_follows_its_leaders_path_round_a_corner() -> None:
     assert off_path(rigid[:, :2]) > 0.5
     end = path_references(plan, "B", np.array([plan.duration + 1.0]))[0]
     np.testing.assert_allclose(end[:2], plan.desired_poses("B", np.array([plan.duration]))[0, :2])
+
+
+def test_shared_pose_references_place_each_slot_on_the_extrapolated_leader() -> None:
+    from dancebots.control.tracking import shared_pose_references
+
+    pose, velocity = np.array([1.0, 2.0, 0.0]), np.array([0.3, 0.0])
+    [behind] = shared_pose_references(pose, velocity, np.array([0.5]), np.array([[-1.8, 0.0]]))
+    assert behind == pytest.approx([1.0 + 0.15 - 1.8, 2.0, 0.0, 0.3, 0.0])
+    # turning left at 0.1 rad/s: a slot 1 m to the right moves faster, one 5 m to the left
+    # moves backwards (v - w dy < 0) and is driven backwards, facing the leader's way
+    right, far_left = shared_pose_references(np.zeros(3), np.array([0.3, 0.1]),
+                                             np.zeros(2), np.array([[0.0, -1.0], [0.0, 5.0]]))
+    assert right == pytest.approx([0.0, -1.0, 0.0, 0.4, 0.1])
+    assert far_left == pytest.approx([0.0, 5.0, 0.0, -0.2, 0.1])
+    # a slot ahead of the leader also moves sideways as it turns: it faces its motion
+    [ahead] = shared_pose_references(np.zeros(3), np.array([0.3, 0.1]), np.zeros(1),
+                                     np.array([[1.0, 0.0]]))
+    assert ahead[2] == pytest.approx(np.arctan2(0.1, 0.3))
+    assert ahead[3] == pytest.approx(np.hypot(0.3, 0.1))

@@ -41,14 +41,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.control.follower import ARRIVAL_GAIN
-from dancebots.geometry import Pose, compose_points, wrap_angle, wrap_angles
+from dancebots.geometry import (
+    Pose,
+    compose_points,
+    integrate_unicycle,
+    wrap_angle,
+    wrap_angles,
+)
 from dancebots.plan.places import path_places
 from dancebots.plan.planner import Plan, slot_velocities
 
 __all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
            "choose_folds", "fold_reference", "follower_places", "follower_references",
            "parking_step", "path_places", "path_references",
-           "references_from_motion", "slot_reference",
+           "references_from_motion", "shared_pose_references", "slot_reference",
            "slot_references", "tracking_step"]
 
 FloatArray = NDArray[np.float64]
@@ -398,3 +404,29 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     if abs(heading_error) > params.heading_tolerance:
         return _saturate(0.0, params.turn_gain * heading_error, params)
     return 0.0, 0.0
+
+
+def shared_pose_references(pose: FloatArray, velocity: FloatArray, ages: FloatArray,
+                           relative: FloatArray) -> FloatArray:
+    """What robots that share their leader robot's pose track (the ``shared-pose`` formation
+    control of the network experiment, ``shows.formation``): the leader's last pose heard
+    (3,) (x, y, theta, any frame) moved on along its arc by the velocity it sent (2,) (v m/s,
+    w rad/s) over each robot's age of the message ``ages`` (K,) s, then each robot's slot
+    ``relative`` (K, 2) (m, in the leader's frame; the slots share its heading). The slot
+    moves with (v - w dy, w dx) in the leader's frame (:func:`slot_velocities`); its
+    reference faces that way, driven backwards where it moves backwards. Returns (K, 5) as
+    :func:`references_from_motion`: x, y, heading, signed speed, angular speed (w)."""
+    count = len(ages)
+    v, w = float(velocity[0]), float(velocity[1])
+    x, y, theta = integrate_unicycle(np.full(count, pose[0]), np.full(count, pose[1]),
+                                     np.full(count, pose[2]), np.full(count, v),
+                                     np.full(count, w), ages)
+    c, s = np.cos(theta), np.sin(theta)
+    dx, dy = relative[:, 0], relative[:, 1]
+    along, across = v - w * dy, w * dx
+    speed = np.hypot(along, across)
+    direction = np.where(speed > 1e-9, np.arctan2(across, along), 0.0)
+    backwards = along < 0.0
+    heading = theta + np.where(backwards, direction - np.pi, direction)
+    return np.column_stack([x + c * dx - s * dy, y + s * dx + c * dy, heading,
+                            np.where(backwards, -speed, speed), np.full(count, w)])

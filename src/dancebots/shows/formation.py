@@ -19,14 +19,8 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from dancebots.control.tracking import follower_references
-from dancebots.geometry import (
-    Pose,
-    compose_points,
-    compose_poses,
-    footprint_corners,
-    integrate_unicycle,
-)
+from dancebots.control.tracking import follower_references, shared_pose_references
+from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
 from dancebots.perception.cloud import PointCloud
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
@@ -482,26 +476,11 @@ class _SharedPose:
         rows = np.full((count, 5), np.nan)
         if self.heard is None or count < 2:
             return rows
-        stamp, pose, (v, w) = self.heard
-        age = np.maximum(now + self.offsets[1:] - stamp, 0.0)  # (R - 1,) on each clock
-        x, y, theta = integrate_unicycle(np.full(count - 1, pose[0]),
-                                         np.full(count - 1, pose[1]),
-                                         np.full(count - 1, pose[2]), np.full(count - 1, v),
-                                         np.full(count - 1, w), age)
-        c, s = np.cos(theta), np.sin(theta)
-        dx, dy = self.relative[1:, 0], self.relative[1:, 1]
-        # the slot moves with (v - w dy, w dx) in the leader's frame (``slot_velocities``):
-        # its reference faces that way (driven backwards where it moves backwards)
-        along, across = v - w * dy, w * dx
-        speed = np.hypot(along, across)
-        direction = np.where(speed > 1e-9, np.arctan2(across, along), 0.0)
-        backwards = along < 0.0
-        heading = theta + np.where(backwards, direction - np.pi, direction)
-        slots = np.column_stack([x + c * dx - s * dy, y + s * dx + c * dy, heading])
-        own = compose_poses(self.stage.to_own[1:], slots)
-        rows[1:, :3] = own
-        rows[1:, 3] = np.where(backwards, -speed, speed)
-        rows[1:, 4] = w
+        stamp, pose, velocity = self.heard
+        ages = np.maximum(now + self.offsets[1:] - stamp, 0.0)  # (R - 1,) on each clock
+        slots = shared_pose_references(pose, velocity, ages, self.relative[1:])
+        rows[1:] = slots
+        rows[1:, :3] = compose_poses(self.stage.to_own[1:], slots[:, :3])
         return rows
 
 
