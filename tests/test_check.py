@@ -497,3 +497,33 @@ def test_the_widening_check_suggests_is_enough(examples: Path) -> None:
     options = CheckOptions(places=places_followed("path"))  # as check judges the defaults
     diagnostics = check_plan(plan, None, options).diagnostics
     assert not any("come within" in d.message for d in diagnostics)
+
+
+def test_a_turn_tighter_than_the_formation_is_noted_where_the_places_wait(data: Path) -> None:
+    """Where the leader turns too tightly for the formation, the path follower's inner places
+    wait behind the robots ahead and the formation loses its shape (issue 12): a note at each
+    instruction where a wait grows (line 11's corner, line 13's turn round), with a circle that
+    keeps the shape; none for the rigid slots, which do not wait."""
+    text = (data / "scenarios" / "valid" / "u_turn_square.dance").read_text()
+    _, plan, _ = compile_scenario(text, "show.dance", PlanParameters(timing="feasible"))
+    assert plan is not None
+    notes = [d for d in check_plan(plan, None, CheckOptions(places="path")).diagnostics
+             if "too tightly" in d.message]
+    lead = ("the leader turns here too tightly for the formation's width and depth: places on "
+            "its path wait behind the robots ahead and the formation loses its shape (along "
+            "the leader's path: ")
+    assert [(d.line, d.severity, d.message) for d in notes] == [
+        (11, Severity.NOTE, lead + "R3 up to 3.3 m for 4 s)"),
+        (13, Severity.NOTE, lead + "R3 up to 5.5 m for 30 s, R4 up to 3.9 m for 10 s)")]
+    assert notes[0].hint == ("turn on a circle of radius 2.2 m or more to keep the shape (on a "
+                             "circle of radius r the inner places wait about 2 m x 0.75 m / "
+                             "(r - 0.75 m))")
+    rigid = check_plan(plan, None, CheckOptions(places="rigid")).diagnostics
+    assert not [d for d in rigid if "too tightly" in d.message]
+    # the circle the hint gives: no wait long enough to note
+    rounded = text.replace("move 2 90 by beat 89", "circle 2.2 90 0.1 by beat 89").replace(
+        "move 2 180 at beat 97", "circle 2.2 180 0.1 at beat 97")
+    _, plan, _ = compile_scenario(rounded, "show.dance", PlanParameters(timing="feasible"))
+    assert plan is not None
+    assert not [d for d in check_plan(plan, None, CheckOptions(places="path")).diagnostics
+                if "too tightly" in d.message]

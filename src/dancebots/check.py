@@ -148,6 +148,8 @@ def check_show(show: PlacedShow, options: CheckOptions | None = None) -> CheckRe
     _check_circles(plan, diagnostics)
     _note_slowdowns(plan, diagnostics)
     _note_departures(plan, diagnostics)
+    if options.places == "path":
+        _note_waits(plan, diagnostics)
     _check_transitions(plan, types, samples, diagnostics)
     diagnostics.extend(show.diagnostics)
     transform = show.transform if show.world is not None else None
@@ -623,6 +625,55 @@ def _note_departures(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                 f"{'it does' if len(formation.robots) == 1 else 'they do'} not meet "
                 f"{' '.join(formation.waits_for)} on the way (--timing feasible)", None,
                 formation.span.end_col))
+
+
+WAIT_NOTE = 1.0
+"""m of the leader's path: a place that waits further than this behind where its formation
+puts it (``plan.places.place_waits``) is noted at the instruction."""
+WAIT_GROWTH = 0.1
+"""m: a wait is noted at an instruction where it grows by more than this (where it only goes
+on, it was the instruction before's)."""
+
+
+def _note_waits(plan: Plan, diagnostics: list[Diagnostic]) -> None:
+    """Notes at the instructions where a robot's place on the path waits behind the robots
+    ahead (a turn tighter than the formation is wide): the formation loses its shape there,
+    and a circle wide enough keeps it."""
+    from dancebots.plan.places import place_waits  # places imports the planner
+
+    for index, formation in enumerate(plan.formations):
+        times = formation.leader.times
+        steps = np.diff(times, append=times[-1])  # (N,) s from each sample to the next
+        waits = place_waits(plan, index)
+        found: list[tuple[tuple[int, int], str]] = []  # per instruction, the robots' waits
+        for timing in formation.timings:
+            during = (times >= timing.start) & (times < timing.end)
+            if not during.any():
+                continue
+            first = int(np.argmax(during))
+            # where a place falls further back: a wait that only goes on from the
+            # instruction before is that one's
+            listed = [f"{robot} up to {float(wait[during].max()):.1f} m for "
+                      f"{float(steps[during & (wait > WAIT_NOTE)].sum()):.0f} s"
+                      for robot, wait in waits.items()
+                      if float(wait[during].max()) > max(WAIT_NOTE, wait[first] + WAIT_GROWTH)]
+            if listed:
+                found.append(((timing.span.line, timing.span.col), ", ".join(listed)))
+        half_width = max(abs(oy) for _, oy in formation.offsets.values())
+        depth = (max(ox for ox, _ in formation.offsets.values())
+                 - min(ox for ox, _ in formation.offsets.values()))
+        # on a circle of radius r a place |oy| inside waits about depth |oy| / (r - |oy|)
+        radius = half_width * (1.0 + depth / WAIT_NOTE)
+        for (line, col), waiting in found:
+            diagnostics.append(Diagnostic(
+                plan.scenario.path, line, col, Severity.NOTE,
+                f"the leader turns here too tightly for the formation's width and depth: "
+                f"places on its path wait behind the robots ahead and the formation loses its "
+                f"shape "
+                f"(along the leader's path: {waiting})",
+                f"turn on a circle of radius {radius:.1f} m or more to keep the shape (on a "
+                f"circle of radius r the inner places wait about {depth:g} m x {half_width:g}"
+                f" m / (r - {half_width:g} m))"))
 
 
 # --- transitions -----------------------------------------------------------------------------

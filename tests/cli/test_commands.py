@@ -135,7 +135,10 @@ def test_json_report(capsys: Capture, examples: Path) -> None:
     assert report["report"]["groups"] == {"group1": ["R1", "R3"], "group2": ["R2", "R4"]}
     assert set(report["report"]["per_robot"]["R1"]) == {
         "type", "path_length_m", "max_speed_mps", "max_angular_speed_radps", "speed_limit_mps"}
-    assert all(d["severity"] == "warning" for d in report["diagnostics"])
+    assert {d["severity"] for d in report["diagnostics"]} == {"warning", "note"}
+    # the only note: the right-angle corner of line 9 is too tight for the square
+    assert [(d["line"], d["message"][:40]) for d in report["diagnostics"]
+            if d["severity"] == "note"] == [(9, "the leader turns here too tightly for th")]
 
 
 def test_json_errors(capsys: Capture, data: Path) -> None:
@@ -345,7 +348,10 @@ def test_check_judges_the_places_its_follower_drives_to(capsys: Capture) -> None
     show, world = str(bundled("open_day.dance")), str(bundled("open_day.toml"))
     status, _, err = run(capsys, "check", "--rigid-only", show, "--world", world)
     assert status == 0
-    assert err.rstrip().endswith("0 errors, 0 warnings, 10 notes")
+    assert err.rstrip().endswith("0 errors, 0 warnings, 11 notes")
+    # one of them: the right-angle corner of line 15 makes R4's place wait (issue 12)
+    assert ("open_day.dance:15:1: note: the leader turns here too tightly for the "
+            "formation's width and depth" in err)
     status, _, err = run(capsys, "check", "--rigid-only", "--follower", "tracking", show,
                          "--world", world)
     assert status == 0

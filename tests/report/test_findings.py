@@ -6,7 +6,11 @@ from dataclasses import replace
 from pathlib import Path
 
 from dancebots.plan.placement import place_show
+from dancebots.plan.planner import PlanParameters
 from dancebots.report.findings import FindingLimits, simulated_findings
+from dancebots.report.metrics import run_metrics
+from dancebots.report.verdict import run_verdict
+from dancebots.robot import BrainOptions
 from dancebots.shows.formation import RunResult, SimConfig, simulate
 from dancebots.sim.setup import prepare_show
 from tests_support import plan_of
@@ -75,8 +79,6 @@ def test_moving_over_to_a_new_formation_is_not_a_finding_but_staying_away_is() -
     where it was is reported once driving over should have been done."""
     import numpy as np
 
-    from dancebots.robot import BrainOptions
-
     text = "robots A B\ncolumn A;B 1.5 0\nmove 2 0\nrow A,B 0 1.5\nmove 8 0\n"
     result = simulated(text, SimConfig(lidar=None, brain=BrainOptions(follower="path")))
     assert not [d for d in simulated_findings(result, "x") if "from its place" in d.message]
@@ -98,9 +100,6 @@ def test_a_robot_that_ends_off_its_slot_and_turned_is_not_said_to_have_reached_i
     hint does not say it reached its place."""
     import numpy as np
 
-    from dancebots.plan.planner import PlanParameters
-    from dancebots.robot import BrainOptions
-
     plan = plan_of((examples / "thesis_7_4.dance").read_text(),
                    PlanParameters(timing="feasible"), path="show.dance")
     result = simulate(plan, *prepare_show(place_show(plan)),
@@ -116,3 +115,28 @@ def test_a_robot_that_ends_off_its_slot_and_turned_is_not_said_to_have_reached_i
                           "facing"}
     assert final["facing"].hint == ("it did not reach its place either: see the findings "
                                     "before this one for why")
+
+
+def test_a_robot_left_behind_a_turn_leaves_its_formation(data: Path) -> None:
+    """A square turned round within its own width (issue 12): the path follower's inner
+    places wait behind the robots ahead, R3 and R4 stand clear of the formation's block, and
+    the finding says so at the turn (it used to report nothing: every robot was at its place)."""
+    text = (data / "scenarios" / "valid" / "u_turn_square.dance").read_text()
+    plan = plan_of(text, PlanParameters(timing="feasible"), path="show.dance")
+    config = SimConfig(brain=BrainOptions(follower="path"))  # run's and check's defaults
+    result = simulate(plan, *prepare_show(place_show(plan)), config)
+    found = [f"{d.line}:{d.col}: {d.message}" for d in simulated_findings(result, "x")]
+    assert found == [
+        "13:1: simulated (x): R3 leaves its formation from t = 82.5 s to 83.3 s (up to 3.24 m "
+        "from where the formation puts it, more than the formation is deep plus a robot "
+        "length)",
+        "13:1: simulated (x): R4 leaves its formation from t = 85.6 s to 87.8 s (up to 3.69 m "
+        "from where the formation puts it, more than the formation is deep plus a robot "
+        "length)"]
+    metrics = run_metrics(result)
+    assert [(r.robot, round(r.max_off_formation, 2)) for r in metrics.robots
+            if r.off_formation_time > 0] == [("R3", 3.24), ("R4", 3.69)]
+    assert run_verdict(metrics).failures == (
+        "robots leave their formation on the way (further from their place than the "
+        "formation is deep plus a robot length): R3 0.9 s, up to 3.24 m, R4 2.3 s, up to "
+        "3.69 m",)

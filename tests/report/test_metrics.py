@@ -76,7 +76,7 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
             "rms_heading_error_deg", "max_heading_error_deg", "max_final_heading_error_deg",
             "facing_away_fraction", "reverse_fraction", "max_reverse_distance_m",
             "reverse_distance_m", "angular_sign_flips", "rms_formation_error_m",
-            "max_formation_error_m"} <= set(data)
+            "max_formation_error_m", "max_off_formation_m", "off_formation_s"} <= set(data)
     per_robot = data["per_robot"]
     assert isinstance(per_robot, dict)
     assert set(per_robot["R1"]) == {
@@ -85,7 +85,7 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
         "rms_heading_error_deg", "max_heading_error_deg", "facing_away_fraction",
         "reverse_fraction", "max_reverse_distance_m", "reverse_distance_m",
         "angular_sign_flips", "rms_formation_error_m", "max_formation_error_m",
-        "final_heading_error_deg"}
+        "final_heading_error_deg", "max_off_formation_m", "off_formation_s"}
     # two robots: the formation error is their one pair's, the rows' spacing change its max
     assert data["max_formation_error_m"] == per_robot["R1"]["max_formation_error_m"]
     assert data["max_formation_error_m"] == pytest.approx(data["max_spacing_change_m"],
@@ -128,6 +128,8 @@ def test_a_perfect_follower_shows_nothing_wrong() -> None:
         assert robot.angular_sign_flips == 0
         assert robot.rms_formation_error == pytest.approx(0.0, abs=1e-12)
         assert robot.max_formation_error == pytest.approx(0.0, abs=1e-12)
+        assert robot.max_off_formation == pytest.approx(0.0, abs=1e-9)
+        assert robot.off_formation_time == 0.0
     assert metrics.reverse_fraction == metrics.facing_away_fraction == 0.0
     assert metrics.max_formation_error == pytest.approx(0.0, abs=1e-12)
     assert metrics.rms_slot_error == pytest.approx(0.0, abs=1e-9)  # the path's place on a

@@ -49,7 +49,8 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
                "field) and write metrics.json, plots, an animation and a CSV log. Exit 0 when "
                "the show ran clean; 1 when it did not (a collision, a contact with a person, a "
                "robot in its error state, a robot far from its final slot or heading, a robot "
-               "driving against its slot's direction); 2 when the input is invalid.")
+               "driving against its slot's direction, a robot that leaves its formation, a show "
+               "that did not finish); 2 when the input is invalid.")
 
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
                 "animation.gif", "animation.mp4", "sound.wav", "preview.mp4", "metrics.json")

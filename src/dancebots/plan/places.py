@@ -41,7 +41,7 @@ if TYPE_CHECKING:
     from dancebots.plan.planner import Plan, PlannedFormation
 
 __all__ = ["FILE_MARGIN", "OffsetPath", "catch_up_speed", "offset_path", "path_places",
-           "places_end"]
+           "place_waits", "places_end"]
 
 FloatArray = NDArray[np.float64]
 
@@ -204,6 +204,17 @@ def _compute_file_table(leader: LeaderTrajectory,
     return {robot: abeam for robot, (abeam, _) in placed.items()}
 
 
+def place_waits(plan: Plan, index: int) -> dict[str, FloatArray]:
+    """Per robot of formation ``index``, at its leader's sample times (N,): how far (m of the
+    leader's path) its place waits behind where the formation puts it, to keep its distance
+    from the robots ahead (module docstring); 0 where it does not wait. ``check`` notes
+    long waits: the formation loses its shape there."""
+    formation = plan.formations[index]
+    driven = _leader_driven(formation.leader, formation.leader.times)
+    return {robot: np.maximum(driven + min(formation.offsets[robot][0], 0.0) - abeam, 0.0)
+            for robot, abeam in _file_table(plan, index).items()}
+
+
 def _kept_apart(path: OffsetPath, abeam: FloatArray,
                 fronts: list[tuple[float, FloatArray]]) -> FloatArray:
     """``abeam`` (N,) (leader path length, m) moved back along ``path`` until the place is at
@@ -249,7 +260,7 @@ def _drivable(path: OffsetPath, abeam: FloatArray, fastest: FloatArray) -> Float
     return abeam
 
 
-def path_places(plan: Plan, robot: str, times: FloatArray,
+def path_places(plan: Plan, robot: str, times: FloatArray, wait_behind: bool = True,
                 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Where ``robot``'s place on its leader's path is at show times ``times`` (T,) s,
     ascending, show frame: positions (T, 2) m; the heading the robot should have there (T,)
@@ -263,7 +274,10 @@ def path_places(plan: Plan, robot: str, times: FloatArray,
     leader's samples and interpolated between them. Once the leader stands after its last
     instruction, the place goes at :func:`catch_up_speed` on a cubic Hermite curve to the
     robot's rigid slot (the leader's final pose composed with (ox, oy)): where the path
-    behind the leader is curved (a show that ends on an arc) the two differ."""
+    behind the leader is curved (a show that ends on an arc) the two differ.
+
+    ``wait_behind=False``: the place where the formation puts the robot, without the wait
+    behind the robots ahead (what the audience expects of it; the metrics' ``behind``)."""
     times = np.asarray(times, dtype=float)
     count = len(times)
     points = np.empty((count, 2))
@@ -281,7 +295,8 @@ def path_places(plan: Plan, robot: str, times: FloatArray,
         ox, oy = formation.offsets[robot]
         leader = formation.leader
         now = times[a:b]
-        abeam = _file_table(plan, index)[robot]
+        abeam = (_file_table(plan, index)[robot] if wait_behind else
+                 _leader_driven(leader, leader.times) + min(ox, 0.0))
         path = _offset_path(formation, oy)
         place, place_heading, stretch = path.at(np.interp(now, leader.times, abeam))
         if len(leader.times) >= 2:

@@ -3,8 +3,9 @@
 ``check`` first judges the rigid desired poses (fast); then it runs the show in the ideal
 profile and reports here what a spectator would see go wrong, at the line of the instruction
 the robot's formation was executing: contacts, robots driving against their slot's direction,
-robots far from their slot for a while, and robots that do not reach their final slot or
-heading. Pure: a :class:`~dancebots.shows.formation.RunResult` in, diagnostics out.
+robots far from their slot for a while, robots that leave their formation, and robots that do
+not reach their final slot or heading. Pure: a :class:`~dancebots.shows.formation.RunResult`
+in, diagnostics out.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from dancebots.report.metrics import (
     against_desired,
     heading_errors,
     moving_over_to_place,
+    off_formation,
     samples_per_tick,
 )
 from dancebots.report.verdict import FINAL_HEADING_TOLERANCE, FINAL_SLOT_TOLERANCE
@@ -111,6 +113,16 @@ def simulated_findings(result: RunResult, what_ran: str,
                     "it cannot keep up or was held: slow the show (--vmax) or give the "
                     "formation more room (a robot close behind another is slowed by its "
                     "LIDAR)")
+    outside: list[Diagnostic] = []
+    for i, name in enumerate(result.robots):
+        distance, out, _ = off_formation(result, i, limits.min_duration)
+        for a, b in true_runs(out):
+            add(outside, i, a, f"{name} leaves its formation from t = {result.times[a]:.1f} s "
+                f"to {result.times[b - 1]:.1f} s (up to {distance[a:b].max():.2f} m from "
+                "where the formation puts it, more than the formation is deep plus a robot "
+                "length)", "it waits behind the robots ahead where the leader turns more "
+                "tightly than the formation is wide, or it cannot keep up: turn on a circle "
+                "at least half the formation's width in radius, or slow the show (--vmax)")
     final: list[Diagnostic] = []
     last = len(result.times) - 1
     for i, name in enumerate(result.robots):
@@ -127,7 +139,7 @@ def simulated_findings(result: RunResult, what_ran: str,
                 "one for why" if gap > limits.final_distance else "it reached its place but "
                 "turned round on the way, or could not turn there (see the findings before "
                 "this one)")
-    for kind in (contacts, reversing, off_slot, final):
+    for kind in (contacts, reversing, off_slot, outside, final):
         if len(kind) > limits.per_kind:
             more = len(kind) - limits.per_kind + 1
             kind[limits.per_kind - 1:] = [Diagnostic(

@@ -46,6 +46,7 @@ __all__ = [
     "heading_errors",
     "held_place_error",
     "moving_over_to_place",
+    "off_formation",
     "reverse_runs",
     "run_metrics",
     "samples_per_tick",
@@ -102,6 +103,10 @@ class RobotMetrics:
     the formation error (:func:`formation_error`) over every pair it belongs to, m (None when
     it never shares a formation). final_heading_error: |wrap(yaw - slot heading)| at the end
     of the run, deg (the slot stands then: its heading is the leader's).
+    max_off_formation: the largest distance from where its formation puts it
+    (``RunResult.formation_places``), m, and off_formation_time the time it was outside its
+    formation there, s (:func:`off_formation`); neither counts while it moves over to its
+    place in a formation it has just joined.
     """
 
     robot: str
@@ -123,6 +128,8 @@ class RobotMetrics:
     final_heading_error: float = 0.0
     max_reverse_distance: float = 0.0
     reverse_distance: float = 0.0
+    max_off_formation: float = 0.0
+    off_formation_time: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -200,6 +207,16 @@ class RunMetrics:
         return sum(r.angular_sign_flips for r in self.robots)
 
     @property
+    def max_off_formation(self) -> float:
+        """m: the furthest any robot was from where its formation puts it."""
+        return max((r.max_off_formation for r in self.robots), default=0.0)
+
+    @property
+    def off_formation_time(self) -> float:
+        """s: the longest any robot was outside its formation (:func:`off_formation`)."""
+        return max((r.off_formation_time for r in self.robots), default=0.0)
+
+    @property
     def max_final_error(self) -> float:
         """m: the furthest any robot ends from its final slot."""
         return max((r.final_error for r in self.robots), default=0.0)
@@ -241,6 +258,8 @@ class RunMetrics:
             "angular_sign_flips": self.angular_sign_flips,
             "rms_formation_error_m": r3(self.rms_formation_error),
             "max_formation_error_m": r3(self.max_formation_error),
+            "max_off_formation_m": r3(self.max_off_formation),
+            "off_formation_s": r3(self.off_formation_time),
             "per_robot": {
                 m.robot: {
                     "rms_error_m": r3(m.rms_error),
@@ -261,6 +280,8 @@ class RunMetrics:
                     "rms_formation_error_m": r3(m.rms_formation_error),
                     "max_formation_error_m": r3(m.max_formation_error),
                     "final_heading_error_deg": r3(m.final_heading_error),
+                    "max_off_formation_m": r3(m.max_off_formation),
+                    "off_formation_s": r3(m.off_formation_time),
                 } for m in self.robots
             },
             "stops": sum(m.stops for m in self.robots),
@@ -303,6 +324,7 @@ def run_metrics(result: RunResult) -> RunMetrics:
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
     flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
+    off = [off_formation(result, i) for i in range(len(result.robots))]  # (distance, outside)
     robots = tuple(
         RobotMetrics(name, float(np.sqrt(np.mean(error[i] ** 2))), float(error[i].max()),
                      float(np.sqrt(np.mean(deviation[i] ** 2))), float(deviation[i].max()),
@@ -315,7 +337,9 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      float(np.mean(heading[i, during] > FACING_AWAY_ANGLE)),
                      _fraction(against[i], moving[i]), flips[i],
                      pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]),
-                     longest[i], total[i])
+                     longest[i], total[i],
+                     float(np.where(off[i][2], off[i][0], 0.0).max(initial=0.0)),
+                     float(off[i][1].sum() * period))
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
@@ -377,6 +401,35 @@ def moving_over_to_place(result: RunResult, robot: int, distance: FloatArray,
         over[k:int(np.searchsorted(times, until, side="right"))] = True
     return over
 
+
+
+def off_formation(result: RunResult, robot: int, grace: float = 1.0,
+                  ) -> tuple[FloatArray, BoolArray, BoolArray]:
+    """Whether ``robot`` is out of its formation, as the audience sees it.
+
+    Returns distance (T,), m: from where its formation puts it
+    (``RunResult.formation_places``: its rigid slot for ``tracking``, its place on the
+    leader's path without the wait behind the robots ahead otherwise); outside (T,): while
+    the show runs, further than its formation's depth (front row to back row, m) plus its
+    own length, so that it stands clear of the formation's block (never while it is a
+    formation of its own: the slot error judges it then); counted (T,): the ticks
+    judged (the show runs and it is not moving over to its place in a formation it has just
+    joined, :func:`moving_over_to_place` with ``grace`` s). A robot that waits behind the
+    robots ahead round a corner tighter than its formation is wide (``plan.places``) is out
+    of place; one that waits a formation's length is out of the formation.
+    """
+    places = (result.formation_places if result.formation_places is not None
+              else result.reference[..., :2])
+    distance = np.hypot(result.poses[robot, :, 0] - places[robot, :, 0],
+                        result.poses[robot, :, 1] - places[robot, :, 1])
+    name = result.robots[robot]
+    depth = np.array([max(ox for ox, _ in f.offsets.values())
+                      - min(ox for ox, _ in f.offsets.values())
+                      if name in f.offsets and len(f.offsets) > 1 else np.inf
+                      for f in result.plan.formations])  # a robot alone has none to leave
+    tolerance = depth[result.formation[robot]] + result.placement.types[robot].length
+    counted = result.during_show & ~moving_over_to_place(result, robot, distance, grace)
+    return distance, counted & (distance > tolerance), counted
 
 
 def smallest_person_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray,

@@ -4,7 +4,9 @@ A show runs clean when no robot touched another robot, a wall, an obstacle or a 
 robot went into its error state, every robot ends near its final slot (a formation show
 that ends out of formation did not look like one), no robot drives against the direction its
 slot moves for more than a small part of the time (a robot that turned round and reverses),
-and every robot ends facing about the way its final slot faces. Pure functions of the metrics;
+every robot ends facing about the way its final slot faces, and no robot leaves its formation
+on the way (further from its place than the formation is deep plus its own length: a robot
+left standing behind a corner, ``report.metrics.off_formation``). Pure functions of the metrics;
 the shells turn a verdict into their exit status (0 clean, 1 not).
 """
 
@@ -89,6 +91,14 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
         failures.append(f"the show did not finish: the formation waited for a held robot until "
                         f"the run ended at show time {metrics.final_show_time:.1f} s of "
                         f"{metrics.show_duration:.1f} s")
+    outside = [r for r in metrics.robots if r.off_formation_time > 0.0]
+    if outside:
+        listed = ", ".join(f"{r.robot} {r.off_formation_time:.1f} s, up to "
+                           f"{r.max_off_formation:.2f} m" for r in outside)
+        failures.append(f"{'robots leave their' if len(outside) > 1 else 'a robot leaves its'} "
+                        f"formation on the way (further from "
+                        f"{'their' if len(outside) > 1 else 'its'} place than the formation is "
+                        f"deep plus a robot length): {listed}")
     askew = [r for r in metrics.robots if r.final_heading_error > heading_tolerance]
     if askew:
         listed = ", ".join(f"{r.robot} {r.final_heading_error:.0f}°" for r in askew)

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from dancebots.control.tracking import follower_references, shared_pose_references
 from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
 from dancebots.perception.cloud import PointCloud
+from dancebots.plan.places import path_places
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.robot_batch import BatchBrains, batch_supported
@@ -186,6 +187,10 @@ class RunResult:
     place on the leader's path otherwise) in the world frame: x, y (m), heading (rad,
     continuous: the direction the place moves, or that + pi where it is driven in reverse),
     signed speed along that heading (m/s) and angular speed (rad/s).
+    formation_places (R, T, 2): where the robot's formation puts it, world frame, m: its
+    rigid slot for ``tracking``, its place on the leader's path otherwise, without the wait
+    behind the robots ahead (``plan.places.path_places(..., wait_behind=False)``): what the
+    audience expects, for the metrics' ``behind``.
     """
 
     plan: Plan
@@ -211,6 +216,7 @@ class RunResult:
     show_times: FloatArray | None = None
     holds: NDArray[np.bool_] | None = None
     final_slots: FloatArray | None = None
+    formation_places: FloatArray | None = None
 
     @property
     def final_slot(self) -> FloatArray:
@@ -543,7 +549,7 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
     show_times = recorder.series("show_times")  # (R, T)
     slots = [brain.slot0 for brain in brains]
     desired, leader, required, formation, reference = [], [], [], [], []
-    final_slots = []
+    final_slots, formation_places = [], []
     for i, robot in enumerate(placement.robots):
         final_slots.append(_to_world(placement.starts, slots, plan.track(
             robot, np.array([plan.duration])).desired, i)[0])
@@ -559,6 +565,11 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
         rows[:, :2] = compose_points(frame, rows[:, :2])
         rows[:, 2] += frame[2]
         reference.append(rows)
+        if config.brain.follower == "tracking":
+            formation_places.append(desired[-1][:, :2])
+        else:
+            formation_places.append(compose_points(frame, path_places(
+                plan, robot, show_times[i], wait_behind=False)[0]))
     return RunResult(plan, arena, placement, config, times, poses, velocities, commands,
                      np.stack(desired), np.stack(leader), np.stack(required),
                      np.stack(formation), collisions,
@@ -566,4 +577,5 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                                   np.array([t.width for t in placement.types])),
                      status, events, spectators,
                      spectator_radii, np.stack(reference), scans, show_times,
-                     recorder.series("holds"), np.stack(final_slots))
+                     recorder.series("holds"), np.stack(final_slots),
+                     np.stack(formation_places))
