@@ -31,6 +31,7 @@ from dancebots.cli.common import (
     bundled,
     in_range,
     positive,
+    profile_missing,
     progress,
     refuse,
     run_show_into,
@@ -70,8 +71,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(host:port of its head, as `ray start --head` prints; needs Ray: "
                         "pip install ray) instead of local processes; every node must see the "
                         "show's files at the same paths")
-    parser.add_argument("--profile", choices=("ideal", "realistic"), default="realistic",
-                        help="the simulator's profile (default: realistic)")
+    parser.add_argument("--profile", choices=("ideal", "realistic", "physics"),
+                        default="realistic", help="the simulator's profile (physics: MuJoCo, "
+                        "no noise: the seeds draw the crowds only) (default: realistic)")
     parser.add_argument("--no-lidar", action="store_true",
                         help="robots without LIDAR (they cannot see people: for comparison)")
     add_follower_argument(parser)
@@ -99,6 +101,9 @@ def run(args: argparse.Namespace) -> int:
     if args.world is None:
         return refuse(NAME, args.json, "certify needs --world W: a world with the people "
                       "([[crowds]] or [[spectators]], docs/worlds.md)")
+    missing = profile_missing(args.profile)
+    if missing is not None:
+        return refuse(NAME, args.json, missing)
     job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
                      args.timing, not args.no_lidar, args.final_tolerance, args.hold,
                      args.stop_rule)

@@ -48,6 +48,7 @@ __all__ = [
     "positive",
     "print_diagnostics",
     "print_verdict",
+    "profile_missing",
     "progress",
     "raise_if_interrupted",
     "refuse",
@@ -115,6 +116,18 @@ def in_range(low: float, high: float, integer: bool = False) -> Callable[[str], 
 
     parse.__name__ = "integer" if integer else "number"  # argparse names it in errors
     return parse
+
+
+def profile_missing(profile: str) -> str | None:
+    """Why the simulator's ``profile`` cannot run here (the physics profile without MuJoCo,
+    with how to install it), or None."""
+    import importlib.util
+
+    if profile == "physics" and importlib.util.find_spec("mujoco") is None:
+        from dancebots.sim.physics import INSTALL_HINT
+
+        return INSTALL_HINT
+    return None
 
 
 def fail(command: str, message: str) -> int:

@@ -21,6 +21,7 @@ from dancebots.cli.common import (
     bundled,
     in_range,
     print_verdict,
+    profile_missing,
     progress,
     refuse,
     run_show_into,
@@ -52,7 +53,7 @@ CONTROLLERS = ("pid", "vo")
 """``leader_follower.controllers.CONTROLLERS``."""
 LEADERS = ("person", "robot")
 """``shows.queue.LEADERS``."""
-PROFILES = ("ideal", "realistic")
+PROFILES = ("ideal", "realistic", "physics")
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "queue.png", "animation.gif",
                 "animation.mp4", "metrics.json")
 """Every file a queue run may write into its output directory (besides the manifest)."""
@@ -80,8 +81,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--standoff", type=in_range(0.2, 3.0), default=0.5, metavar="M",
                         help="distance kept to the object in front, 0.2 to 3 m (default 0.5)")
     parser.add_argument("--profile", choices=PROFILES, default="ideal",
-                        help="ideal: commands act at once; realistic: inertia, lag and noise "
-                        "(default: ideal)")
+                        help="ideal: commands act at once; realistic: inertia, lag and noise; "
+                        "physics: the robots' bodies and wheels in MuJoCo (needs `pip install "
+                        "'dancebots[physics]'`) (default: ideal)")
     parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
                         metavar="N", help="seed of the noise of the realistic profile (default 0)")
     parser.add_argument("--out", metavar="DIR", help="output directory (default "
@@ -102,6 +104,9 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.sim.setup import SetupError
     from dancebots.world import load_world
 
+    missing = profile_missing(args.profile)
+    if missing is not None:
+        return refuse(NAME, args.json, missing)
     world_path = args.world or "course"
     if world_path in BUNDLED_WORLDS and not Path(world_path).exists():
         world_path = short_path(bundled(BUNDLED_WORLDS[world_path]))

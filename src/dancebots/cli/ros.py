@@ -28,6 +28,7 @@ from dancebots.cli.common import (
     add_timing_argument,
     fail,
     print_diagnostics,
+    profile_missing,
 )
 
 NAME = "ros"
@@ -37,7 +38,7 @@ DESCRIPTION = ("Run a show through ROS 1: `formation` on each real robot (one pe
                "bridge on this machine.")
 START_STRATEGIES = ("agreed", "thesis", "timecode")
 """``sync.start.START_STRATEGIES`` (a test keeps them equal); the first is the default."""
-PROFILES = ("ideal", "realistic")
+PROFILES = ("ideal", "realistic", "physics")
 
 _INSTALL = ("roslaunch is not installed; install Debian's ROS 1 packages: apt-get install "
             "ros-core python3-rospy python3-roslaunch python3-tf2-ros python3-sensor-msgs "
@@ -81,7 +82,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                               "simulator bridge on this machine under one ROS master.")
     add_show_arguments(simulate)
     simulate.add_argument("--profile", choices=PROFILES, default="ideal",
-                          help="the simulated robots' dynamics (default: ideal)")
+                          help="the simulated robots' dynamics: ideal, realistic or physics "
+                          "(MuJoCo) (default: ideal)")
     simulate.add_argument("--no-lidar", action="store_true",
                           help="robots without LIDAR (no stops, no force field)")
     add_follower_argument(simulate)
@@ -142,6 +144,9 @@ def run(args: argparse.Namespace) -> int:
             print(shlex.join(command))
             return EXIT_OK
         os.execve(roslaunch, command, ros_environment())
+    missing = profile_missing(args.profile)
+    if missing is not None:
+        return fail(NAME, missing)
     try:
         _, placement = prepare_show(place_show(plan, show.world))
     except SetupError as exc:

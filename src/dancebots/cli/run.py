@@ -28,6 +28,7 @@ from dancebots.cli.common import (
     positive,
     print_diagnostics,
     print_verdict,
+    profile_missing,
     progress,
     refuse,
     run_show_into,
@@ -55,7 +56,7 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
                 "animation.gif", "animation.mp4", "sound.wav", "preview.mp4", "metrics.json")
 """Every file a run may write into its output directory (besides the manifest)."""
-PROFILES = ("ideal", "realistic")
+PROFILES = ("ideal", "realistic", "physics")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
 DETECTORS = ("compensated", "thesis")
 FORCE_STEERINGS = ("blend", "thesis")
@@ -71,7 +72,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "dancebots replaces (other files there are never touched)")
     parser.add_argument("--profile", choices=PROFILES, default="ideal",
                         help="ideal: commands act at once (thesis 2D); realistic: inertia, lag "
-                        "and noise (default: ideal)")
+                        "and noise; physics: the robots' bodies, wheels and slip in MuJoCo "
+                        "(docs/physics.md; needs `pip install 'dancebots[physics]'`) "
+                        "(default: ideal)")
     parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
                         metavar="N", help="seed of the noise of the realistic profile (default 0)")
     parser.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")
@@ -132,6 +135,9 @@ def run(args: argparse.Namespace) -> int:
         return refuse(NAME, args.json, str(exc))
     show = replace(show, report=None)  # the placement's samples are not needed any more
     console = Console(stderr=True, soft_wrap=True)
+    missing = profile_missing(args.profile)
+    if missing is not None:
+        return refuse(NAME, args.json, missing)
     if args.sound:
         from dancebots.report.sound import espeak_available
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["IDEAL", "PROFILES", "REALISTIC", "Profile", "actuate", "fresh_commands"]
+__all__ = ["IDEAL", "PHYSICS", "PROFILES", "REALISTIC", "Profile", "actuate", "fresh_commands"]
 
 FloatArray = NDArray[np.float64]
 
@@ -28,6 +28,9 @@ class Profile:
         robot's tracks need a breakaway torque to slide, so it does not creep on the lag's
         exponential tail (without it a robot told to stop at 0.1 m/s still moves at 2 mm/s a
         second later); (0, 0): no standstill.
+    engine: None: the fields above move the robots (``actuate``, then the unicycle);
+        "mujoco": a physics engine does (``sim.physics``: mass, inertia, wheel slip, motor
+        limits) and the fields above are not used.
     """
 
     name: str
@@ -37,6 +40,7 @@ class Profile:
     linear_noise: float = 0.0
     angular_noise: float = 0.0
     standstill: tuple[float, float] = (0.0, 0.0)
+    engine: str | None = None
 
 
 IDEAL = Profile("ideal")
@@ -44,7 +48,10 @@ IDEAL = Profile("ideal")
 REALISTIC = Profile("realistic", lag=0.25, linear_acceleration=1.0, angular_acceleration=4.0,
                     linear_noise=0.01, angular_noise=0.02, standstill=(0.01, 0.02))
 """Inertia, actuator lag and noise: standing in for the thesis's 3D simulation (ch. 7.2.1)."""
-PROFILES = {profile.name: profile for profile in (IDEAL, REALISTIC)}
+PHYSICS = Profile("physics", engine="mujoco")
+"""Skid-steer, tracked and differential robots in MuJoCo (``sim.physics``): standing in for
+the thesis's 3D simulator (Gazebo) with the robots' models, whose wheels slip in turns."""
+PROFILES = {profile.name: profile for profile in (IDEAL, REALISTIC, PHYSICS)}
 
 
 def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: float,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import astuple, dataclass, replace
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 import shapely
@@ -47,6 +47,9 @@ from dancebots.sim.kinematics import Profile, actuate, fresh_commands
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds, scan_ranges
 from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.spectators import spectator_discs
+
+if TYPE_CHECKING:
+    from dancebots.sim.physics import PhysicsWorld
 
 __all__ = ["STEP_BACK", "STEP_BACK_AFTER", "CollisionEvent", "ContactKind", "Stage",
            "period_due"]
@@ -132,6 +135,14 @@ class Stage:
         self.disc_heights = np.array([p.height for p in self.spectators] + (
             self.crowd.height.tolist() if self.crowd is not None else []))
         self.discs = self._discs(spectator_discs(self.spectators, self.walked))
+        self.physics: PhysicsWorld | None = None
+        if profile.engine == "mujoco":  # the physics profile: MuJoCo moves the robots
+            from dancebots.sim.physics import PhysicsWorld
+
+            self.physics = PhysicsWorld(
+                placement.types, starts, arena.room, arena.wall_height,
+                [(o.polygon, o.height) for o in arena.obstacles],
+                np.column_stack([self.discs[:, 2], self.disc_heights]))
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
@@ -190,10 +201,13 @@ class Stage:
         pose, corners_now = self.pose, self.corners
         wanted = fresh_commands(np.clip(command, -self.limits, self.limits), issued, now,
                                 self.command_timeout)
-        velocity = actuate(self.profile, self.velocity, wanted, dt, self.rng)
-        x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2], velocity[:, 0],
-                                         velocity[:, 1], np.full(count, dt))
-        proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
+        if self.physics is not None:  # the engine moves them, its contacts push back
+            proposed, velocity = self.physics.step(wanted, dt, self.discs)
+        else:
+            velocity = actuate(self.profile, self.velocity, wanted, dt, self.rng)
+            x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2],
+                                             velocity[:, 0], velocity[:, 1], np.full(count, dt))
+            proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
         corners = self._footprints(proposed)
         blocked = np.zeros(count, dtype=bool)
         contacts: list[tuple[int, int | str, ContactKind]] = []
@@ -224,9 +238,10 @@ class Stage:
                     round(now + dt, 6), self.placement.robots[i], str(other), kind,
                     float(pose[i, 0]), float(pose[i, 1]), bool(np.any(velocity[i] != 0.0))))
             self._active[key] = now + dt
-        proposed[blocked] = pose[blocked]
-        corners[blocked] = corners_now[blocked]
-        velocity[blocked] = 0.0
+        if self.physics is None:  # in the engine the bodies' contacts stop them
+            proposed[blocked] = pose[blocked]
+            corners[blocked] = corners_now[blocked]
+            velocity[blocked] = 0.0
         self.pose, self.corners, self.velocity = proposed, corners, velocity
         if len(self.discs):
             self._walk_spectators()
