@@ -356,3 +356,27 @@ def test_check_judges_the_places_its_follower_drives_to(capsys: Capture) -> None
                          "--world", world)
     assert status == 0
     assert "open_day.dance:23:1: warning: R1 and R2 come within 0.00 m of each other" in err
+
+
+def test_the_physics_profile_says_how_to_install_mujoco_when_it_is_missing(
+        capsys: Capture, examples: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Without MuJoCo, every command that simulates refuses --profile physics with the command
+    that installs it (exit 2, nothing written); the other profiles do not need it."""
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # as if it were not installed
+    hint = ("the physics profile runs on MuJoCo, which is not installed here: install it with "
+            "`.venv/bin/pip install 'dancebots[physics]'` (or `pip install mujoco`), or use "
+            "--profile ideal or realistic")
+    from dancebots.cli.common import bundled
+
+    show = str(examples / "thesis_7_1.dance")
+    for command in (["run", show, "--out", str(tmp_path / "run")],
+                    ["follow", "--out", str(tmp_path / "follow")],
+                    ["certify", show, "--world", str(bundled("open_day_crowd.toml")), "--runs",
+                     "1", "--out", str(tmp_path / "certify")]):
+        status, _, err = run(capsys, *command, "--profile", "physics")
+        assert status == 2, command
+        assert err.strip() == f"dancebots {command[0]}: error: {hint}", command
+    assert not any(tmp_path.iterdir())
+    status, _, _ = run(capsys, "run", show, "--no-animation", "--out", str(tmp_path / "ideal"))
+    assert status == 0

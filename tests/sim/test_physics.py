@@ -1,0 +1,104 @@
+"""The physics profile in MuJoCo: robots drive, skid-steer ones slip in turns as Coulomb
+friction predicts, walls and people stop them, and a whole show runs on it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mujoco", reason="the physics profile's engine (the dev extra installs it)")
+
+from dancebots.sim.physics import PhysicsWorld
+from dancebots.world.model import BUILTIN_ROBOT_TYPES
+
+ROOM = np.array([[-10.0, -10.0], [10.0, -10.0], [10.0, 10.0], [-10.0, 10.0]])
+NOBODY = np.zeros((0, 2))
+
+
+def steady(world: PhysicsWorld, command: tuple[float, float], seconds: float = 3.0,
+           ) -> np.ndarray:
+    """The mean achieved (v, w) of robot 0 over the second half of ``seconds`` s."""
+    achieved = []
+    for _ in range(round(seconds / 0.1)):
+        _, velocity = world.step(np.array([command]), 0.1, NOBODY)
+        achieved.append(velocity[0])
+    result: np.ndarray = np.mean(achieved[len(achieved) // 2:], axis=0)
+    return result
+
+
+@pytest.mark.parametrize("name", ["HUSKY", "TRADR", "SIM", "TURTLEBOT3"])
+def test_every_robot_drives_straight_at_its_commanded_speed(name: str) -> None:
+    kind = BUILTIN_ROBOT_TYPES[name]
+    world = PhysicsWorld([kind], np.zeros((1, 3)), ROOM, 1.0, [], NOBODY)
+    v, w = steady(world, (kind.max_speed, 0.0))
+    assert v == pytest.approx(kind.max_speed, rel=0.01)
+    assert abs(w) < 1e-3
+    pose = world.poses()[0]
+    assert abs(pose[1]) < 0.01
+    assert abs(pose[2]) < 0.01
+
+
+def test_skid_steer_robots_slip_when_they_turn_and_a_differential_one_does_not() -> None:
+    """On the spot at 1 rad/s commanded: a HUSKY turns at about 0.55 rad/s, which Coulomb
+    friction at its four wheels predicts (wheelbase 0.512 m, track 0.5708 m: the yaw rate
+    at which the wheels' friction moments balance is b u / (a^2 + b^2), a and b half the
+    wheelbase and track, u the wheels' speed); a TurtleBot3 on two wheels and casters turns at
+    the commanded rate."""
+    husky = PhysicsWorld([BUILTIN_ROBOT_TYPES["HUSKY"]], np.zeros((1, 3)), ROOM, 1.0, [],
+                         NOBODY)
+    a, b = 0.512 / 2, 0.5708 / 2
+    coulomb = b * b / (a * a + b * b)  # w / w_commanded, with u = w_commanded b
+    _, w = steady(husky, (0.0, 1.0))
+    assert w == pytest.approx(coulomb, abs=0.05)
+    assert w < 0.7  # slip is visible
+    tb3 = PhysicsWorld([BUILTIN_ROBOT_TYPES["TURTLEBOT3"]], np.zeros((1, 3)), ROOM, 1.0, [],
+                       NOBODY)
+    _, w = steady(tb3, (0.0, 1.0))
+    assert w == pytest.approx(1.0, abs=0.02)
+
+
+def test_a_wall_and_a_person_stop_a_robot() -> None:
+    """A HUSKY driven at the room's wall for 15 s ends against it, not through it; one driven
+    at a person standing in its way stops in front of the person."""
+    kind = BUILTIN_ROBOT_TYPES["HUSKY"]
+    world = PhysicsWorld([kind], np.array([[7.0, 0.0, 0.0]]), ROOM, 1.0, [], NOBODY)
+    for _ in range(150):
+        world.step(np.array([[1.0, 0.0]]), 0.1, NOBODY)
+    x = world.poses()[0, 0]
+    assert 10.0 - kind.length / 2 - 0.1 < x < 10.0 - kind.length / 2 + 0.03
+    person = np.array([[0.25, 1.7]])
+    world = PhysicsWorld([kind], np.zeros((1, 3)), ROOM, 1.0, [], person)
+    for _ in range(60):
+        world.step(np.array([[0.5, 0.0]]), 0.1, np.array([[2.0, 0.0, 0.25]]))
+    assert world.poses()[0, 0] < 2.0 - 0.25 - kind.length / 2 + 0.03
+
+
+def test_a_show_runs_on_the_physics_profile_and_its_slip_shows_in_the_log(examples: Path,
+                                                                        ) -> None:
+    """Listing 7.1 (two SIM robots, LIDAR on, the path follower): no contact, both end on their
+    slots, and on turns the robots turn more slowly than commanded (the achieved angular speed
+    is the engine's)."""
+    from dancebots.plan.placement import place_show
+    from dancebots.plan.planner import PlanParameters
+    from dancebots.report.metrics import run_metrics
+    from dancebots.robot import BrainOptions
+    from dancebots.shows.formation import SimConfig, simulate
+    from dancebots.sim import PROFILES, prepare_show
+    from tests_support import plan_of
+
+    plan = plan_of((examples / "thesis_7_1.dance").read_text(),
+                   PlanParameters(timing="feasible"))
+    result = simulate(plan, *prepare_show(place_show(plan)),
+                      SimConfig(profile=PROFILES["physics"],
+                                brain=BrainOptions(follower="path")))
+    metrics = run_metrics(result)
+    assert metrics.collisions == 0
+    assert metrics.max_final_error < 0.1
+    commanded, achieved = result.commands[..., 1], result.velocities[..., 1]
+    turning = np.abs(commanded) > 0.1
+    ratio = float(np.median(achieved[turning] / commanded[turning]))
+    assert 0.1 < ratio < 0.8, ratio
+    assert math.isfinite(metrics.max_spacing_change or math.nan)
