@@ -50,9 +50,26 @@ def test_motors_can_spin_a_wheel_and_servos_are_stiff() -> None:
         assert body.kv(kind.max_speed) * 0.05 * top == pytest.approx(body.max_torque)
 
 
+def test_the_turn_expansion_is_the_coulomb_ratio_of_each_body() -> None:
+    """1 + mean(x_i^2) / (b/2)^2 over the wheels at x_i: HUSKY's four wheels 1.80 (Clearpath's
+    driver uses 1.875), TRADR's five road wheels a side 1.75, none for a differential robot."""
+    husky = PHYSICAL_TYPES["HUSKY"]
+    assert husky.turn_expansion == pytest.approx(1 + 0.256 ** 2 / 0.2854 ** 2)
+    assert husky.turn_expansion == pytest.approx(1.805, abs=1e-3)
+    tradr = PHYSICAL_TYPES["TRADR"]
+    xs = np.linspace(-0.275, 0.275, 5)
+    assert tradr.turn_expansion == pytest.approx(1 + np.mean(xs ** 2) / 0.225 ** 2)
+    assert PHYSICAL_TYPES["TURTLEBOT3"].turn_expansion == 1.0
+
+
 def test_wheel_speeds_are_each_robots_kinematics() -> None:
     husky, tb3 = PHYSICAL_TYPES["HUSKY"], PHYSICAL_TYPES["TURTLEBOT3"]
-    speeds = wheel_speeds([husky, tb3], np.array([[0.5, 1.0], [0.2, -2.0]]))
+    command = np.array([[0.5, 1.0], [0.2, -2.0]])
+    widened = wheel_speeds([husky, tb3], command)  # calibrated: the track times 1.805
+    b = 0.5708 * husky.turn_expansion
+    assert widened[:4].tolist() == pytest.approx([(0.5 - b / 2) / 0.1651] * 2
+                                                 + [(0.5 + b / 2) / 0.1651] * 2)
+    speeds = wheel_speeds([husky, tb3], command, "geometric")
     left = (0.5 - 1.0 * 0.5708 / 2) / 0.1651
     right = (0.5 + 1.0 * 0.5708 / 2) / 0.1651
     assert speeds.tolist() == pytest.approx([left, left, right, right,

@@ -71,7 +71,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(host:port of its head, as `ray start --head` prints; needs Ray: "
                         "pip install ray) instead of local processes; every node must see the "
                         "show's files at the same paths")
-    parser.add_argument("--profile", choices=("ideal", "realistic", "physics"),
+    parser.add_argument("--profile", choices=("ideal", "realistic", "physics", "physics-geometric"),
                         default="realistic", help="the simulator's profile (physics: MuJoCo, "
                         "no noise: the seeds draw the crowds only) (default: realistic)")
     parser.add_argument("--no-lidar", action="store_true",

@@ -123,7 +123,7 @@ def profile_missing(profile: str) -> str | None:
     with how to install it), or None."""
     import importlib.util
 
-    if profile == "physics" and importlib.util.find_spec("mujoco") is None:
+    if profile.startswith("physics") and importlib.util.find_spec("mujoco") is None:
         from dancebots.sim.physics import INSTALL_HINT
 
         return INSTALL_HINT

@@ -53,7 +53,7 @@ CONTROLLERS = ("pid", "vo")
 """``leader_follower.controllers.CONTROLLERS``."""
 LEADERS = ("person", "robot")
 """``shows.queue.LEADERS``."""
-PROFILES = ("ideal", "realistic", "physics")
+PROFILES = ("ideal", "realistic", "physics", "physics-geometric")
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "queue.png", "animation.gif",
                 "animation.mp4", "metrics.json")
 """Every file a queue run may write into its output directory (besides the manifest)."""

@@ -56,7 +56,7 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
                 "animation.gif", "animation.mp4", "sound.wav", "preview.mp4", "metrics.json")
 """Every file a run may write into its output directory (besides the manifest)."""
-PROFILES = ("ideal", "realistic", "physics")
+PROFILES = ("ideal", "realistic", "physics", "physics-geometric")
 """The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
 DETECTORS = ("compensated", "thesis")
 FORCE_STEERINGS = ("blend", "thesis")
@@ -72,9 +72,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "dancebots replaces (other files there are never touched)")
     parser.add_argument("--profile", choices=PROFILES, default="ideal",
                         help="ideal: commands act at once (thesis 2D); realistic: inertia, lag "
-                        "and noise; physics: the robots' bodies, wheels and slip in MuJoCo "
-                        "(docs/physics.md; needs `pip install 'dancebots[physics]'`) "
-                        "(default: ideal)")
+                        "and noise; physics: the robots' bodies, wheels and slip in MuJoCo, "
+                        "drivers that widen the track for the slip as real ones do; "
+                        "physics-geometric: the same with the plain track (docs/physics.md; "
+                        "both need `pip install 'dancebots[physics]'`) (default: ideal)")
     parser.add_argument("--seed", type=in_range(0, 2**32 - 1, integer=True), default=0,
                         metavar="N", help="seed of the noise of the realistic profile (default 0)")
     parser.add_argument("--no-animation", action="store_true", help="skip the GIF/MP4")

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["IDEAL", "PHYSICS", "PROFILES", "REALISTIC", "Profile", "actuate", "fresh_commands"]
+__all__ = ["IDEAL", "PHYSICS", "PHYSICS_GEOMETRIC", "PROFILES", "REALISTIC", "Profile", "actuate",
+           "fresh_commands"]
 
 FloatArray = NDArray[np.float64]
 
@@ -31,6 +32,9 @@ class Profile:
     engine: None: the fields above move the robots (``actuate``, then the unicycle);
         "mujoco": a physics engine does (``sim.physics``: mass, inertia, wheel slip, motor
         limits) and the fields above are not used.
+    drive: with an engine, how the robots' drivers turn (v, w) into wheel speeds:
+        "calibrated" (the track widened by the skid-steer ICR expansion, as real drivers do)
+        or "geometric" (the plain track: skid-steer robots under-turn by their slip).
     """
 
     name: str
@@ -41,6 +45,7 @@ class Profile:
     angular_noise: float = 0.0
     standstill: tuple[float, float] = (0.0, 0.0)
     engine: str | None = None
+    drive: str = "calibrated"
 
 
 IDEAL = Profile("ideal")
@@ -50,8 +55,13 @@ REALISTIC = Profile("realistic", lag=0.25, linear_acceleration=1.0, angular_acce
 """Inertia, actuator lag and noise: standing in for the thesis's 3D simulation (ch. 7.2.1)."""
 PHYSICS = Profile("physics", engine="mujoco")
 """Skid-steer, tracked and differential robots in MuJoCo (``sim.physics``): standing in for
-the thesis's 3D simulator (Gazebo) with the robots' models, whose wheels slip in turns."""
-PROFILES = {profile.name: profile for profile in (IDEAL, REALISTIC, PHYSICS)}
+the thesis's 3D simulator (Gazebo) with the robots' models, whose wheels slip in turns; their
+drivers widen the track for it, as real ones do."""
+PHYSICS_GEOMETRIC = Profile("physics-geometric", engine="mujoco", drive="geometric")
+"""The physics profile with drivers that turn (v, w) into wheel speeds by the plain track:
+skid-steer robots under-turn by their wheels' slip (a HUSKY at about 0.55 of the rate)."""
+PROFILES = {profile.name: profile
+            for profile in (IDEAL, REALISTIC, PHYSICS, PHYSICS_GEOMETRIC)}
 
 
 def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: float,

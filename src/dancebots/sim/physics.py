@@ -17,7 +17,12 @@ from types import ModuleType
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.sim.physics_model import physical_type, scene_xml, wheel_speeds
+from dancebots.sim.physics_model import (
+    DriveKinematics,
+    physical_type,
+    scene_xml,
+    wheel_speeds,
+)
 from dancebots.world.model import RobotType
 
 __all__ = ["INSTALL_HINT", "PhysicsUnavailableError", "PhysicsWorld", "load_mujoco"]
@@ -46,13 +51,15 @@ def load_mujoco() -> ModuleType:
 class PhysicsWorld:
     """The MuJoCo scene of a stage: robots of ``types`` (R,) at ``starts`` (R, 3), the room
     polygon (N, 2) with walls ``wall_height`` m tall, ``obstacles`` (polygon, height) and
-    ``people`` (C, 2) as (radius, height) in m, placed at every :meth:`step`."""
+    ``people`` (C, 2) as (radius, height) in m, placed at every :meth:`step`; ``drive``: how
+    the robots' drivers turn (v, w) into wheel speeds (``physics_model.wheel_speeds``)."""
 
     def __init__(self, types: Sequence[RobotType], starts: FloatArray, room: FloatArray,
                  wall_height: float, obstacles: Sequence[tuple[FloatArray, float]],
-                 people: FloatArray) -> None:
+                 people: FloatArray, drive: DriveKinematics = "calibrated") -> None:
         mujoco = load_mujoco()
         self._mujoco = mujoco
+        self.drive: DriveKinematics = drive
         self.bodies = [physical_type(t) for t in types]
         shapes = np.asarray(people, dtype=float).reshape(-1, 2)
         self.model = mujoco.MjModel.from_xml_string(scene_xml(
@@ -77,7 +84,7 @@ class PhysicsWorld:
         at (x, y) m; returns the robots' poses (R, 3) (x, y, yaw in rad, wrapped) and their
         achieved velocities (R, 2) (v along the heading, w)."""
         data = self.data
-        data.ctrl[:] = wheel_speeds(self.bodies, command)
+        data.ctrl[:] = wheel_speeds(self.bodies, command, self.drive)
         if len(self._mocap):
             data.mocap_pos[self._mocap, :2] = np.asarray(people, dtype=float)[:, :2]
             data.mocap_pos[self._mocap, 2] = 0.0

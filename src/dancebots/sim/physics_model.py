@@ -8,10 +8,13 @@ Pure: robot types in, physical parameters and MJCF text out; nothing here import
 torque). Skid-steer robots (HUSKY, SIM) have four wheels, tracked ones (TRADR) a row of road
 wheels under each side standing in for a track, differential ones (TURTLEBOT3) two wheels and
 frictionless ball casters in front and behind. A commanded (v, w) becomes wheel speeds by the
-robot's own kinematics, (v -+ w b / 2) / r for the left and right side (b the distance between the
-sides' contact lines, r the wheel radius): what the robots' drivers do. A skid-steer or
-tracked robot cannot turn without its wheels sliding sideways, so it turns more slowly than
-commanded (slip); the followers' feedback closes the gap, as on the real robots.
+robot's own kinematics, (v -+ w b / 2) / r for the left and right side (r the wheel radius).
+A skid-steer or tracked robot cannot turn without its wheels sliding sideways, so with b its
+track (``geometric``) it turns more slowly than commanded: a HUSKY at about 0.55 of the rate,
+the SIM robot at 0.4. Real drivers widen b for it (Clearpath's HUSKY driver by 1.875), and so
+does the ``calibrated`` drive (the default, the ``physics`` profile): b is the track times the
+body's ICR expansion (:attr:`PhysicalType.turn_expansion`); ``physics-geometric`` keeps the
+plain track, and the followers' feedback alone closes the gap.
 
 Where the numbers come from (:data:`PHYSICAL_TYPES`):
 
@@ -55,11 +58,12 @@ from numpy.typing import NDArray
 from dancebots.world.model import RobotType
 
 __all__ = ["FRICTION", "GRAVITY", "LIGHT_TIMESTEP", "PHYSICAL_TYPES", "SERVO_ERROR", "TIMESTEP",
-           "Drive",
+           "Drive", "DriveKinematics",
            "PhysicalType", "physical_type", "scene_xml", "wheel_speeds"]
 
 FloatArray = NDArray[np.float64]
 Drive = Literal["skid", "tracks", "differential"]
+DriveKinematics = Literal["calibrated", "geometric"]
 
 GRAVITY = 9.81
 """m/s^2."""
@@ -115,6 +119,20 @@ class PhysicalType:
         squared), assumed equal to the inertia of the robot's mass share a wheel drives."""
         return (self.total_mass / (2 * self.wheels_per_side)) * self.wheel_radius ** 2
 
+    @property
+    def turn_expansion(self) -> float:
+        """How much wider than its track a skid-steer or tracked robot turns (Mandow et al.,
+        "Experimental kinematics for wheeled skid-steer mobile robots", IROS 2007: the
+        instantaneous centres of rotation of the two sides lie this many half-tracks from the
+        centre). From Coulomb friction at wheels at x_i along the body and +-b/2 across:
+        turning on the spot balances where w = u (b/2) / (mean x_i^2 + (b/2)^2), so
+        1 + mean x_i^2 / (b/2)^2: HUSKY 1.80 (Clearpath's own driver multiplies the wheel
+        separation by 1.875), SIM 2.48, TRADR 1.75; 1 for a differential robot."""
+        if self.drive == "differential" or self.wheels_per_side < 2:
+            return 1.0
+        xs = np.linspace(-self.wheelbase / 2, self.wheelbase / 2, self.wheels_per_side)
+        return float(1.0 + np.mean(xs ** 2) / (self.track / 2.0) ** 2)
+
     def kv(self, max_speed: float) -> float:
         """N m s: the wheel servo's gain: the motor torque at SERVO_ERROR of the wheel speed
         that drives the robot at ``max_speed`` m/s (a stiff speed loop)."""
@@ -154,15 +172,19 @@ def physical_type(robot_type: RobotType) -> PhysicalType:
                         "HUSKY's proportions scaled to the footprint (assumed)")
 
 
-def wheel_speeds(bodies: Sequence[PhysicalType], command: FloatArray) -> FloatArray:
+def wheel_speeds(bodies: Sequence[PhysicalType], command: FloatArray,
+                 drive: DriveKinematics = "calibrated") -> FloatArray:
     """The wheel speeds (rad/s) for commands (R, 2) (v m/s, w rad/s), in the scene's actuator
-    order (per robot its left wheels, then its right wheels): (v - w b / 2) / r on the left,
-    (v + w b / 2) / r on the right, b the track, r the wheel radius."""
+    order (per robot its left wheels, then its right wheels): (v -+ w b / 2) / r on the left
+    and right, r the wheel radius, b the track (``geometric``) or the track times the body's
+    :attr:`~PhysicalType.turn_expansion` (``calibrated``: what the robots' drivers do, so that
+    a skid-steer robot turns about as fast as commanded although its wheels slip)."""
     speeds = []
     for body, (v, w) in zip(bodies, np.asarray(command, dtype=float).tolist(), strict=True):
         n = body.wheels_per_side
-        speeds += [(v - w * body.track / 2.0) / body.wheel_radius] * n
-        speeds += [(v + w * body.track / 2.0) / body.wheel_radius] * n
+        b = body.track * (body.turn_expansion if drive == "calibrated" else 1.0)
+        speeds += [(v - w * b / 2.0) / body.wheel_radius] * n
+        speeds += [(v + w * b / 2.0) / body.wheel_radius] * n
     return np.array(speeds)
 
 

@@ -142,7 +142,8 @@ class Stage:
             self.physics = PhysicsWorld(
                 placement.types, starts, arena.room, arena.wall_height,
                 [(o.polygon, o.height) for o in arena.obstacles],
-                np.column_stack([self.discs[:, 2], self.disc_heights]))
+                np.column_stack([self.discs[:, 2], self.disc_heights]),
+                "geometric" if profile.drive == "geometric" else "calibrated")
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
