@@ -35,12 +35,15 @@ def plan_of(path: Path) -> Plan:
     return plan
 
 
-def pure_run(path: Path) -> RunResult:
+def pure_run(path: Path, profile: str = "ideal") -> RunResult:
     """The pure simulation of ``path`` with the ROS nodes' defaults (the path follower on
-    the feasible timing), to compare a ROS run with."""
+    the feasible timing) in the simulator's ``profile``, to compare a ROS run with."""
+    from dancebots.sim import PROFILES
+
     plan = plan_of(path)
     arena, placement = prepare_show(place_show(plan, None, places="path"))
-    return simulate(plan, arena, placement, SimConfig(brain=BrainOptions(follower="path")))
+    return simulate(plan, arena, placement, SimConfig(profile=PROFILES[profile],
+                                                      brain=BrainOptions(follower="path")))
 
 
 @dataclass

@@ -2,7 +2,7 @@
 like a real one over ROS, so unmodified formation_member nodes drive it.
 
 Parameters: ``~scenario`` (required), ``~world``, ``~vmax`` (as for formation_member),
-``~profile`` (ideal | realistic), ``~seed``, ``~lidar`` (default true), ``~rate`` (simulation
+``~profile`` (ideal | realistic | physics | physics-geometric), ``~seed``, ``~lidar`` (default true), ``~rate`` (simulation
 steps per second, default 20), ``~record`` (optional path: the run's times, poses,
 applied commands and contacts, written every 5 s and at shutdown; ``.mcap``: an MCAP log with
 ROS 1 types, ``report.mcap_log.write_record_mcap``, else NumPy's .npz), ``~stop_after`` (s; shut
