@@ -111,8 +111,9 @@ def thesis_sections() -> list[str]:
            "\"around 16 cm for 2D and 18 cm for 3D\". Here: the `ideal` profile stands for its "
            "2D simulator; for its 3D one the `realistic` one (actuator lag, inertia, noise) and "
            "the `physics` one (MuJoCo: the robots' bodies, wheels that slip in turns, drivers "
-           "that widen the track for it as real ones do; docs/physics.md); LIDAR on. *spacing*: the largest change of the "
-           "distance between two robots of a formation (cm); *heading*: the largest heading "
+           "that widen the track for it as real ones do; docs/physics.md); LIDAR on. "
+           "*spacing*: the largest change of the distance between two robots of a formation "
+           "(cm); *heading*: the largest heading "
            "error against the slot's (deg; 180: turned round); *reverse*: the share of the "
            "time a robot drives against its slot's direction; *final*: the largest final "
            "distance from the slot (cm); *clean*: the run's verdict (docs/run-outputs.md).",

@@ -12,7 +12,7 @@ import pytest
 pytest.importorskip("mujoco", reason="the physics profile's engine (the dev extra installs it)")
 
 from dancebots.sim.physics import PhysicsWorld
-from dancebots.world.model import BUILTIN_ROBOT_TYPES
+from dancebots.world.model import BUILTIN_ROBOT_TYPES, RobotType
 
 ROOM = np.array([[-10.0, -10.0], [10.0, -10.0], [10.0, 10.0], [-10.0, 10.0]])
 NOBODY = np.zeros((0, 2))
@@ -115,3 +115,23 @@ def test_a_show_runs_on_the_physics_profiles_and_the_slip_shows_in_the_log(examp
     assert 0.9 < ratios["physics"] < 1.1, ratios
     assert spacings["physics-geometric"] > 0.2, spacings
     assert spacings["physics"] < 0.05, spacings
+
+
+@pytest.mark.parametrize("kind", [RobotType("TINY", 0.01, 0.01, 0.01, 0.01),
+                                  RobotType("HUGE", 100.0, 100.0, 100.0, 100.0),
+                                  RobotType("THIN", 5.0, 0.05, 1.0, 1.0),
+                                  RobotType("FAST", 1.0, 0.6, 100.0, 100.0)],
+                         ids=lambda kind: kind.name)
+def test_hostile_robot_types_of_a_world_file_stay_finite(kind: RobotType) -> None:
+    """The world loader accepts robot types from 1 cm to 100 m and 100 m/s: the engine builds
+    and steps every one without NaN; a 5 x 0.05 m body (turn expansion capped at 3) stays on
+    the floor when told to spin instead of being flung off it by its wheels."""
+    room = np.array([[-300.0, -300.0], [300.0, -300.0], [300.0, 300.0], [-300.0, 300.0]])
+    world = PhysicsWorld([kind], np.zeros((1, 3)), room, 1.0, [], NOBODY)
+    for command in ((kind.max_speed, 0.0), (0.0, kind.max_angular_speed)):
+        for _ in range(20):
+            poses, velocities = world.step(np.array([command]), 0.1, NOBODY)
+            assert np.all(np.isfinite(poses))
+            assert np.all(np.isfinite(velocities))
+    if kind.name == "THIN":
+        assert world.data.qpos[2] < 0.1  # its wheels' centres, on the floor

@@ -2,12 +2,13 @@
 like a real one over ROS, so unmodified formation_member nodes drive it.
 
 Parameters: ``~scenario`` (required), ``~world``, ``~vmax`` (as for formation_member),
-``~profile`` (ideal | realistic | physics | physics-geometric), ``~seed``, ``~lidar`` (default true), ``~rate`` (simulation
-steps per second, default 20), ``~record`` (optional path: the run's times, poses,
-applied commands and contacts, written every 5 s and at shutdown; ``.mcap``: an MCAP log with
-ROS 1 types, ``report.mcap_log.write_record_mcap``, else NumPy's .npz), ``~stop_after`` (s; shut
-down after this long, which ends a launch whose bridge is required; 0: run until stopped),
-``~silence`` (fault injection: "R1@12.5" stops publishing R1's clouds from 12.5 s on).
+``~profile`` (ideal | realistic | physics | physics-geometric), ``~seed``, ``~lidar`` (default
+true), ``~rate`` (simulation steps per second, default 20), ``~record`` (optional path: the
+run's times, poses, applied commands and contacts, written every 5 s and at shutdown;
+``.mcap``: an MCAP log with ROS 1 types, ``report.mcap_log.write_record_mcap``, else NumPy's
+.npz), ``~stop_after`` (s; shut down after this long, which ends a launch whose bridge is
+required; 0: run until stopped), ``~silence`` (fault injection: "R1@12.5" stops publishing R1's
+clouds from 12.5 s on).
 Per robot R of the scenario (its name prefixes everything, as all share one master):
 subscribes ``/R/nav/cmd_vel`` (geometry_msgs/Twist; a command older than 0.1 s stops the
 robot, the robots' 10 Hz rule); publishes TF ``R/map`` -> ``R/base_link`` (the map's origin

@@ -81,6 +81,9 @@ LIGHT_TIMESTEP = 0.002
 its turns broke down at 0.004 s and more)."""
 LIGHT_MASS = 5.0
 """kg."""
+TURN_EXPANSION_MAX = 3.0
+"""The widest a driver widens the track (a 5 x 0.05 m world-file robot would need 3,800 times:
+its wheels flung it off the floor)."""
 WALL_THICKNESS = 0.05
 """m: the thickness of the static walls along the room's and the obstacles' edges."""
 PERSON_HEIGHT = 1.7
@@ -127,11 +130,12 @@ class PhysicalType:
         centre). From Coulomb friction at wheels at x_i along the body and +-b/2 across:
         turning on the spot balances where w = u (b/2) / (mean x_i^2 + (b/2)^2), so
         1 + mean x_i^2 / (b/2)^2: HUSKY 1.80 (Clearpath's own driver multiplies the wheel
-        separation by 1.875), SIM 2.48, TRADR 1.75; 1 for a differential robot."""
+        separation by 1.875), SIM 2.47, TRADR 1.75; 1 for a differential robot; at most
+        TURN_EXPANSION_MAX (a body much longer than wide hardly turns by skidding at all)."""
         if self.drive == "differential" or self.wheels_per_side < 2:
             return 1.0
         xs = np.linspace(-self.wheelbase / 2, self.wheelbase / 2, self.wheels_per_side)
-        return float(1.0 + np.mean(xs ** 2) / (self.track / 2.0) ** 2)
+        return min(1.0 + float(np.mean(xs ** 2)) / (self.track / 2.0) ** 2, TURN_EXPANSION_MAX)
 
     def kv(self, max_speed: float) -> float:
         """N m s: the wheel servo's gain: the motor torque at SERVO_ERROR of the wheel speed
