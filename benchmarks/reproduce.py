@@ -1,8 +1,9 @@
 """The seeds' results, reproduced: writes ``docs/results.md`` and its figures in
 ``docs/results/`` (every number and picture in them comes from this run).
 
-Run: ``.venv/bin/python benchmarks/reproduce.py`` (about 30 s on the project's 2-core
-machines; deterministic: ideal and realistic profiles with seed 0). Sections:
+Run: ``.venv/bin/python benchmarks/reproduce.py`` (about 35 s on the project's 2-core
+machines; deterministic: ideal, realistic and physics profiles with seed 0; the physics rows
+need MuJoCo, which the ``dev`` extra installs). Sections:
 
 1. Thesis ch. 7.2.1, scenarios 7.1 and 7.2 in the 2D simulator (the ``ideal`` profile) and
    in the stand-in for its 3D simulation (``realistic``: lag, inertia, noise), for the

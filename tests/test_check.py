@@ -515,15 +515,28 @@ def test_a_turn_tighter_than_the_formation_is_noted_where_the_places_wait(data: 
     assert [(d.line, d.severity, d.message) for d in notes] == [
         (11, Severity.NOTE, lead + "R3 up to 3.3 m for 4 s)"),
         (13, Severity.NOTE, lead + "R3 up to 5.5 m for 30 s, R4 up to 3.9 m for 10 s)")]
-    assert notes[0].hint == ("turn on a circle of radius 2.2 m or more to keep the shape (on a "
+    assert notes[0].hint == ("turn on a circle of radius 2.3 m or more to keep the shape (on a "
                              "circle of radius r the inner places wait about 2 m x 0.75 m / "
                              "(r - 0.75 m))")
     rigid = check_plan(plan, None, CheckOptions(places="rigid")).diagnostics
     assert not [d for d in rigid if "too tightly" in d.message]
     # the circle the hint gives: no wait long enough to note
-    rounded = text.replace("move 2 90 by beat 89", "circle 2.2 90 0.1 by beat 89").replace(
-        "move 2 180 at beat 97", "circle 2.2 180 0.1 at beat 97")
+    rounded = text.replace("move 2 90 by beat 89", "circle 2.3 90 0.1 by beat 89").replace(
+        "move 2 180 at beat 97", "circle 2.3 180 0.1 at beat 97")
     _, plan, _ = compile_scenario(rounded, "show.dance", PlanParameters(timing="feasible"))
     assert plan is not None
     assert not [d for d in check_plan(plan, None, CheckOptions(places="path")).diagnostics
                 if "too tightly" in d.message]
+
+
+def test_a_column_turned_round_gets_a_radius_from_its_depth() -> None:
+    """A column (every lateral offset 0) folds onto itself where its leader turns round within
+    its depth: the note's circle is half the depth (not 0 m, as the width alone gave)."""
+    text = "robots A B C\ncolumn A;B;C 1.5 0\nmove 4 0\nmove 4 180\n"
+    _, plan, _ = compile_scenario(text, "show.dance", PlanParameters(timing="feasible"))
+    assert plan is not None
+    notes = [d for d in check_plan(plan, None, CheckOptions(places="path")).diagnostics
+             if "too tightly" in d.message]
+    assert [d.line for d in notes] == [4]
+    assert notes[0].hint is not None
+    assert notes[0].hint.startswith("turn on a circle of radius 1.5 m or more")

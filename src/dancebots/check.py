@@ -662,8 +662,10 @@ def _note_waits(plan: Plan, diagnostics: list[Diagnostic]) -> None:
         half_width = max(abs(oy) for _, oy in formation.offsets.values())
         depth = (max(ox for ox, _ in formation.offsets.values())
                  - min(ox for ox, _ in formation.offsets.values()))
-        # on a circle of radius r a place |oy| inside waits about depth |oy| / (r - |oy|)
-        radius = half_width * (1.0 + depth / WAIT_NOTE)
+        # on a circle of radius r a place |oy| inside waits about depth |oy| / (r - |oy|);
+        # a column (oy = 0) folds onto itself only where the leader turns within its depth
+        radius = math.ceil(10.0 * max(half_width * (1.0 + depth / WAIT_NOTE),
+                                      depth / 2.0)) / 10.0
         for (line, col), waiting in found:
             diagnostics.append(Diagnostic(
                 plan.scenario.path, line, col, Severity.NOTE,

@@ -135,3 +135,27 @@ def test_hostile_robot_types_of_a_world_file_stay_finite(kind: RobotType) -> Non
             assert np.all(np.isfinite(velocities))
     if kind.name == "THIN":
         assert world.data.qpos[2] < 0.1  # its wheels' centres, on the floor
+
+
+def test_the_stage_records_a_physics_robots_contact_with_a_wall_and_an_obstacle() -> None:
+    """In the physics profile the engine's walls stop a robot at the polygon's edge (the wall
+    box lies outside the room, inside an obstacle), so the stage's contact test sees the
+    contact, as in the other profiles; the robot drove into it (moving)."""
+    from dancebots.geometry import Pose
+    from dancebots.sim import PROFILES
+    from dancebots.sim.setup import Arena, Placement
+    from dancebots.sim.stage import Stage
+    from dancebots.world.model import Obstacle
+
+    husky = BUILTIN_ROBOT_TYPES["HUSKY"]
+    box = np.array([[3.0, 2.0], [4.0, 2.0], [4.0, 4.0], [3.0, 4.0]])
+    arena = Arena(ROOM, 1.0, (Obstacle("crate", box, 0.5, 1),), None)
+    placement = Placement(("A", "B"), (husky, husky), np.array([[8.0, 0.0, 0.0],
+                                                                 [0.0, 3.0, 0.0]]), Pose(0, 0, 0))
+    stage = Stage(arena, placement, PROFILES["physics"], 0.1, None)
+    for k in range(60):
+        stage.advance(0.1 * k, np.array([[1.0, 0.0], [1.0, 0.0]]), np.full(2, 0.1 * k))
+    kinds = {(c.robot, c.kind, c.other, c.moving) for c in stage.collisions}
+    assert kinds == {("A", "wall", "wall", True), ("B", "obstacle", "crate", True)}
+    assert stage.pose[0, 0] + husky.length / 2 < 10.0 + 0.01  # against the wall, not through
+    assert stage.pose[1, 0] + husky.length / 2 < 3.0 + 0.01

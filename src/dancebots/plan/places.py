@@ -277,7 +277,7 @@ def path_places(plan: Plan, robot: str, times: FloatArray, wait_behind: bool = T
     behind the leader is curved (a show that ends on an arc) the two differ.
 
     ``wait_behind=False``: the place where the formation puts the robot, without the wait
-    behind the robots ahead (what the audience expects of it; the metrics' ``behind``)."""
+    behind the robots ahead (what the audience expects of it; the metrics' ``off_formation``)."""
     times = np.asarray(times, dtype=float)
     count = len(times)
     points = np.empty((count, 2))

@@ -117,12 +117,15 @@ def simulated_findings(result: RunResult, what_ran: str,
     for i, name in enumerate(result.robots):
         distance, out, _ = off_formation(result, i, limits.min_duration)
         for a, b in true_runs(out):
+            if b - a < shortest:
+                continue
             add(outside, i, a, f"{name} leaves its formation from t = {result.times[a]:.1f} s "
                 f"to {result.times[b - 1]:.1f} s (up to {distance[a:b].max():.2f} m from "
                 "where the formation puts it, more than the formation is deep plus a robot "
-                "length)", "it waits behind the robots ahead where the leader turns more "
-                "tightly than the formation is wide, or it cannot keep up: turn on a circle "
-                "at least half the formation's width in radius, or slow the show (--vmax)")
+                "length)", "it waits behind the robots ahead where the leader turns too "
+                "tightly for the formation (check's note at the turn gives a circle that "
+                "keeps the shape), it was held while the others drove on, or it cannot keep "
+                "up: widen the turn, or slow the show (--vmax)")
     final: list[Diagnostic] = []
     last = len(result.times) - 1
     for i, name in enumerate(result.robots):

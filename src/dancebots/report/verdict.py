@@ -20,8 +20,8 @@ if TYPE_CHECKING:
     from dancebots.report.metrics import RunMetrics
     from dancebots.report.queue_metrics import QueueMetrics
 
-__all__ = ["FINAL_HEADING_TOLERANCE", "FINAL_SLOT_TOLERANCE", "REVERSE_TOLERANCE", "Verdict",
-           "queue_verdict", "run_verdict"]
+__all__ = ["FINAL_HEADING_TOLERANCE", "FINAL_SLOT_TOLERANCE", "OFF_FORMATION_TOLERANCE",
+           "REVERSE_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
 
 FINAL_SLOT_TOLERANCE = 0.5
 """m: a robot that ends further than this from its final slot fails the show (about a robot's
@@ -33,6 +33,10 @@ time its slot moves (``RobotMetrics.reverse_fraction``) fails the show: 5 %, a s
 FINAL_HEADING_TOLERANCE = 30.0
 """deg: a robot that ends with its heading further than this from its final slot's heading
 fails the show (the audience sees it end askew or facing the wrong way)."""
+
+OFF_FORMATION_TOLERANCE = 1.0
+"""s: a robot outside its formation's block (``RobotMetrics.off_formation_time``) for longer
+than this fails the show: a moment is a robot swinging wide, a second is one left behind."""
 
 _KINDS = {"robot": ("collision between robots", "collisions between robots"),
           "spectator": ("contact with a person", "contacts with people"),
@@ -68,9 +72,10 @@ def _contacts(events: Sequence[dict[str, object]]) -> list[str]:
 
 def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERANCE,
                 reverse_tolerance: float = REVERSE_TOLERANCE,
-                heading_tolerance: float = FINAL_HEADING_TOLERANCE) -> Verdict:
+                heading_tolerance: float = FINAL_HEADING_TOLERANCE,
+                off_formation_tolerance: float = OFF_FORMATION_TOLERANCE) -> Verdict:
     """The verdict on a formation show; final_tolerance in m, reverse_tolerance a fraction,
-    heading_tolerance in deg."""
+    heading_tolerance in deg, off_formation_tolerance in s."""
     failures = _contacts(metrics.collision_events)
     for robot in metrics.robots:
         if robot.error is not None:
@@ -91,14 +96,15 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
         failures.append(f"the show did not finish: the formation waited for a held robot until "
                         f"the run ended at show time {metrics.final_show_time:.1f} s of "
                         f"{metrics.show_duration:.1f} s")
-    outside = [r for r in metrics.robots if r.off_formation_time > 0.0]
+    outside = [r for r in metrics.robots if r.off_formation_time > off_formation_tolerance]
     if outside:
         listed = ", ".join(f"{r.robot} {r.off_formation_time:.1f} s, up to "
                            f"{r.max_off_formation:.2f} m" for r in outside)
         failures.append(f"{'robots leave their' if len(outside) > 1 else 'a robot leaves its'} "
                         f"formation on the way (further from "
                         f"{'their' if len(outside) > 1 else 'its'} place than the formation is "
-                        f"deep plus a robot length): {listed}")
+                        f"deep plus a robot length, more than {off_formation_tolerance:g} s): "
+                        f"{listed}")
     askew = [r for r in metrics.robots if r.final_heading_error > heading_tolerance]
     if askew:
         listed = ", ".join(f"{r.robot} {r.final_heading_error:.0f}°" for r in askew)

@@ -190,7 +190,7 @@ class RunResult:
     formation_places (R, T, 2): where the robot's formation puts it, world frame, m: its
     rigid slot for ``tracking``, its place on the leader's path otherwise, without the wait
     behind the robots ahead (``plan.places.path_places(..., wait_behind=False)``): what the
-    audience expects, for the metrics' ``behind``.
+    audience expects, for the metrics' ``off_formation``.
     """
 
     plan: Plan

@@ -66,6 +66,7 @@ class PhysicsWorld:
             types, starts, room, wall_height, obstacles,
             np.column_stack([shapes, np.zeros(len(shapes))])))
         self.data = mujoco.MjData(self.model)
+        self.base_timestep = float(self.model.opt.timestep)  # s: the longest step it takes
         joints = [self.model.joint(f"robot{i}").id for i in range(len(self.bodies))]
         self._qpos = np.array([self.model.jnt_qposadr[j] for j in joints], dtype=np.int64)
         self._dof = np.array([self.model.jnt_dofadr[j] for j in joints], dtype=np.int64)
@@ -88,7 +89,9 @@ class PhysicsWorld:
         if len(self._mocap):
             data.mocap_pos[self._mocap, :2] = np.asarray(people, dtype=float)[:, :2]
             data.mocap_pos[self._mocap, 2] = 0.0
-        self._mujoco.mj_step(self.model, data, nstep=max(1, round(dt / self.timestep)))
+        steps = max(1, math.ceil(dt / self.base_timestep - 1e-9))
+        self.model.opt.timestep = dt / steps  # whole steps that add up to dt exactly
+        self._mujoco.mj_step(self.model, data, nstep=steps)
         return self.poses(), self.velocities()
 
     def poses(self) -> FloatArray:

@@ -31,12 +31,12 @@ Where the numbers come from (:data:`PHYSICAL_TYPES`):
 * Any other type of a world file: like SIM, from its footprint.
 
 Assumed for every robot (no seed gives them): wheel-floor friction 1.0 (rubber on a hall
-floor); a motor torque that can spin a wheel against its traction (1.5 times the friction
+floor); a motor torque that can spin a wheel against its traction (4 times the friction
 torque), so traction, not the motor, limits a turn; a stiff wheel speed loop that reaches that
 torque 5 % of the top wheel speed off its command. Contacts are soft (``solimp`` 0 0.95 0.001, as
 MuJoCo's documentation suggests for wheels that must slide): with MuJoCo's stiff default a
 skid-steer HUSKY turned at a fifth of the Coulomb-friction prediction; soft, it turns on the
-spot at 0.51 of its commanded rate, where Coulomb friction predicts 0.55 and the real robot's
+spot at 0.54 of its commanded rate, where Coulomb friction predicts 0.55 and the real robot's
 controller multiplies the wheel separation by about 1.5-1.9 (a turn rate of 0.53-0.67).
 
 **Room, obstacles and people.** Every edge of the room and of each obstacle is a thin static
@@ -55,7 +55,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from dancebots.world.model import RobotType
+from dancebots.world.model import BUILTIN_ROBOT_TYPES, RobotType
 
 __all__ = ["FRICTION", "GRAVITY", "LIGHT_TIMESTEP", "PHYSICAL_TYPES", "SERVO_ERROR", "TIMESTEP",
            "Drive", "DriveKinematics",
@@ -127,8 +127,10 @@ class PhysicalType:
         """How much wider than its track a skid-steer or tracked robot turns (Mandow et al.,
         "Experimental kinematics for wheeled skid-steer mobile robots", IROS 2007: the
         instantaneous centres of rotation of the two sides lie this many half-tracks from the
-        centre). From Coulomb friction at wheels at x_i along the body and +-b/2 across:
-        turning on the spot balances where w = u (b/2) / (mean x_i^2 + (b/2)^2), so
+        centre). The moment balance of friction at wheels at x_i along the body and +-b/2
+        across that slide equally fast (Coulomb friction exactly for two wheels a side, an
+        approximation for a track's road wheels): turning on the spot balances where
+        w = u (b/2) / (mean x_i^2 + (b/2)^2), so
         1 + mean x_i^2 / (b/2)^2: HUSKY 1.80 (Clearpath's own driver multiplies the wheel
         separation by 1.875), SIM 2.47, TRADR 1.75; 1 for a differential robot; at most
         TURN_EXPANSION_MAX (a body much longer than wide hardly turns by skidding at all)."""
@@ -163,8 +165,11 @@ def physical_type(robot_type: RobotType) -> PhysicalType:
     other type a skid-steer robot with HUSKY's proportions scaled to its footprint and HUSKY's
     mass per footprint area (SIM, a world file's types)."""
     known = PHYSICAL_TYPES.get(robot_type.name)
-    if known is not None:
-        return known
+    builtin = BUILTIN_ROBOT_TYPES.get(robot_type.name)
+    if known is not None and builtin is not None and (
+            abs(builtin.length - robot_type.length) < 0.01
+            and abs(builtin.width - robot_type.width) < 0.01):
+        return known  # a world file that gives HUSKY another size gets a scaled body
     husky, husky_type = PHYSICAL_TYPES["HUSKY"], (0.99, 0.67)
     length, width = robot_type.length, robot_type.width
     area = (length * width) / (husky_type[0] * husky_type[1])
@@ -234,16 +239,23 @@ def _robot_xml(index: int, body: PhysicalType, kind: RobotType,
     return "".join(parts), actuators
 
 
-def _walls_xml(polygon: FloatArray, height: float, name: str) -> str:
-    """Thin static boxes along every edge of ``polygon`` (N, 2), ``height`` m tall."""
+def _walls_xml(polygon: FloatArray, height: float, name: str, outside: bool) -> str:
+    """Thin static boxes along every edge of ``polygon`` (N, 2), ``height`` m tall, each with
+    one face on the edge and the box ``outside`` the polygon (a room's walls: the robots stand
+    inside) or inside it (an obstacle's): a robot touches the wall where its footprint reaches
+    the edge, as the stage's contact test has it."""
     points = np.asarray(polygon, dtype=float)
+    x, y = points[:, 0], points[:, 1]
+    counter_clockwise = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)) > 0.0
+    side = (1.0 if outside else -1.0) * (1.0 if counter_clockwise else -1.0)
     walls = []
     for k in range(len(points)):
         a, b = points[k], points[(k + 1) % len(points)]
         length = float(np.hypot(*(b - a)))
         if length <= 0.0:
             continue
-        middle = (a + b) / 2.0
+        normal = np.array([b[1] - a[1], a[0] - b[0]]) / length  # right of a -> b
+        middle = (a + b) / 2.0 + side * normal * WALL_THICKNESS / 2.0
         angle = math.atan2(float(b[1] - a[1]), float(b[0] - a[0]))
         walls.append(f'<geom name="{name}_{k}" type="box" size="{_f(length / 2)} '
                      f'{_f(WALL_THICKNESS / 2)} {_f(height / 2)}" pos="{_f(middle[0])} '
@@ -264,8 +276,8 @@ def scene_xml(types: Sequence[RobotType], starts: FloatArray, room: FloatArray |
         body, acts = _robot_xml(i, physical_type(kind), kind, pose)
         robots.append(body)
         actuators.extend(acts)
-    walls = "" if room is None else _walls_xml(room, wall_height, "wall")
-    walls += "".join(_walls_xml(polygon, height, f"obstacle{k}")
+    walls = "" if room is None else _walls_xml(room, wall_height, "wall", outside=True)
+    walls += "".join(_walls_xml(polygon, height, f"obstacle{k}", outside=False)
                      for k, (polygon, height) in enumerate(obstacles))
     persons = "".join(
         f'<body name="person{k}" mocap="true" pos="0 0 {_f(-10.0 - height)}">'

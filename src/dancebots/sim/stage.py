@@ -65,11 +65,16 @@ STEP_BACK = 1.5
 """... by this much of its walking time (s), to let the robot pass."""
 
 
+MOVING_SPEED = 1e-3
+"""m/s and rad/s: a robot faster than this moves (the physics engine's speeds are never
+exactly 0: a standing robot shows about 1e-11)."""
+
+
 @dataclass(frozen=True, slots=True)
 class CollisionEvent:
     """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
     obstacle's name, or a spectator's); ``kind`` says which; (x, y) the robot's centre;
-    ``moving``: whether the robot was moving (its velocity not zero) when it began: a robot
+    ``moving``: whether the robot was moving (faster than MOVING_SPEED) when it began: a robot
     that stood still was walked into (people in the simulator never step into a robot, so
     that happens only to a robot a person already overlaps)."""
 
@@ -237,7 +242,8 @@ class Stage:
             if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact
                 self.collisions.append(CollisionEvent(
                     round(now + dt, 6), self.placement.robots[i], str(other), kind,
-                    float(pose[i, 0]), float(pose[i, 1]), bool(np.any(velocity[i] != 0.0))))
+                    float(pose[i, 0]), float(pose[i, 1]),
+                    bool(np.any(np.abs(velocity[i]) > MOVING_SPEED))))
             self._active[key] = now + dt
         if self.physics is None:  # in the engine the bodies' contacts stop them
             proposed[blocked] = pose[blocked]
