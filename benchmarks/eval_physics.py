@@ -12,6 +12,8 @@ a TRADR, ``examples/worlds/thesis_7_4_husky_tradr.toml``) in the ``ideal``, ``re
   robot is commanded to turn at 0.1 rad/s or more (1: no slip; the engine's slip shows here
   and in log.csv's ``w`` against ``w_cmd``);
 * ``v ratio``: the same for the linear speed where |v_cmd| >= 0.1 m/s;
+* ``wheels``: the median of the robots' ``wheel_turn_ratio`` (achieved yaw rate over what
+  their wheels would give without slip, metrics.json; "-" in the profiles without wheels);
 * ``heading``: the largest heading error, deg; ``final``: the largest final distance from
   the slot, cm; ``contacts``; ``clean``: the run's verdict;
 * ``x real``: simulated time over wall time (one run).
@@ -84,8 +86,8 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3, help="runs of the speed test (3)")
     args = parser.parse_args()
     header = (f"{'listing':16} {'profile':17} {'follower/timing':16} {'spacing':>7} "
-              f"{'thesis':>8} {'w ratio':>7} {'v ratio':>7} {'heading':>7} {'final':>6} "
-              f"{'contacts':>8} {'clean':>5} {'x real':>6}")
+              f"{'thesis':>8} {'w ratio':>7} {'v ratio':>7} {'wheels':>6} {'heading':>7} "
+              f"{'final':>6} {'contacts':>8} {'clean':>5} {'x real':>6}")
     print(header)
     print("-" * len(header))
     for name, scenario, world in SHOWS:
@@ -97,8 +99,13 @@ def main() -> None:
                 w_ratio = ratio(result.velocities[..., 1], result.commands[..., 1], 0.1)
                 v_ratio = ratio(result.velocities[..., 0], result.commands[..., 0], 0.1)
                 spacing = 100 * (metrics.max_spacing_change or 0.0)
+                wheel_ratios = [r.wheel_turn_ratio for r in metrics.robots
+                                if r.wheel_turn_ratio is not None]
+                wheels = (f"{statistics.median(wheel_ratios):6.2f}" if wheel_ratios
+                          else f"{'-':>6}")
                 print(f"{name:16} {profile:17} {follower + '/' + timing:16} {spacing:7.1f} "
                       f"{THESIS.get((name, profile), '-'):>8} {w_ratio:7.2f} {v_ratio:7.2f} "
+                      f"{wheels} "
                       f"{metrics.max_heading_error:7.0f} {100 * metrics.max_final_error:6.1f} "
                       f"{metrics.collisions:8d} {'yes' if clean else 'no':>5} "
                       f"{result.times[-1] / wall:6.0f}")

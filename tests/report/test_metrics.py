@@ -85,7 +85,9 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
         "rms_heading_error_deg", "max_heading_error_deg", "facing_away_fraction",
         "reverse_fraction", "max_reverse_distance_m", "reverse_distance_m",
         "angular_sign_flips", "rms_formation_error_m", "max_formation_error_m",
-        "final_heading_error_deg", "max_off_formation_m", "off_formation_s"}
+        "final_heading_error_deg", "max_off_formation_m", "off_formation_s",
+        "wheel_turn_ratio"}
+    assert per_robot["R1"]["wheel_turn_ratio"] is None  # the ideal profile has no wheels
     # two robots: the formation error is their one pair's, the rows' spacing change its max
     assert data["max_formation_error_m"] == per_robot["R1"]["max_formation_error_m"]
     assert data["max_formation_error_m"] == pytest.approx(data["max_spacing_change_m"],

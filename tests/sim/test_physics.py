@@ -113,6 +113,14 @@ def test_a_show_runs_on_the_physics_profiles_and_the_slip_shows_in_the_log(examp
         spacings[profile] = metrics.max_spacing_change or math.nan
     assert 0.3 < ratios["physics-geometric"] < 0.5, ratios
     assert 0.9 < ratios["physics"] < 1.1, ratios
+    # the slip itself, in both: the SIM robot turns at about 0.40 of what its wheels would
+    # give (Coulomb: (b/2)^2 / (a^2 + (b/2)^2) with a, b/2 half its wheelbase and track)
+    from dancebots.sim.physics_model import physical_type
+
+    sim = physical_type(BUILTIN_ROBOT_TYPES["SIM"])
+    a, b = sim.wheelbase / 2, sim.track / 2
+    for robot in metrics.robots:
+        assert robot.wheel_turn_ratio == pytest.approx(b * b / (a * a + b * b), abs=0.05)
     assert spacings["physics-geometric"] > 0.2, spacings
     assert spacings["physics"] < 0.05, spacings
 
@@ -159,3 +167,22 @@ def test_the_stage_records_a_physics_robots_contact_with_a_wall_and_an_obstacle(
     assert kinds == {("A", "wall", "wall", True), ("B", "obstacle", "crate", True)}
     assert stage.pose[0, 0] + husky.length / 2 < 10.0 + 0.01  # against the wall, not through
     assert stage.pose[1, 0] + husky.length / 2 < 3.0 + 0.01
+
+
+def test_the_log_has_the_wheels_yaw_rate_in_the_physics_profile_only(examples: Path,
+                                                                    tmp_path: Path) -> None:
+    """log.csv gains ``w_wheels`` (what the wheels would turn the robot at without slip) in
+    the physics profile; pandas reads it; the ideal profile's log keeps its columns."""
+    import pandas as pd
+
+    from dancebots.cli import main
+
+    show = str(examples / "thesis_7_1.dance")
+    assert main(["run", show, "--profile", "physics", "--no-animation",
+                 "--out", str(tmp_path / "physics")]) == 0
+    log = pd.read_csv(tmp_path / "physics" / "log.csv")
+    assert list(log.columns[-2:]) == ["formation", "w_wheels"]
+    turning = log[log["w_wheels"].abs() > 0.1]
+    assert (turning["w"] / turning["w_wheels"]).median() < 0.6  # the SIM robots slip
+    assert main(["run", show, "--no-animation", "--out", str(tmp_path / "ideal")]) == 0
+    assert "w_wheels" not in pd.read_csv(tmp_path / "ideal" / "log.csv").columns

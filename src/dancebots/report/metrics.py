@@ -37,6 +37,7 @@ __all__ = [
     "FACING_AWAY_ANGLE",
     "REVERSE_DISTANCE_MIN",
     "REVERSE_SPEED_MIN",
+    "WHEEL_TURN_MIN",
     "FormationError",
     "RobotMetrics",
     "RowMetrics",
@@ -53,6 +54,7 @@ __all__ = [
     "sign_flips",
     "smallest_person_gap",
     "spacing_change",
+    "wheel_turn_ratio",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -106,7 +108,10 @@ class RobotMetrics:
     max_off_formation: the largest distance from where its formation puts it
     (``RunResult.formation_places``), m, and off_formation_time the time it was outside its
     formation there, s (:func:`off_formation`); neither counts while it moves over to its
-    place in a formation it has just joined.
+    place in a formation it has just joined. wheel_turn_ratio: in the physics profiles, the
+    median over the ticks its wheels turn it at WHEEL_TURN_MIN or more of its achieved yaw
+    rate over the wheels' (1: no slip; a skid-steer robot's wheels slip sideways in a turn);
+    None in the other profiles or without such ticks.
     """
 
     robot: str
@@ -130,6 +135,7 @@ class RobotMetrics:
     reverse_distance: float = 0.0
     max_off_formation: float = 0.0
     off_formation_time: float = 0.0
+    wheel_turn_ratio: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -282,6 +288,7 @@ class RunMetrics:
                     "final_heading_error_deg": r3(m.final_heading_error),
                     "max_off_formation_m": r3(m.max_off_formation),
                     "off_formation_s": r3(m.off_formation_time),
+                    "wheel_turn_ratio": r3(m.wheel_turn_ratio),
                 } for m in self.robots
             },
             "stops": sum(m.stops for m in self.robots),
@@ -339,7 +346,10 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]),
                      longest[i], total[i],
                      float(np.where(off[i][2], off[i][0], 0.0).max(initial=0.0)),
-                     float(off[i][1].sum() * period))
+                     float(off[i][1].sum() * period),
+                     wheel_turn_ratio(result.velocities[i, during, 1],
+                                      result.wheel_rates[i, during])
+                     if result.wheel_rates is not None else None)
         for i, name in enumerate(result.robots))
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
@@ -401,6 +411,17 @@ def moving_over_to_place(result: RunResult, robot: int, distance: FloatArray,
         over[k:int(np.searchsorted(times, until, side="right"))] = True
     return over
 
+
+
+WHEEL_TURN_MIN = 0.1
+"""rad/s: the wheels' yaw rate from which a tick counts for ``wheel_turn_ratio``."""
+
+
+def wheel_turn_ratio(achieved: FloatArray, wheels: FloatArray) -> float | None:
+    """The median of achieved (T,) over the wheels' (T,) yaw rate (rad/s) where the wheels turn
+    the robot at WHEEL_TURN_MIN or more; None where they never do."""
+    turning = np.abs(wheels) >= WHEEL_TURN_MIN
+    return float(np.median(achieved[turning] / wheels[turning])) if turning.any() else None
 
 
 def off_formation(result: RunResult, robot: int, grace: float = 1.0,

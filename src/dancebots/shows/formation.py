@@ -190,7 +190,9 @@ class RunResult:
     formation_places (R, T, 2): where the robot's formation puts it, world frame, m: its
     rigid slot for ``tracking``, its place on the leader's path otherwise, without the wait
     behind the robots ahead (``plan.places.path_places(..., wait_behind=False)``): what the
-    audience expects, for the metrics' ``off_formation``.
+    audience expects, for the metrics' ``off_formation``. wheel_rates (R, T): in the physics
+    profiles the yaw rate each robot's wheels would give without slip, rad/s
+    (``sim.physics.PhysicsWorld.wheel_rates``); None in the others.
     """
 
     plan: Plan
@@ -217,6 +219,7 @@ class RunResult:
     holds: NDArray[np.bool_] | None = None
     final_slots: FloatArray | None = None
     formation_places: FloatArray | None = None
+    wheel_rates: FloatArray | None = None
 
     @property
     def final_slot(self) -> FloatArray:
@@ -396,11 +399,14 @@ class _Crew:
             self.shared.send(now)
         self._tell(now, own, known)
         stage.speaking = self.asking.copy()  # the crowd hears them (sim/crowd.py)
-        return Tick(self.command, {"poses": stage.pose, "velocities": stage.velocity,
-                                   "commands": self.command, "status": self.status,
-                                   "spectators": stage.discs[:, :2],
-                                   "show_times": self.show_times, "holds": self.holding},
-                    float(self.show_times.min()), bool(self.waiting.any()))
+        record = {"poses": stage.pose, "velocities": stage.velocity,
+                  "commands": self.command, "status": self.status,
+                  "spectators": stage.discs[:, :2], "show_times": self.show_times,
+                  "holds": self.holding}
+        if stage.physics is not None:  # the yaw rate the wheels would give: the slip
+            record["wheel_rates"] = stage.physics.wheel_rates()
+        return Tick(self.command, record, float(self.show_times.min()),
+                    bool(self.waiting.any()))
 
     def _batch_step(self, now: float, show_times: np.ndarray, arrived: list[PointCloud | None],
                     own: np.ndarray, known: np.ndarray,
@@ -578,4 +584,5 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
                      status, events, spectators,
                      spectator_radii, np.stack(reference), scans, show_times,
                      recorder.series("holds"), np.stack(final_slots),
-                     np.stack(formation_places))
+                     np.stack(formation_places),
+                     recorder.series("wheel_rates") if "wheel_rates" in recorder else None)

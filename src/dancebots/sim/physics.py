@@ -70,6 +70,10 @@ class PhysicsWorld:
         joints = [self.model.joint(f"robot{i}").id for i in range(len(self.bodies))]
         self._qpos = np.array([self.model.jnt_qposadr[j] for j in joints], dtype=np.int64)
         self._dof = np.array([self.model.jnt_dofadr[j] for j in joints], dtype=np.int64)
+        # per robot its wheels' dof addresses, left and right (the actuators' order)
+        self._wheels = [tuple(np.array([self.model.jnt_dofadr[self.model.joint(
+            f"robot{i}_{side}{k}").id] for k in range(body.wheels_per_side)], dtype=np.int64)
+            for side in "lr") for i, body in enumerate(self.bodies)]
         self._mocap = np.array([self.model.body(f"person{k}").mocapid[0]
                                 for k in range(len(shapes))], dtype=np.int64)
         mujoco.mj_forward(self.model, self.data)
@@ -109,6 +113,15 @@ class PhysicsWorld:
         yaw = self.poses()[:, 2]
         forward = qv[d] * np.cos(yaw) + qv[d + 1] * np.sin(yaw)
         return np.column_stack([forward, qv[d + 5]])
+
+    def wheel_rates(self) -> FloatArray:
+        """(R,) the yaw rate (rad/s) each robot's wheels would give if they did not slip:
+        r (mean right wheel speed - mean left wheel speed) / track. Against the achieved yaw
+        rate (:meth:`velocities`) it shows the slip."""
+        qv = self.data.qvel
+        return np.array([body.wheel_radius * (float(qv[right].mean()) - float(qv[left].mean()))
+                         / body.track for body, (left, right) in zip(self.bodies, self._wheels,
+                                                                     strict=True)])
 
     def __repr__(self) -> str:
         return (f"PhysicsWorld({len(self.bodies)} robots, {self.model.nbody} bodies, "

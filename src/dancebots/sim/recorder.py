@@ -35,6 +35,10 @@ class Recorder:
         """(T,) the times of the samples, s."""
         return np.array(self._times, dtype=np.float64)
 
+    def __contains__(self, name: object) -> bool:
+        """Whether ``name`` was recorded."""
+        return name in self._samples
+
     def series(self, name: str, axis: int = 1) -> NDArray[Any]:
         """The samples of ``name`` stacked along ``axis``: per-robot values (R, ...) give
         (R, T, ...) with the default axis 1; axis 0 gives (T, ...)."""
