@@ -529,9 +529,10 @@ def test_a_turn_tighter_than_the_formation_is_noted_where_the_places_wait(data: 
                 if "too tightly" in d.message]
 
 
-def test_a_column_turned_round_gets_a_radius_from_its_depth() -> None:
+def test_a_column_turned_round_is_told_to_turn_on_a_circle() -> None:
     """A column (every lateral offset 0) folds onto itself where its leader turns round within
-    its depth: the note's circle is half the depth (not 0 m, as the width alone gave)."""
+    its length: the note says so instead of a circle of radius 0 m (which the width alone
+    gave)."""
     text = "robots A B C\ncolumn A;B;C 1.5 0\nmove 4 0\nmove 4 180\n"
     _, plan, _ = compile_scenario(text, "show.dance", PlanParameters(timing="feasible"))
     assert plan is not None
@@ -539,4 +540,5 @@ def test_a_column_turned_round_gets_a_radius_from_its_depth() -> None:
              if "too tightly" in d.message]
     assert [d.line for d in notes] == [4]
     assert notes[0].hint is not None
-    assert notes[0].hint.startswith("turn on a circle of radius 1.5 m or more")
+    assert notes[0].hint == ("a column folds onto itself where its leader turns round within "
+                             "the column's length: turn on a circle instead of on the spot")

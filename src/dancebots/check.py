@@ -662,10 +662,8 @@ def _note_waits(plan: Plan, diagnostics: list[Diagnostic]) -> None:
         half_width = max(abs(oy) for _, oy in formation.offsets.values())
         depth = (max(ox for ox, _ in formation.offsets.values())
                  - min(ox for ox, _ in formation.offsets.values()))
-        # on a circle of radius r a place |oy| inside waits about depth |oy| / (r - |oy|);
-        # a column (oy = 0) folds onto itself only where the leader turns within its depth
-        radius = math.ceil(10.0 * max(half_width * (1.0 + depth / WAIT_NOTE),
-                                      depth / 2.0)) / 10.0
+        # on a circle of radius r a place |oy| inside waits about depth |oy| / (r - |oy|)
+        radius = math.ceil(10.0 * half_width * (1.0 + depth / WAIT_NOTE) - 1e-6) / 10.0
         for (line, col), waiting in found:
             diagnostics.append(Diagnostic(
                 plan.scenario.path, line, col, Severity.NOTE,
@@ -675,7 +673,9 @@ def _note_waits(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                 f"(along the leader's path: {waiting})",
                 f"turn on a circle of radius {radius:.1f} m or more to keep the shape (on a "
                 f"circle of radius r the inner places wait about {depth:g} m x {half_width:g}"
-                f" m / (r - {half_width:g} m))"))
+                f" m / (r - {half_width:g} m))" if half_width > 0.0 else
+                "a column folds onto itself where its leader turns round within the column's "
+                "length: turn on a circle instead of on the spot"))
 
 
 # --- transitions -----------------------------------------------------------------------------

@@ -137,4 +137,4 @@ def test_a_robot_left_behind_a_turn_leaves_its_formation(data: Path) -> None:
     # R3 is out for 0.9 s, a moment; R4 for 2.3 s
     assert run_verdict(metrics).failures == (
         "a robot leaves its formation on the way (further from its place than the formation "
-        "is deep plus a robot length, more than 1 s): R4 2.3 s, up to 3.69 m",)
+        "is deep plus a robot length, 1 s or more in one go): R4 2.3 s, up to 3.69 m",)

@@ -106,3 +106,24 @@ def test_a_light_robot_gets_the_small_step() -> None:
     root = ET.fromstring(scene_xml([BUILTIN_ROBOT_TYPES["TURTLEBOT3"]], np.zeros((1, 3)), ROOM,
                                    1.0, [], np.zeros((0, 3))))
     assert float(root.find("option").get("timestep")) == LIGHT_TIMESTEP  # type: ignore[union-attr]
+
+
+def test_walls_lie_outside_the_room_and_inside_obstacles_thin_ones_too() -> None:
+    """Each wall box has one face on its polygon's edge, outside the room and inside an
+    obstacle, whichever way the polygon winds; an obstacle 2 cm thick gets walls no thicker
+    than itself (a 5 cm box would poke out and stop a robot before its edge)."""
+    slab = np.array([[2.0, 0.0], [3.0, 0.0], [3.0, 0.02], [2.0, 0.02]])
+    for room, obstacle in ((ROOM, slab), (ROOM[::-1].copy(), slab[::-1].copy())):
+        root = ET.fromstring(scene_xml([BUILTIN_ROBOT_TYPES["HUSKY"]], np.zeros((1, 3)), room,
+                                       1.0, [(obstacle, 0.5)], np.zeros((0, 3))))
+        geoms = {g.get("name"): g for g in root.iter("geom")
+                 if g.get("name", "").startswith(("wall", "obstacle"))}
+        for name, geom in geoms.items():
+            x, y, _ = (float(v) for v in geom.get("pos", "").split())
+            half = float(geom.get("size", "").split()[1])  # half the thickness
+            if name.startswith("wall"):  # outside the 10 x 10 room
+                assert max(abs(x), abs(y)) == pytest.approx(5.0 + half)
+            elif name.startswith("obstacle"):  # inside the slab
+                assert half <= 0.01 + 1e-9
+                assert 2.0 - 1e-9 <= x <= 3.0 + 1e-9  # its centre inside the slab
+                assert -1e-9 <= y <= 0.02 + 1e-9

@@ -117,7 +117,7 @@ def simulated_findings(result: RunResult, what_ran: str,
     for i, name in enumerate(result.robots):
         distance, out, _ = off_formation(result, i, limits.min_duration)
         for a, b in true_runs(out):
-            if b - a < shortest:
+            if (b - a) * step < limits.min_duration - 1e-9:  # the verdict's rule
                 continue
             add(outside, i, a, f"{name} leaves its formation from t = {result.times[a]:.1f} s "
                 f"to {result.times[b - 1]:.1f} s (up to {distance[a:b].max():.2f} m from "

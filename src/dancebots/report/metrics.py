@@ -106,9 +106,9 @@ class RobotMetrics:
     it never shares a formation). final_heading_error: |wrap(yaw - slot heading)| at the end
     of the run, deg (the slot stands then: its heading is the leader's).
     max_off_formation: the largest distance from where its formation puts it
-    (``RunResult.formation_places``), m, and off_formation_time the time it was outside its
-    formation there, s (:func:`off_formation`); neither counts while it moves over to its
-    place in a formation it has just joined. wheel_turn_ratio: in the physics profiles, the
+    (``RunResult.formation_places``), m, and off_formation_time the longest it was outside
+    its formation in one go, s (:func:`off_formation`); neither counts while it moves over
+    to its place in a formation it has just joined. wheel_turn_ratio: in the physics profiles, the
     median over the ticks its wheels turn it at WHEEL_TURN_MIN or more of its achieved yaw
     rate over the wheels' (1: no slip; a skid-steer robot's wheels slip sideways in a turn);
     None in the other profiles or without such ticks.
@@ -219,7 +219,8 @@ class RunMetrics:
 
     @property
     def off_formation_time(self) -> float:
-        """s: the longest any robot was outside its formation (:func:`off_formation`)."""
+        """s: the longest any robot was outside its formation in one go
+        (:func:`off_formation`)."""
         return max((r.off_formation_time for r in self.robots), default=0.0)
 
     @property
@@ -346,7 +347,7 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]),
                      longest[i], total[i],
                      float(np.where(off[i][2], off[i][0], 0.0).max(initial=0.0)),
-                     float(off[i][1].sum() * period),
+                     max(((b - a) * period for a, b in true_runs(off[i][1])), default=0.0),
                      wheel_turn_ratio(result.velocities[i, during, 1],
                                       result.wheel_rates[i, during])
                      if result.wheel_rates is not None else None)

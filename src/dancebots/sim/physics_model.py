@@ -246,8 +246,13 @@ def _walls_xml(polygon: FloatArray, height: float, name: str, outside: bool) -> 
     the edge, as the stage's contact test has it."""
     points = np.asarray(polygon, dtype=float)
     x, y = points[:, 0], points[:, 1]
-    counter_clockwise = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)) > 0.0
-    side = (1.0 if outside else -1.0) * (1.0 if counter_clockwise else -1.0)
+    twice_area = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    side = (1.0 if outside else -1.0) * (1.0 if twice_area > 0.0 else -1.0)
+    perimeter = float(np.hypot(*(np.roll(points, -1, axis=0) - points).T).sum())
+    # inside an obstacle no thicker than the obstacle (2 area / perimeter: a thin slab's
+    # thickness), so that no box pokes out of it
+    thickness = WALL_THICKNESS if outside else min(
+        WALL_THICKNESS, abs(twice_area) / perimeter if perimeter > 0.0 else WALL_THICKNESS)
     walls = []
     for k in range(len(points)):
         a, b = points[k], points[(k + 1) % len(points)]
@@ -255,10 +260,10 @@ def _walls_xml(polygon: FloatArray, height: float, name: str, outside: bool) -> 
         if length <= 0.0:
             continue
         normal = np.array([b[1] - a[1], a[0] - b[0]]) / length  # right of a -> b
-        middle = (a + b) / 2.0 + side * normal * WALL_THICKNESS / 2.0
+        middle = (a + b) / 2.0 + side * normal * thickness / 2.0
         angle = math.atan2(float(b[1] - a[1]), float(b[0] - a[0]))
         walls.append(f'<geom name="{name}_{k}" type="box" size="{_f(length / 2)} '
-                     f'{_f(WALL_THICKNESS / 2)} {_f(height / 2)}" pos="{_f(middle[0])} '
+                     f'{_f(thickness / 2)} {_f(height / 2)}" pos="{_f(middle[0])} '
                      f'{_f(middle[1])} {_f(height / 2)}" euler="0 0 {_f(math.degrees(angle))}" '
                      'contype="2" conaffinity="2" rgba="0.6 0.6 0.6 1"/>')
     return "".join(walls)

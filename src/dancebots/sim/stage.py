@@ -66,15 +66,16 @@ STEP_BACK = 1.5
 
 
 MOVING_SPEED = 1e-3
-"""m/s and rad/s: a robot faster than this moves (the physics engine's speeds are never
-exactly 0: a standing robot shows about 1e-11)."""
+"""m/s and rad/s: in the physics profiles a robot faster than this, or told to drive faster,
+moves (the engine's speeds are never exactly 0: a standing robot shows about 1e-11)."""
 
 
 @dataclass(frozen=True, slots=True)
 class CollisionEvent:
     """A contact that began at ``time`` s: ``robot`` against ``other`` (a robot, "wall" or an
     obstacle's name, or a spectator's); ``kind`` says which; (x, y) the robot's centre;
-    ``moving``: whether the robot was moving (faster than MOVING_SPEED) when it began: a robot
+    ``moving``: whether the robot was moving when it began (any speed; in the physics
+    profiles driving or told to drive faster than MOVING_SPEED): a robot
     that stood still was walked into (people in the simulator never step into a robot, so
     that happens only to a robot a person already overlaps)."""
 
@@ -208,9 +209,14 @@ class Stage:
         wanted = fresh_commands(np.clip(command, -self.limits, self.limits), issued, now,
                                 self.command_timeout)
         if self.physics is not None:  # the engine moves them, its contacts push back
+            before = np.maximum(np.abs(self.velocity), np.abs(wanted))
             proposed, velocity = self.physics.step(wanted, dt, self.discs)
+            # moving: driven or told to drive into it (after the step a contact has stopped
+            # it; the engine's speeds are never exactly 0)
+            moving = np.any(np.maximum(before, np.abs(velocity)) > MOVING_SPEED, axis=1)
         else:
             velocity = actuate(self.profile, self.velocity, wanted, dt, self.rng)
+            moving = np.any(velocity != 0.0, axis=1)  # before a contact blocks it
             x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2],
                                              velocity[:, 0], velocity[:, 1], np.full(count, dt))
             proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
@@ -242,8 +248,7 @@ class Stage:
             if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact
                 self.collisions.append(CollisionEvent(
                     round(now + dt, 6), self.placement.robots[i], str(other), kind,
-                    float(pose[i, 0]), float(pose[i, 1]),
-                    bool(np.any(np.abs(velocity[i]) > MOVING_SPEED))))
+                    float(pose[i, 0]), float(pose[i, 1]), bool(moving[i])))
             self._active[key] = now + dt
         if self.physics is None:  # in the engine the bodies' contacts stop them
             proposed[blocked] = pose[blocked]
