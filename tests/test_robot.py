@@ -98,7 +98,7 @@ def test_an_unknown_follower_or_stop_rule_is_refused_by_name() -> None:
 
     plan, husky = plan_of(PLAN_TEXT), BUILTIN_ROBOT_TYPES["HUSKY"]
     with pytest.raises(ValueError, match=r"^unknown stop rule 'nope'; choose from fixed, "
-                       r"closing, ssm$"):
+                       r"closing, ssm, predicted$"):
         brain_for(plan, "R2", husky, BrainOptions(stop_rule="nope"))  # type: ignore[arg-type]
     with pytest.raises(ValueError, match=r"^unknown follower 'nope'; choose from tracking, "
                        r"path, thesis$"):

@@ -49,6 +49,7 @@ from dancebots.perception.obstacles import (
     obstacle_points_from_columns,
     obstacle_points_now,
     perceive,
+    predicted_stop_flags,
     turn_fraction,
     turn_reach,
 )
@@ -72,7 +73,7 @@ FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
 Kanayama's tracking law, ``control/tracking.py``); ``path`` (an addition: the same law on
 the robot's place on its leader's path, ``control.tracking.path_references``)."""
 
-StopRule = Literal["fixed", "closing", "ssm"]
+StopRule = Literal["fixed", "closing", "ssm", "predicted"]
 STOP_RULES: tuple[StopRule, ...] = get_args(StopRule)
 """When a robot stops for what it sees: ``fixed`` (thesis 5.2): a point within 0.55 m ahead
 of the front (behind the rear) in the corridor the robot sweeps stops it driving that way,
@@ -81,7 +82,12 @@ stands while a stranger approaches it faster than it could stop (its approach me
 between scans, S_p of ISO/TS 15066: ``perception.closing``); ``ssm`` (an addition, ISO/TS
 15066's speed and separation monitoring: ``perception.ssm``): its speed is limited so that
 it can stop before any point, approaching at its tracked speed (``perception.tracks``) or at
-walking speed, comes nearer than a margin to the area it sweeps until it stands."""
+walking speed, comes nearer than a margin to the area it sweeps until it stands;
+``predicted`` (an addition): ``fixed`` on the points as they will be: each point of a tracked
+person (``perception.tracks``) moved on at its velocity for the data's age (the LIDAR's
+latency and the time since the scan), so that a person who walks into the corridor while the
+cloud is on its way stops the robot too (the compensated detector moves the points by the
+robot's own motion only)."""
 
 Detector = Literal["thesis", "compensated"]
 DETECTORS: tuple[Detector, ...] = get_args(Detector)
@@ -442,7 +448,7 @@ class RobotBrain:
                 sensing.detector == "compensated") else None
             cloud_stamp = cloud.stamp
             taken_at = seen_from or pose
-            if sensing.stop_rule == "ssm" and taken_at is not None:
+            if sensing.stop_rule in ("ssm", "predicted") and taken_at is not None:
                 # the obstacles tracked in the own map frame (SSM needs their speeds)
                 from dancebots.perception.tracks import ObstacleTracks, TrackParams, track_step
 
@@ -543,6 +549,16 @@ class RobotBrain:
                     if abs(linear) <= SLOWED and not may_turn:
                         # standing, it does not swing a corner out at a person walking up
                         linear = angular = 0.0
+            elif (sensing.stop_rule == "predicted" and linear != 0.0
+                  and point_velocity is not None and point_kind is not None
+                  and self._predicted_stop(obstacles, height_step, seen_from or pose, pose,
+                                           point_velocity, point_kind,
+                                           now - (cloud_stamp if cloud_stamp is not None
+                                                  else now), linear)):
+                # a tracked person will be in the corridor by now: thesis 5.2's stop, on
+                # where it will be (it holds the show: a person, not a mate on its place)
+                held = holds_show = True
+                linear = 0.0
             elif (flags.front and linear > 0) or (flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
@@ -673,6 +689,26 @@ class RobotBrain:
                 if turn_fraction(moved, length, width, 0.0, angular, detection) > 0.0:
                     return direction
         return 0.0
+
+    def _predicted_stop(self, columns: np.ndarray, height_step: float,
+                        seen_from: tuple[float, float, float],
+                        pose: tuple[float, float, float], velocity: np.ndarray,
+                        kind: np.ndarray, age: float, linear: float) -> bool:
+        """The ``predicted`` stop rule: whether a point of a tracked moving obstacle (``kind``
+        TRACKED, ``velocity`` (N, 2) in the own map frame, of the cloud's columns seen from
+        ``seen_from``) moved on at its velocity for ``age`` s lies within the stop distance
+        ahead (``linear`` > 0) or behind (< 0) in the corridor the robot sweeps
+        (``perception.obstacles.stop_flags`` on the predicted points)."""
+        from dancebots.perception.tracks import TRACKED
+
+        points = obstacle_points_now(columns, height_step, seen_from, pose,
+                                     self._ssm_detection)
+        if len(points) != len(kind) or not len(points):  # tracks of an older cloud
+            return False
+        flags = predicted_stop_flags(points, velocity, kind == TRACKED, pose[2], age,
+                                     self.sensing.length, self.sensing.width,
+                                     self.sensing.detection)
+        return bool(flags.front if linear > 0 else flags.rear)
 
     def _separation_limits(self, columns: np.ndarray, height_step: float,
                            seen_from: tuple[float, float, float],

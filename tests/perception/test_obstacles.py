@@ -18,6 +18,7 @@ from dancebots.perception.obstacles import (
     footprint_clearance,
     obstacle_points,
     obstacle_points_from_columns,
+    predicted_stop_flags,
     stop_flags,
     turn_fraction,
     turn_reach,
@@ -296,3 +297,23 @@ def test_the_split_perception_is_perceive_columns_with_and_without_the_mates(
     assert everything == perceive_columns(columns, *common)
     assert left_out == (not keep.all())
     assert strangers == perceive_columns(columns[keep], *common)
+
+
+def test_a_person_walking_into_the_corridor_stops_the_robot_before_the_cloud_shows_it() -> None:
+    """The ``predicted`` stop rule: a SIM robot (1.2 x 0.6 m) sees a person 0.4 m ahead of its
+    front and 0.8 m to its right, outside the corridor (0.4 m half width), walking left at
+    1.5 m/s; the cloud is 0.4 s old, so the person is 0.2 m right by now: inside, a stop.
+    Fresh data (age 0), a standing point, or the person walking away stop nothing; with the
+    robot facing +y the map's -x velocity is its left."""
+    person = np.array([[1.0, -0.8]])
+    left = np.array([[0.0, 1.5]])
+    moving = np.array([True])
+    assert stop_flags(person, 1.2, 0.6) == stop_flags(np.zeros((0, 2)), 1.2, 0.6)
+    assert predicted_stop_flags(person, left, moving, 0.0, 0.4, 1.2, 0.6).front
+    assert not predicted_stop_flags(person, left, moving, 0.0, 0.4, 1.2, 0.6).rear
+    assert not predicted_stop_flags(person, left, moving, 0.0, 0.0, 1.2, 0.6).front
+    assert not predicted_stop_flags(person, left, ~moving, 0.0, 0.4, 1.2, 0.6).front
+    assert not predicted_stop_flags(person, -left, moving, 0.0, 0.4, 1.2, 0.6).front
+    facing_up = predicted_stop_flags(person, np.array([[-1.5, 0.0]]), moving, math.pi / 2,
+                                     0.4, 1.2, 0.6)
+    assert facing_up.front

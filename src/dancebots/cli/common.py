@@ -566,7 +566,7 @@ def add_timing_argument(parser: argparse.ArgumentParser) -> None:
                         "turn; thesis: the leader's speeds as the thesis gives them")
 
 
-STOP_RULES = ("fixed", "closing", "ssm")
+STOP_RULES = ("fixed", "closing", "ssm", "predicted")
 """``robot.STOP_RULES`` (the CLI imports only the standard library at start-up)."""
 
 
@@ -579,7 +579,9 @@ def add_stop_rule_argument(parser: argparse.ArgumentParser) -> None:
                         "between scans) faster than it could stop; ssm: speed and separation "
                         "monitoring (ISO/TS 15066): its speed is limited so that it can stop "
                         "before a person, approaching at the tracked speed or at 1.6 m/s "
-                        "when new, comes within 0.25 m of it (docs/safety.md)")
+                        "when new, comes within 0.25 m of it; predicted: fixed on the points "
+                        "of tracked people moved on at their speed for the data's age "
+                        "(docs/safety.md)")
 
 
 HOLDS = ("together", "alone")

@@ -31,6 +31,7 @@ __all__ = [
     "obstacle_points_from_columns",
     "obstacle_points_now",
     "perceive",
+    "predicted_stop_flags",
     "stop_flags",
     "turn_fraction",
     "turn_reach",
@@ -99,6 +100,21 @@ def stop_flags(points: FloatArray, length: float, width: float,
     robot sweeps (its width plus the margin on each side)."""
     front, rear = clear_distances(points, length, width, params)
     return StopFlags(front < params.stop_distance, rear < params.stop_distance)
+
+
+def predicted_stop_flags(points: FloatArray, velocity: FloatArray, moving: NDArray[np.bool_],
+                         heading: float, age: float, length: float, width: float,
+                         params: DetectorParams = DetectorParams()) -> StopFlags:
+    """:func:`stop_flags` on where moving points will be: points (N, 2) in ``base_link``,
+    those with ``moving`` (N,) moved on at their ``velocity`` (N, 2), m/s in the map frame
+    the robot's ``heading`` (rad) is in, for ``age`` s (the data's age); the others are left
+    out (they stand, and :func:`stop_flags` on the cloud already sees them). The
+    ``predicted`` stop rule (``robot.STOP_RULES``)."""
+    if not moving.any():
+        return StopFlags(False, False)
+    c, s = math.cos(heading), math.sin(heading)
+    ahead = points[moving] + (velocity[moving] @ np.array([[c, -s], [s, c]])) * max(age, 0.0)
+    return stop_flags(ahead, length, width, params)
 
 
 def clear_distances(points: FloatArray, length: float, width: float,
