@@ -106,10 +106,10 @@ def test_the_physics_profile_runs_through_ros_unchanged(roscore: Master, tmp_pat
                                                         ) -> None:
     """`dancebots ros simulate --profile physics`: the bridge steps the MuJoCo scene in place
     of the unicycle, the nodes are the same; scenario 7.1 ends as the pure physics run does
-    (within FINAL_TOLERANCE). Its row bends more through ROS than in the pure run (measured:
-    14.6 against 2.5 cm): the bridge steps the engine at 20 Hz with each command as it arrives,
-    and a body with mass answers a late command later than the ideal profile's does; so
-    PHYSICS_SPACING_TOLERANCE."""
+    (within FINAL_TOLERANCE). Its row bends more through ROS than in the pure run (by about
+    12 cm when this test was written): the bridge steps the engine at 20 Hz with each command
+    as it arrives, and a body with mass answers a late command later than the ideal profile's
+    does; so PHYSICS_SPACING_TOLERANCE."""
     pytest.importorskip("mujoco", reason="the physics profile's engine (the dev extra)")
     record_path = tmp_path / "record.npz"
     dancebots = Path(sys.executable).parent / "dancebots"
