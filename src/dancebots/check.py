@@ -659,9 +659,7 @@ def _note_waits(plan: Plan, diagnostics: list[Diagnostic]) -> None:
                       if float(wait[during].max()) > max(WAIT_NOTE, wait[first] + WAIT_GROWTH)]
             if listed:
                 found.append(((timing.span.line, timing.span.col), ", ".join(listed)))
-        half_width = max(abs(oy) for _, oy in formation.offsets.values())
-        depth = (max(ox for ox, _ in formation.offsets.values())
-                 - min(ox for ox, _ in formation.offsets.values()))
+        half_width, depth = formation.half_width, formation.depth
         # on a circle of radius r a place |oy| inside waits about depth |oy| / (r - |oy|)
         radius = math.ceil(10.0 * half_width * (1.0 + depth / WAIT_NOTE) - 1e-6) / 10.0
         for (line, col), waiting in found:

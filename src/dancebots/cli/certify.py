@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
+    PROFILES,
     ShowOutcome,
     add_follower_argument,
     add_hold_argument,
@@ -71,7 +72,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(host:port of its head, as `ray start --head` prints; needs Ray: "
                         "pip install ray) instead of local processes; every node must see the "
                         "show's files at the same paths")
-    parser.add_argument("--profile", choices=("ideal", "realistic", "physics", "physics-geometric"),
+    parser.add_argument("--profile", choices=PROFILES,
                         default="realistic", help="the simulator's profile (physics: MuJoCo, "
                         "no noise: the seeds draw the crowds only) (default: realistic)")
     parser.add_argument("--no-lidar", action="store_true",

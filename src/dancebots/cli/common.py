@@ -36,6 +36,7 @@ __all__ = [
     "EXIT_OK",
     "EXIT_WARNINGS",
     "MANIFEST",
+    "PROFILES",
     "OutputError",
     "ShowOutcome",
     "StagedOutput",
@@ -116,6 +117,11 @@ def in_range(low: float, high: float, integer: bool = False) -> Callable[[str], 
 
     parse.__name__ = "integer" if integer else "number"  # argparse names it in errors
     return parse
+
+
+PROFILES = ("ideal", "realistic", "physics", "physics-geometric")
+"""The simulator's profiles (``sim.kinematics.PROFILES``; the CLI imports only the standard
+library at start-up; a test keeps them equal)."""
 
 
 def profile_missing(profile: str) -> str | None:

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
+    PROFILES,
     ShowOutcome,
     bundled,
     in_range,
@@ -53,7 +54,6 @@ CONTROLLERS = ("pid", "vo")
 """``leader_follower.controllers.CONTROLLERS``."""
 LEADERS = ("person", "robot")
 """``shows.queue.LEADERS``."""
-PROFILES = ("ideal", "realistic", "physics", "physics-geometric")
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "queue.png", "animation.gif",
                 "animation.mp4", "metrics.json")
 """Every file a queue run may write into its output directory (besides the manifest)."""

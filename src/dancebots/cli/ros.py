@@ -21,6 +21,7 @@ from pathlib import Path
 from dancebots.cli.common import (
     EXIT_INVALID,
     EXIT_OK,
+    PROFILES,
     add_follower_argument,
     add_hold_argument,
     add_show_arguments,
@@ -38,7 +39,6 @@ DESCRIPTION = ("Run a show through ROS 1: `formation` on each real robot (one pe
                "bridge on this machine.")
 START_STRATEGIES = ("agreed", "thesis", "timecode")
 """``sync.start.START_STRATEGIES`` (a test keeps them equal); the first is the default."""
-PROFILES = ("ideal", "realistic", "physics", "physics-geometric")
 
 _INSTALL = ("roslaunch is not installed; install Debian's ROS 1 packages: apt-get install "
             "ros-core python3-rospy python3-roslaunch python3-tf2-ros python3-sensor-msgs "

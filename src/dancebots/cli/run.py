@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from dancebots.cli.common import (
+    PROFILES,
     ShowOutcome,
     add_follower_argument,
     add_hold_argument,
@@ -56,8 +57,6 @@ DESCRIPTION = ("Simulate a show in the 2D simulator (robots with LIDAR, stops an
 OUTPUT_NAMES = ("show.html", "log.csv", "run.mcap", "speeds_distances.png", "trajectories.png",
                 "animation.gif", "animation.mp4", "sound.wav", "preview.mp4", "metrics.json")
 """Every file a run may write into its output directory (besides the manifest)."""
-PROFILES = ("ideal", "realistic", "physics", "physics-geometric")
-"""The simulator's profiles (``sim.kinematics.PROFILES``; a test keeps them equal)."""
 DETECTORS = ("compensated", "thesis")
 FORCE_STEERINGS = ("blend", "thesis")
 

@@ -210,9 +210,15 @@ def place_waits(plan: Plan, index: int) -> dict[str, FloatArray]:
     from the robots ahead (module docstring); 0 where it does not wait. ``check`` notes
     long waits: the formation loses its shape there."""
     formation = plan.formations[index]
-    driven = _leader_driven(formation.leader, formation.leader.times)
-    return {robot: np.maximum(driven + min(formation.offsets[robot][0], 0.0) - abeam, 0.0)
+    return {robot: np.maximum(_nominal_abeam(formation.leader, formation.offsets[robot][0])
+                              - abeam, 0.0)
             for robot, abeam in _file_table(plan, index).items()}
+
+
+def _nominal_abeam(leader: LeaderTrajectory, ox: float) -> FloatArray:
+    """At the leader's samples (N,): the leader path length (m) abeam which a robot ``ox`` m
+    along (behind: negative) has its place when it waits for no one."""
+    return _leader_driven(leader, leader.times) + min(ox, 0.0)
 
 
 def _kept_apart(path: OffsetPath, abeam: FloatArray,
@@ -296,7 +302,7 @@ def path_places(plan: Plan, robot: str, times: FloatArray, wait_behind: bool = T
         leader = formation.leader
         now = times[a:b]
         abeam = (_file_table(plan, index)[robot] if wait_behind else
-                 _leader_driven(leader, leader.times) + min(ox, 0.0))
+                 _nominal_abeam(leader, ox))
         path = _offset_path(formation, oy)
         place, place_heading, stretch = path.at(np.interp(now, leader.times, abeam))
         if len(leader.times) >= 2:

@@ -201,6 +201,17 @@ class PlannedFormation:
     departure_delay: float = 0.0
     waits_for: tuple[str, ...] = ()
 
+    @property
+    def depth(self) -> float:
+        """m: from its front row to its back row (the spread of the offsets' x)."""
+        xs = [ox for ox, _ in self.offsets.values()]
+        return max(xs) - min(xs) if xs else 0.0
+
+    @property
+    def half_width(self) -> float:
+        """m: the largest lateral offset |oy| from its leader."""
+        return max((abs(oy) for _, oy in self.offsets.values()), default=0.0)
+
 
 @dataclass(frozen=True, slots=True, eq=False, weakref_slot=True)
 class Plan:

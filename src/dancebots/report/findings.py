@@ -115,7 +115,7 @@ def simulated_findings(result: RunResult, what_ran: str,
                     "LIDAR)")
     outside: list[Diagnostic] = []
     for i, name in enumerate(result.robots):
-        distance, out, _ = off_formation(result, i, limits.min_duration)
+        distance, out, _ = off_formation(result, i, limits.min_duration)  # (T,) each
         for a, b in true_runs(out):
             if (b - a) * step < limits.min_duration - 1e-9:  # the verdict's rule
                 continue

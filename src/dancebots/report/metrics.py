@@ -22,6 +22,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,6 +40,7 @@ __all__ = [
     "REVERSE_SPEED_MIN",
     "WHEEL_TURN_MIN",
     "FormationError",
+    "OffFormation",
     "RobotMetrics",
     "RowMetrics",
     "RunMetrics",
@@ -332,7 +334,7 @@ def run_metrics(result: RunResult) -> RunMetrics:
     pairs = formation_error(result.poses[..., :2], result.desired[..., :2], result.formation,
                             during)
     flips = [sign_flips(result.commands[i, during, 1]) for i in range(len(result.robots))]
-    off = [off_formation(result, i) for i in range(len(result.robots))]  # (distance, outside)
+    off = [off_formation(result, i) for i in range(len(result.robots))]
     robots = tuple(
         RobotMetrics(name, float(np.sqrt(np.mean(error[i] ** 2))), float(error[i].max()),
                      float(np.sqrt(np.mean(deviation[i] ** 2))), float(deviation[i].max()),
@@ -346,8 +348,9 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      _fraction(against[i], moving[i]), flips[i],
                      pairs.robot_rms[i], pairs.robot_max[i], float(heading[i, -1]),
                      longest[i], total[i],
-                     float(np.where(off[i][2], off[i][0], 0.0).max(initial=0.0)),
-                     max(((b - a) * period for a, b in true_runs(off[i][1])), default=0.0),
+                     float(np.where(off[i].counted, off[i].distance, 0.0).max(initial=0.0)),
+                     max(((b - a) * period for a, b in true_runs(off[i].outside)),
+                         default=0.0),
                      wheel_turn_ratio(result.velocities[i, during, 1],
                                       result.wheel_rates[i, during])
                      if result.wheel_rates is not None else None)
@@ -425,8 +428,15 @@ def wheel_turn_ratio(achieved: FloatArray, wheels: FloatArray) -> float | None:
     return float(np.median(achieved[turning] / wheels[turning])) if turning.any() else None
 
 
-def off_formation(result: RunResult, robot: int, grace: float = 1.0,
-                  ) -> tuple[FloatArray, BoolArray, BoolArray]:
+class OffFormation(NamedTuple):
+    """:func:`off_formation`'s arrays, each (T,)."""
+
+    distance: FloatArray
+    outside: BoolArray
+    counted: BoolArray
+
+
+def off_formation(result: RunResult, robot: int, grace: float = 1.0) -> OffFormation:
     """Whether ``robot`` is out of its formation, as the audience sees it.
 
     Returns distance (T,), m: from where its formation puts it
@@ -445,13 +455,11 @@ def off_formation(result: RunResult, robot: int, grace: float = 1.0,
     distance = np.hypot(result.poses[robot, :, 0] - places[robot, :, 0],
                         result.poses[robot, :, 1] - places[robot, :, 1])
     name = result.robots[robot]
-    depth = np.array([max(ox for ox, _ in f.offsets.values())
-                      - min(ox for ox, _ in f.offsets.values())
-                      if name in f.offsets and len(f.offsets) > 1 else np.inf
+    depth = np.array([f.depth if name in f.offsets and len(f.offsets) > 1 else np.inf
                       for f in result.plan.formations])  # a robot alone has none to leave
     tolerance = depth[result.formation[robot]] + result.placement.types[robot].length
     counted = result.during_show & ~moving_over_to_place(result, robot, distance, grace)
-    return distance, counted & (distance > tolerance), counted
+    return OffFormation(distance, counted & (distance > tolerance), counted)
 
 
 def smallest_person_gap(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
