@@ -35,6 +35,7 @@ from dancebots.control.tracking import (
     fold_reference,
     follower_places,
     follower_references,
+    references_from_motion,
     tracking_step,
 )
 from dancebots.geometry import Pose, compose_points, points_to_local, points_to_world, wrap_angle
@@ -54,7 +55,7 @@ from dancebots.perception.obstacles import (
     turn_reach,
 )
 from dancebots.perception.ssm import SsmParams, ssm_speed_limit, turn_allowed
-from dancebots.plan.places import places_end
+from dancebots.plan.places import path_places, places_end
 from dancebots.plan.planner import Plan, RobotTrack
 from dancebots.safety.monitor import Event, SafetyParams, SafetyState, safety_step
 from dancebots.sync.hold import ADVANCE_MIN
@@ -297,13 +298,12 @@ class RobotBrain:
         grid = _grid_times(plan, grid_period)
         self.grid_end = float(grid[-1])
         self.rest_from = places_end(plan)  # s: from then on every reference stands for good
-        track = plan.track(robot, grid)
         # the cache of the follower in use only: (leader, path point, ...) or slot references
-        self._grid = self._samples(track) if follower == "thesis" else []
-        self._slot_grid = self._slot_rows(grid) if follower != "thesis" else None
-        # the same rows as Python floats (a row of them is read at every tick)
-        self._slot_list: list[list[float]] = (
-            self._slot_grid.tolist() if self._slot_grid is not None else [])
+        self._grid = self._samples(plan.track(robot, grid)) if follower == "thesis" else []
+        self._slot_grid = self._grid_slot_rows(grid_period) if follower != "thesis" else None
+        # the same rows as Python floats (a row of them is read at every tick; made at the
+        # first: the batched brains read the array)
+        self._slot_list: list[list[float]] | None = None
         # the other robots' places on the same grid (show frame), for the tracking and path
         # followers' force field, which ignores what a formation mate on its place explains
         self._mates: np.ndarray | None = None
@@ -360,7 +360,22 @@ class RobotBrain:
     def _slot_rows(self, times: np.ndarray) -> np.ndarray:
         """The references (T, 5) at show times (T,) in the robot's own frame
         (``follower_references``)."""
-        rows = follower_references(self.plan, self.robot, times, self.follower)
+        return self._to_own_rows(follower_references(self.plan, self.robot, times,
+                                                     self.follower, self.sensing.compiled))
+
+    def _grid_slot_rows(self, grid_period: float) -> np.ndarray:
+        """:meth:`_slot_rows` on the brains' grid; the path follower's from the places on
+        the grid that every brain of the plan shares (``_grid_path_places``)."""
+        if self.follower != "path":
+            return self._slot_rows(_grid_times(self.plan, grid_period))
+        points, heading, motion, speed = _grid_path_places(self.plan, grid_period)[
+            self.plan.robots.index(self.robot)]
+        return self._to_own_rows(references_from_motion(
+            _grid_times(self.plan, grid_period), points, motion, speed, heading,
+            compiled=self.sensing.compiled))
+
+    def _to_own_rows(self, rows: np.ndarray) -> np.ndarray:
+        """Reference rows (T, 5), show frame, moved to the robot's own frame, in place."""
         own = self._to_own
         rows[:, :2] = points_to_world(rows[:, :2], own)
         rows[:, 2] += own.theta
@@ -375,6 +390,8 @@ class RobotBrain:
         assert grid is not None, "slot_at serves the tracking follower"
         k = self._grid_index(show_time, len(grid))
         if k is not None:
+            if self._slot_list is None:
+                self._slot_list = grid.tolist()
             x, y, heading, speed, angular_speed = self._slot_list[k]
             return SlotReference((x, y, wrap_angle(heading)), speed, angular_speed,
                                  show_time >= self.rest_from)
@@ -384,6 +401,24 @@ class RobotBrain:
         row[4] = before[4]
         return SlotReference((float(row[0]), float(row[1]), wrap_angle(float(row[2]))),
                              float(row[3]), float(row[4]), show_time >= self.rest_from)
+
+    def references_at(self, show_times: np.ndarray) -> np.ndarray:
+        """The slot references (T, 5) the tracking or path follower tracked at show times
+        (T,) s, own frame (``slot_at``, without the feedforward lead): the grid's rows, and
+        where a time falls off the grid (a paused shared clock), the row computed there
+        (its heading wrapped)."""
+        grid = self._slot_grid
+        assert grid is not None, "references_at serves the tracking and path followers"
+        times = np.asarray(show_times, dtype=float)
+        length = len(grid)
+        k = np.rint(times / self.grid_period)
+        after = times >= self.grid_end
+        on = after | ((np.abs(k * self.grid_period - times) < 1e-9) & (k >= 0) & (k < length))
+        rows = grid[np.where(after, length - 1, np.clip(k, 0, length - 1)).astype(np.int64)]
+        for i in np.flatnonzero(~on).tolist():
+            exact = self.slot_at(float(times[i]))
+            rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
+        return rows
 
     def _reference(self, show_time: float) -> SlotReference:
         """What the tracking and path followers track at ``show_time`` s: the reference's
@@ -969,7 +1004,19 @@ class RobotBrain:
 def _places(plan: Plan, grid_period: float, follower: Follower) -> np.ndarray:
     """Every robot's follower place (R, T, 2), show frame, on the brains' grid (shared by
     the brains of one plan in the simulator)."""
-    return follower_places(plan, _grid_times(plan, grid_period), follower)
+    if follower == "tracking":
+        return follower_places(plan, _grid_times(plan, grid_period), follower)
+    return np.stack([placed[0] for placed in _grid_path_places(plan, grid_period)])
+
+
+@functools.lru_cache(maxsize=2)
+def _grid_path_places(plan: Plan, grid_period: float,
+                      ) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], ...]:
+    """Every robot's place on its leader's path on the brains' grid (``path_places``: per
+    robot positions (T, 2), heading, motion, speed (T,)), computed once for the brains of a
+    plan: the path follower's references and every brain's mates' places."""
+    times = _grid_times(plan, grid_period)
+    return tuple(path_places(plan, robot, times) for robot in plan.robots)
 
 
 def _grid_times(plan: Plan, grid_period: float) -> np.ndarray:

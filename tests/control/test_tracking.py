@@ -16,6 +16,7 @@ from dancebots.control.tracking import (
     choose_folds,
     parking_step,
     path_references,
+    references_from_motion,
     slot_reference,
     slot_references,
     tracking_step,
@@ -242,6 +243,41 @@ def test_a_standing_slot_faces_its_leaders_heading_and_folds_towards_it() -> Non
     folds = choose_folds(np.arange(4) * 0.1, np.array([0.0, np.pi, np.pi, 0.0]),
                          np.zeros(4), np.array([0.3, 0.3, 0.3, 0.0]))
     assert folds.tolist() == [False, True, True, False]
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), count=st.integers(0, 300),
+       scale=st.sampled_from([1e-300, 1e-3, 1.0, 1e3, 1e308]))
+def test_the_compiled_reference_passes_give_the_same_rows(seed: int, count: int,
+                                                          scale: float) -> None:
+    """``tracking_jit``'s fold choice and rate-limited headings are the Python loops' to
+    the last bit: random motions that reverse, stand and turn round, at hostile scales."""
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.0, 0.2, count))
+    motion = np.cumsum(rng.choice([0.0, 0.05, np.pi, -2.0], count)) * min(scale, 1e6)
+    speed = np.where(rng.random(count) < 0.2, 0.0, rng.uniform(0.0, 0.5, count))
+    heading = rng.uniform(-np.pi, np.pi, count)
+    points = rng.normal(size=(count, 2))
+    with np.errstate(all="ignore"):
+        python = references_from_motion(times, points, motion, speed, heading)
+        compiled = references_from_motion(times, points, motion, speed, heading,
+                                          compiled=True)
+    np.testing.assert_array_equal(compiled, python)
+    assert (choose_folds(times, motion, heading, speed, compiled=True).tolist()
+            == choose_folds(times, motion, heading, speed).tolist())
+
+
+@settings(max_examples=300, deadline=None)
+@given(angle=st.one_of(st.floats(allow_nan=False, allow_infinity=False),
+                       st.integers(-10**6, 10**6).map(lambda k: k * math.pi)))
+def test_the_compiled_remainder_is_math_remainder(angle: float) -> None:
+    """Ties at odd multiples of pi go to the even quotient, zeros keep their sign."""
+    from dancebots.control.tracking_jit import _remainder_tau
+
+    expected = math.remainder(angle, 2.0 * math.pi)
+    got = _remainder_tau(angle)
+    assert got == expected
+    assert math.copysign(1.0, got) == math.copysign(1.0, expected)
 
 
 def test_a_column_follows_its_leaders_path_round_a_corner() -> None:

@@ -137,7 +137,7 @@ counted for the turn's cost (below the robots' pi rad/s, so that they can follow
 
 
 def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArray,
-                 speed: FloatArray) -> NDArray[np.bool_]:
+                 speed: FloatArray, compiled: bool = False) -> NDArray[np.bool_]:
     """Which way a robot faces along its slot's motion: (T,) True where it drives the slot's
     path in reverse (faces ``motion`` + pi), chosen by dynamic programming (Viterbi over the
     two folds of every row) to minimise the time it faces more than 90 deg away from its
@@ -145,7 +145,8 @@ def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArr
     every change of heading (``TURN_COST``: turning round where the slot is slow, at a cusp,
     costs little). times (T,) s ascending; motion (T,) the direction the slot moves, rad;
     leader_heading (T,) rad; speed (T,) the slot's speed, m/s (0: standing, where both folds
-    are the leader's heading and cost nothing).
+    are the leader's heading and cost nothing). ``compiled``: the pass as a numba kernel
+    (``tracking_jit.fold_choices``, the same folds).
     """
     count = len(times)
     folds = np.zeros(count, dtype=bool)
@@ -157,9 +158,13 @@ def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArr
     heading = np.stack([np.where(moving, motion, leader_heading),
                         np.where(moving, motion + np.pi, leader_heading)])  # (2, T)
     away = (np.cos(heading - leader_heading) < 0.0) & moving
-    row_cost = (FACING_AWAY_COST * away * step).tolist()
     turn = np.abs(wrap_angles(heading[:, None, 1:] - heading[None, :, :-1]))  # (to, from, T-1)
     pace = np.maximum(speed[1:], speed[:-1]) * (TURN_COST / REFERENCE_TURN)
+    if compiled:
+        from dancebots.control.tracking_jit import fold_choices  # imports numba
+
+        return fold_choices(FACING_AWAY_COST * away * step, turn * pace)
+    row_cost = (FACING_AWAY_COST * away * step).tolist()
     turn_cost = (turn * pace).tolist()
     total = [row_cost[0][0], row_cost[1][0]]
     back = np.zeros((count, 2), dtype=np.int8)
@@ -180,7 +185,7 @@ def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArr
 
 def slot_references(times: FloatArray, leaders: FloatArray, offsets: FloatArray,
                     leader_commands: FloatArray, turn_rate: float = REFERENCE_TURN,
-                    ) -> FloatArray:
+                    compiled: bool = False) -> FloatArray:
     """The reference of a rigid slot over consecutive show times ``times`` (T,) s, ascending:
     the slot at ``offsets`` (T, 2) (ox, oy, m, in the leader's frame) of leaders at poses
     ``leaders`` (T, 3) (x, y, theta) moving with ``leader_commands`` (T, 2) (v m/s, w rad/s).
@@ -192,14 +197,15 @@ def slot_references(times: FloatArray, leaders: FloatArray, offsets: FloatArray,
     leader_heading = np.unwrap(leaders[:, 2])
     motion = leader_heading + np.arctan2(across, along)  # the direction the slot moves
     rows = references_from_motion(times, compose_points(leaders, offsets), motion,
-                                  np.hypot(along, across), leader_heading, turn_rate)
+                                  np.hypot(along, across), leader_heading, turn_rate,
+                                  compiled)
     if len(rows):
         rows[-1, 4] = leader_commands[-1, 1]  # held: the slot turns with its leader
     return rows
 
 
 def path_references(plan: Plan, robot: str, times: FloatArray,
-                    turn_rate: float = REFERENCE_TURN) -> FloatArray:
+                    turn_rate: float = REFERENCE_TURN, compiled: bool = False) -> FloatArray:
     """The reference of ``robot`` at show times ``times`` (T,) s, ascending, show frame: its
     place on its leader's path (thesis ch. 4.1: a robot drives the leader's path shifted
     sideways by its lateral offset oy, its along offset ox behind): the leader's pose where
@@ -214,7 +220,7 @@ def path_references(plan: Plan, robot: str, times: FloatArray,
     Returns (T, 5) as :func:`references_from_motion`."""
     points, heading, motion, speed = path_places(plan, robot, times)
     return references_from_motion(np.asarray(times, dtype=float), points, motion, speed,
-                                  heading, turn_rate)
+                                  heading, turn_rate, compiled)
 
 
 def follower_places(plan: Plan, times: FloatArray, follower: str = "tracking") -> FloatArray:
@@ -227,7 +233,7 @@ def follower_places(plan: Plan, times: FloatArray, follower: str = "tracking") -
 
 
 def follower_references(plan: Plan, robot: str, times: FloatArray,
-                        follower: str = "tracking") -> FloatArray:
+                        follower: str = "tracking", compiled: bool = False) -> FloatArray:
     """The reference (T, 5) that ``follower`` tracks (and that the metrics judge its heading
     and direction against) at show times (T,), show frame: the rigid slot's
     (:func:`slot_references`) for ``tracking``, the place on the leader's path
@@ -235,13 +241,15 @@ def follower_references(plan: Plan, robot: str, times: FloatArray,
     thesis ch. 4.1)."""
     if follower == "tracking":
         track = plan.track(robot, times)
-        return slot_references(times, track.leader, track.offsets, track.leader_commands)
-    return path_references(plan, robot, times)
+        return slot_references(times, track.leader, track.offsets, track.leader_commands,
+                               compiled=compiled)
+    return path_references(plan, robot, times, compiled=compiled)
 
 
 def references_from_motion(times: FloatArray, points: FloatArray, motion: FloatArray,
                            speed: FloatArray, leader_heading: FloatArray,
-                           turn_rate: float = REFERENCE_TURN) -> FloatArray:
+                           turn_rate: float = REFERENCE_TURN, compiled: bool = False,
+                           ) -> FloatArray:
     """A reference over consecutive show times ``times`` (T,) s, ascending, for a place at
     ``points`` (T, 2) that moves in the direction ``motion`` (T,) rad at ``speed`` (T,) m/s
     (0: it stands), its formation heading ``leader_heading`` (T,) rad.
@@ -255,12 +263,13 @@ def references_from_motion(times: FloatArray, points: FloatArray, motion: FloatA
     (a fold change, a stand) it turns at most ``turn_rate`` rad/s, and the speed is the
     place's velocity along the heading (the robot slows while it turns). Angular speed: the
     heading's change to the next row over the time step (exact for commands held over the
-    step, as a robot's are).
+    step, as a robot's are). ``compiled``: the two sequential passes as numba kernels
+    (``tracking_jit``, the same rows).
     """
     moving = speed > 1e-9
-    folds = choose_folds(times, motion, leader_heading, speed)
+    folds = choose_folds(times, motion, leader_heading, speed, compiled)
     target = np.where(moving, motion + np.pi * folds, leader_heading)
-    heading = _rate_limited(times, target, turn_rate)
+    heading = _rate_limited(times, target, turn_rate, compiled)
     signed = speed * np.cos(heading - motion)
     angular = np.zeros(len(times))
     step = np.diff(times)
@@ -269,9 +278,14 @@ def references_from_motion(times: FloatArray, points: FloatArray, motion: FloatA
     return np.column_stack([points, heading, signed, angular])
 
 
-def _rate_limited(times: FloatArray, target: FloatArray, rate: float) -> FloatArray:
+def _rate_limited(times: FloatArray, target: FloatArray, rate: float,
+                  compiled: bool = False) -> FloatArray:
     """Headings (T,) that follow ``target`` (T,) rad, unwrapped, turning at most ``rate``
     rad/s between consecutive ``times`` (T,) s (the shorter way round)."""
+    if compiled and len(target):
+        from dancebots.control.tracking_jit import rate_limited_headings  # imports numba
+
+        return rate_limited_headings(np.diff(times) * rate, np.ascontiguousarray(target))
     result = np.empty(len(target))
     if len(target) == 0:
         return result

@@ -564,12 +564,18 @@ def _result(plan: Plan, arena: Arena, placement: Placement, config: SimConfig,
         leader.append(_to_world(placement.starts, slots, track.leader, i))
         required.append(track.required_distance)
         formation.append(track.formation)
-        rows = follower_references(plan, robot, show_times[i], config.brain.follower)
+        frame = _to_world(placement.starts, slots, np.zeros((1, 3)), i)[0]
+        if brains[i].follower == "thesis":
+            rows = follower_references(plan, robot, show_times[i], config.brain.follower)
+            rows[:, :2] = compose_points(frame, rows[:, :2])
+            rows[:, 2] += frame[2]
+        else:  # what the brain tracked, from its own frame (start = frame o slot0)
+            rows = brains[i].references_at(show_times[i])
+            start = placement.starts[i]
+            rows[:, :2] = compose_points(start, rows[:, :2])
+            rows[:, 2] += start[2]
         # where the shared clock stood, the place stood: no speed (as the brain saw it)
         rows[1:, 3:][np.diff(show_times[i]) <= ADVANCE_MIN] = 0.0
-        frame = _to_world(placement.starts, slots, np.zeros((1, 3)), i)[0]
-        rows[:, :2] = compose_points(frame, rows[:, :2])
-        rows[:, 2] += frame[2]
         reference.append(rows)
         if config.brain.follower == "tracking":
             formation_places.append(desired[-1][:, :2])

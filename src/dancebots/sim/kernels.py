@@ -19,10 +19,12 @@ def kernel_modules(crowds: bool = False, closing: bool = False) -> tuple[ModuleT
     formation show runs (its brains' batch among them), with ``crowds`` the crowds' social
     forces too, and with ``closing`` the ``closing`` stop rule's."""
     from dancebots import robot_batch_jit
+    from dancebots.control import tracking_jit
     from dancebots.perception import fast
     from dancebots.sim import collision_jit, raycast_jit
 
-    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, fast, robot_batch_jit)
+    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, fast, robot_batch_jit,
+                                       tracking_jit)
     if crowds:
         from dancebots.sim import crowd_jit
 
