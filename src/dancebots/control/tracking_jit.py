@@ -52,7 +52,7 @@ def _remainder_tau(angle: float) -> float:
     gives the parity of the truncated quotient by 2 pi (Sterbenz: each subtraction of 2 pi
     below is exact)."""
     tau = 2.0 * math.pi
-    twice = np.fmod(angle, 2.0 * tau)
+    twice = float(np.fmod(angle, 2.0 * tau))
     odd = abs(twice) >= tau
     rest = twice - math.copysign(tau, twice) if odd else twice  # fmod(angle, tau)
     if rest == 0.0:
