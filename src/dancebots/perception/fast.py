@@ -287,6 +287,17 @@ def perceive_columns_split(columns: NDArray[np.float64], height_step: float, cro
     bit (the same points in the same order), in one loop without copies: a column outside
     the crop or the heights is tested against the mates only until one was left out."""
     local = to_local(mates, seen_from)
+    # the mates a column inside the crop can be near (a mate further out on either axis
+    # than the crop and the radius, with a margin for rounding, fails the first test of
+    # ``_near_a_mate`` for every such column): a 20-robot block tests a third of them
+    reach = crop_half + mate_radius + 1e-6
+    close = np.empty_like(local)
+    count = 0
+    for j in range(local.shape[0]):
+        if not (abs(local[j, 0]) > reach or abs(local[j, 1]) > reach):  # NaN: near all
+            close[count] = local[j]
+            count += 1
+    close = close[:count]
     c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
     c1, s1 = math.cos(pose[2]), math.sin(pose[2])
     half_l, half_w = 0.5 * length, 0.5 * width
@@ -301,7 +312,8 @@ def perceive_columns_split(columns: NDArray[np.float64], height_step: float, cro
                 and abs(columns[i, 1]) <= crop_half)
         if not kept and left_out:
             continue
-        near = _near_a_mate(columns[i, 0], columns[i, 1], local, mate_radius)
+        near = _near_a_mate(columns[i, 0], columns[i, 1], close if kept else local,
+                            mate_radius)
         left_out = left_out or near
         if not kept:
             continue
