@@ -332,3 +332,42 @@ def test_after_the_show_a_robot_waits_for_a_stranger_only_so_long() -> None:
     assert all(waited[1:round(AFTER_SHOW_WAIT / 0.1) - 1])
     assert not state.waiting
     assert command.linear > 0.1
+
+
+def test_the_predicted_stop_holds_for_a_stranger_but_not_for_a_moving_mate() -> None:
+    """The ``predicted`` stop rule moves tracked points on at their velocity for the data's
+    age (0.3 s here) and stops where they land within the stop distance ahead, holding the
+    show; a cluster where a formation mate should be moves with the show and does not stop
+    it (that held the formation for its own mates: seed 41 of the open-day crowd stalled).
+    R1 drives forward; R2's place is 1.2 m to its right; both clusters head into R1's
+    corridor 0.35 m before its front."""
+    from dancebots.perception.tracks import TRACKED
+    from dancebots.robot import BrainState, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    pose = brain.slot_at(now).pose
+    mate = brain.mates_at(now)[0]  # own frame
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+
+    def step(at: np.ndarray, velocity: tuple[float, float]) -> BrainState:
+        dx, dy = at[0] - pose[0], at[1] - pose[1]  # base_link at pose
+        local = (c * dx + s * dy, -s * dx + c * dy)
+        columns = np.array([[local[0], local[1], 0.0, 1.0]])
+        state = BrainState(obstacles=columns, seen_from=pose, cloud_stamp=now - 0.3,
+                           point_velocity=np.array([velocity]),
+                           point_kind=np.array([TRACKED], dtype=np.int8))
+        return brain.step(state, now, pose, None, clock=now)[0]
+
+    # from beside R1 (where R2 should be, or 1.5 m beyond it: beyond the mate radius) into
+    # its corridor by now
+    ahead = (0.95 - 0.0) / 0.3  # m/s along x: to 0.95 m ahead of the centre (0.35 m gap)
+    to_mate = mate - np.array(pose[:2])
+    across = -to_mate[1] / 0.3
+    assert not step(mate, (ahead, across)).held
+    stranger = mate + np.array([0.0, -1.5 if to_mate[1] < 0 else 1.5])
+    assert np.hypot(*(stranger - mate)) > brain.mate_radius
+    held = step(stranger, (ahead, -(stranger - np.array(pose[:2]))[1] / 0.3))
+    assert held.held
+    assert held.holds_show

@@ -589,7 +589,8 @@ class RobotBrain:
                   and self._predicted_stop(obstacles, height_step, seen_from or pose, pose,
                                            point_velocity, point_kind,
                                            now - (cloud_stamp if cloud_stamp is not None
-                                                  else now), linear)):
+                                                  else now), linear, show_time,
+                                           mates_heard)):
                 # a tracked person will be in the corridor by now: thesis 5.2's stop, on
                 # where it will be (it holds the show: a person, not a mate on its place)
                 held = holds_show = True
@@ -728,19 +729,33 @@ class RobotBrain:
     def _predicted_stop(self, columns: np.ndarray, height_step: float,
                         seen_from: tuple[float, float, float],
                         pose: tuple[float, float, float], velocity: np.ndarray,
-                        kind: np.ndarray, age: float, linear: float) -> bool:
-        """The ``predicted`` stop rule: whether a point of a tracked moving obstacle (``kind``
+                        kind: np.ndarray, age: float, linear: float, show_time: float,
+                        mates_heard: np.ndarray | None = None) -> bool:
+        """The ``predicted`` stop rule: whether a point of a tracked moving stranger (``kind``
         TRACKED, ``velocity`` (N, 2) in the own map frame, of the cloud's columns seen from
         ``seen_from``) moved on at its velocity for ``age`` s lies within the stop distance
         ahead (``linear`` > 0) or behind (< 0) in the corridor the robot sweeps
-        (``perception.obstacles.stop_flags`` on the predicted points)."""
+        (``perception.obstacles.stop_flags`` on the predicted points). A stranger: no point
+        within ``mate_radius`` of where a formation mate should be at ``show_time`` or said
+        it is (``mates_heard`` (K, 2), show frame); a mate moves with the show, and a rule
+        that held the show for it stalled the formation (seed 41 of the open-day crowd: R4
+        held for its moving mates until the run's limit)."""
         from dancebots.perception.tracks import TRACKED
 
         points = obstacle_points_now(columns, height_step, seen_from, pose,
                                      self._ssm_detection)
         if len(points) != len(kind) or not len(points):  # tracks of an older cloud
             return False
-        flags = predicted_stop_flags(points, velocity, kind == TRACKED, pose[2], age,
+        moving = kind == TRACKED
+        if self._mates is not None and moving.any():
+            where = self.mates_at(show_time)
+            if mates_heard is not None and len(mates_heard):
+                where = np.concatenate([where, compose_points(self._own_frame, mates_heard)])
+            local = points_to_local(where, pose)  # (M, 2) base_link now, as the points
+            gaps = np.hypot(points[:, None, 0] - local[None, :, 0],
+                            points[:, None, 1] - local[None, :, 1])  # (N, M)
+            moving &= ~np.any(~(gaps > self.mate_radius), axis=1)  # NaN: near (a mate)
+        flags = predicted_stop_flags(points, velocity, moving, pose[2], age,
                                      self.sensing.length, self.sensing.width,
                                      self.sensing.detection)
         return bool(flags.front if linear > 0 else flags.rear)
