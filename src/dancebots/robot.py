@@ -491,7 +491,7 @@ class RobotBrain:
                     obstacles, height_step, self._ssm_detection), taken_at)
                 tracks, point_velocity, point_kind = track_step(
                     sensing.tracks or TrackParams(), tracks or ObstacleTracks(), points,
-                    cloud.stamp)
+                    cloud.stamp, sensing.compiled)
             if sensing.stop_rule == "closing" and taken_at is not None and pose is not None:
                 strangers_seen, closing = self._closing(
                     strangers_seen, closing, obstacles, height_step, taken_at, pose,

@@ -96,3 +96,75 @@ def test_a_repeated_stamp_predicts_nothing(stamp: float) -> None:
     tracks, velocity, _ = track_step(params, tracks, _person(np.array([1.0, 0.0])), stamp)
     assert np.all(np.isfinite(velocity))
     assert np.all(velocity == 0.0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), count=st.integers(0, 250),
+       scale=st.sampled_from([1e-300, 0.05, 0.3, 1.0, 4.0]))
+def test_the_compiled_clusters_are_scipys(seed: int, count: int, scale: float) -> None:
+    """``tracks_jit.cluster_labels``: the labels of SciPy's k-d tree and connected
+    components, points spread thin or piled up, repeated points among them."""
+    from dancebots.perception.tracks_jit import cluster_labels
+
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(-4.0, 4.0, (count, 2)) * scale
+    if count > 2:
+        points[rng.integers(0, count, count // 3)] = points[0]
+    labels, clusters = cluster_points(points, 0.3)
+    compiled, compiled_clusters = cluster_labels(points, 0.3)
+    assert compiled_clusters == clusters
+    assert compiled.tolist() == labels.tolist()
+
+
+@settings(max_examples=200, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rows=st.integers(0, 12), cols=st.integers(0, 12),
+       whole=st.booleans())
+def test_the_compiled_assignment_is_scipys(seed: int, rows: int, cols: int,
+                                           whole: bool) -> None:
+    """``tracks_jit.assign``: SciPy's ``linear_sum_assignment``, wide and tall, with ties
+    (whole-number costs) resolved the same way."""
+    from scipy.optimize import linear_sum_assignment
+
+    from dancebots.perception.tracks_jit import assign
+
+    rng = np.random.default_rng(seed)
+    cost = rng.integers(0, 4, (rows, cols)).astype(float) if whole else rng.random((rows, cols))
+    expected_rows, expected_cols = linear_sum_assignment(cost)
+    got_rows, got_cols = assign(cost)
+    assert got_rows.tolist() == expected_rows.tolist()
+    assert got_cols.tolist() == expected_cols.tolist()
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), people=st.integers(0, 6), scans=st.integers(1, 12))
+def test_the_compiled_tracker_follows_the_same_tracks(seed: int, people: int,
+                                                      scans: int) -> None:
+    """``track_step(compiled=True)`` (``tracks_jit.track_cloud``): the same tracks, kinds and
+    hits as the NumPy and SciPy reference for people walking, meeting and leaving past a
+    wall, with the filter's figures to rounding."""
+    rng = np.random.default_rng(seed)
+    start = rng.uniform(-3.0, 3.0, (people, 2))
+    velocity = rng.uniform(-1.5, 1.5, (people, 2))
+    params = TrackParams()
+    reference, compiled = ObstacleTracks(), ObstacleTracks()
+    for k in range(scans):
+        seen = [p for p in range(people) if rng.random() > 0.15]  # some missed at times
+        points = np.concatenate([WALL, *(_person(start[p] + velocity[p] * 0.1 * k)
+                                         for p in seen)])
+        reference, ref_velocity, ref_kind = track_step(params, reference, points, 0.1 * k)
+        compiled, velocity_now, kind = track_step(params, compiled, points, 0.1 * k,
+                                                  compiled=True)
+        assert kind.tolist() == ref_kind.tolist()
+        np.testing.assert_allclose(velocity_now, ref_velocity, rtol=1e-9, atol=1e-9)
+        assert compiled.hits.tolist() == reference.hits.tolist()
+        assert compiled.misses.tolist() == reference.misses.tolist()
+        np.testing.assert_allclose(compiled.states, reference.states, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(compiled.covariances, reference.covariances, rtol=1e-9,
+                                   atol=1e-9)
+
+
+def test_the_compiled_kinds_are_the_references() -> None:
+    from dancebots.perception import tracks_jit
+
+    assert (tracks_jit.STANDING, tracks_jit.TRACKED, tracks_jit.NEW) == (
+        STANDING, TRACKED, NEW)

@@ -15,12 +15,14 @@ LIST = "from dancebots.sim.kernels import kernels_to_compile; print(*kernels_to_
 
 
 def test_every_kernel_is_cached_on_disk() -> None:
-    kernels = [value for module in kernel_modules(crowds=True, closing=True)
+    kernels = [value for module in (*kernel_modules(crowds=True, stop_rule="closing"),
+                                    *kernel_modules(stop_rule="predicted"))
                for value in vars(module).values()
                if hasattr(value, "_cache") and hasattr(value, "py_func")]
     names = {kernel.py_func.__name__ for kernel in kernels}
     assert {"cast_scene", "perceive_columns_split", "social_acceleration_loops",
-            "wall_distances", "sector_gaps_moved"} <= names  # the crowd's, closing's too
+            "wall_distances", "sector_gaps_moved", "track_cloud", "fold_choices",
+            } <= names  # the crowd's, closing's, the tracker's and the references' too
     assert len(kernels) >= 17
     assert {type(kernel._cache).__name__ for kernel in kernels} == {"FunctionCache"}  # not
     # NullCache: each is @njit(cache=True)

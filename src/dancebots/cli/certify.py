@@ -218,7 +218,7 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
     from dancebots.sim.kernels import kernels_to_compile
 
     console = Console(stderr=True, soft_wrap=True)
-    if kernels_to_compile(crowds=job_has_crowds(job), closing=job.stop_rule == "closing"):
+    if kernels_to_compile(crowds=job_has_crowds(job), stop_rule=job.stop_rule):
         console.print("compiling the simulator's kernels (numba; first run on this machine "
                       "only, 10-20 s)", style="yellow", highlight=False)
         run_seed(job, args.first_seed)  # compiled once here, cached on disk for the workers

@@ -207,7 +207,7 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     # a crowd walks differently on the compiled forces (chaotic runs): as ``run`` has it
     compiled = size > COMPILED_FROM or bool(arena.crowds)
     compile_first = kernels_to_compile(
-        crowds=bool(arena.crowds), closing=args.stop_rule == "closing") if compiled else ()
+        crowds=bool(arena.crowds), stop_rule=args.stop_rule) if compiled else ()
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)

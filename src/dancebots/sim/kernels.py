@@ -14,10 +14,11 @@ from types import ModuleType
 __all__ = ["kernel_modules", "kernels_to_compile"]
 
 
-def kernel_modules(crowds: bool = False, closing: bool = False) -> tuple[ModuleType, ...]:
+def kernel_modules(crowds: bool = False, stop_rule: str = "fixed") -> tuple[ModuleType, ...]:
     """The modules that hold numba kernels (importing them imports numba): those every
-    formation show runs (its brains' batch among them), with ``crowds`` the crowds' social
-    forces too, and with ``closing`` the ``closing`` stop rule's."""
+    formation show runs (its brains' batch and references among them), with ``crowds`` the
+    crowds' social forces too, and those of ``stop_rule`` (``robot.STOP_RULES``): the
+    ``closing`` rule's sectors, the ``ssm`` and ``predicted`` rules' obstacle tracker."""
     from dancebots import robot_batch_jit
     from dancebots.control import tracking_jit
     from dancebots.perception import fast
@@ -29,18 +30,22 @@ def kernel_modules(crowds: bool = False, closing: bool = False) -> tuple[ModuleT
         from dancebots.sim import crowd_jit
 
         modules = (*modules, crowd_jit)
-    if closing:
+    if stop_rule == "closing":
         from dancebots.perception import closing_jit
 
         modules = (*modules, closing_jit)
+    if stop_rule in ("ssm", "predicted"):
+        from dancebots.perception import tracks_jit
+
+        modules = (*modules, tracks_jit)
     return modules
 
 
-def kernels_to_compile(crowds: bool = False, closing: bool = False) -> tuple[str, ...]:
+def kernels_to_compile(crowds: bool = False, stop_rule: str = "fixed") -> tuple[str, ...]:
     """``module.function`` of every kernel with no compiled code in numba's disk cache (of a
-    show with ``crowds`` too, and the ``closing`` stop rule's: :func:`kernel_modules`)."""
+    show with ``crowds`` too, and ``stop_rule``'s: :func:`kernel_modules`)."""
     missing = []
-    for module in kernel_modules(crowds, closing):
+    for module in kernel_modules(crowds, stop_rule):
         for name, value in vars(module).items():
             cache = getattr(value, "_cache", None)
             cache_file = getattr(cache, "_cache_file", None)
