@@ -86,6 +86,26 @@ def test_batch_runs_a_show_among_a_crowd_as_the_brains_do() -> None:
     assert any(e.kind == "speech" for e in batched.events)
 
 
+@pytest.mark.parametrize(("world", "seed"), [("open_day_crowd.toml", 41),
+                                             ("open_day_runners.toml", 9)])
+def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(world: str, seed: int) -> None:
+    """The ``predicted`` rule in the batch (the tracker's kernel per cloud and robot, the
+    stop on where tracked strangers will be): the same runs as the brains one by one, among
+    the open-day crowd and among runners (seeds where the rule stops robots)."""
+    data = ROOT / "src" / "dancebots" / "data"
+    path = data / world if world == "open_day_crowd.toml" else ROOT / "examples" / "worlds" / world
+    config = replace(PATH, profile=REALISTIC, seed=seed,
+                     brain=BrainOptions(follower="path", stop_rule="predicted"))
+    reference, batched = both(data / "open_day.dance", path, config)
+    assert_same_run(reference, batched)
+    assert any(e.kind == "speech" for e in batched.events)
+    # the prediction did stop robots: the fixed rule decides otherwise in the same crowd
+    fixed = simulate(batched.plan, batched.arena, batched.placement,
+                     replace(config, brain=BrainOptions(follower="path")))
+    assert (fixed.commands.shape != batched.commands.shape
+            or not np.array_equal(fixed.commands, batched.commands))
+
+
 def test_batch_runs_faults_and_blind_robots_as_the_brains_do(examples: Path) -> None:
     faults = (Fault("R1", "lidar", 6.0), Fault("R2", "pose", 9.0))
     reference, batched = both(examples / "thesis_7_1.dance", None,
@@ -114,6 +134,7 @@ def test_only_the_brains_it_mirrors_are_batched() -> None:
 
     assert batch_supported(brains(follower="path"))
     assert batch_supported(brains(follower="tracking", lidar=False))
+    assert batch_supported(brains(follower="path", stop_rule="predicted"))
     assert not batch_supported(brains(follower="thesis"))
     assert not batch_supported(brains(follower="path", stop_rule="ssm"))
     assert not batch_supported(brains(follower="path", stop_rule="closing"))

@@ -5,8 +5,8 @@ looks up what each follower tracks on the brains' 10 Hz grid for all robots at o
 asks the robot's :class:`~dancebots.robot.RobotBrain` off the grid), and turns the kernel's
 event codes into the events a brain returns. The decisions are ``RobotBrain.step``'s, for
 the configurations :func:`batch_supported` accepts (the defaults: ``tracking`` or ``path``
-follower, ``fixed`` stop rule, ``compensated`` detector); the simulator falls back to the
-brains one by one for the others. ``tests/test_robot_batch.py`` holds both equal.
+follower, ``fixed`` or ``predicted`` stop rule, ``compensated`` detector); the simulator
+falls back to the brains one by one for the others. ``tests/test_robot_batch.py`` holds both equal.
 """
 
 from __future__ import annotations
@@ -30,15 +30,18 @@ FloatArray = NDArray[np.float64]
 
 def batch_supported(brains: list[RobotBrain]) -> bool:
     """Whether :class:`BatchBrains` decides as these brains do: one plan and grid, the
-    ``tracking`` or ``path`` follower, the ``fixed`` stop rule, the ``compensated``
-    detector (or no LIDAR), the compiled perception, the same detection, safety and
-    tracking gains for all."""
+    ``tracking`` or ``path`` follower, the ``fixed`` or ``predicted`` stop rule, the
+    ``compensated`` detector (or no LIDAR), the compiled perception, the same stop rule,
+    detection, tracker, safety and tracking gains for all."""
     if not brains:
         return False
     first = brains[0]
     gains = _gains(first)
     return all(
-        b.follower in ("tracking", "path") and b.sensing.stop_rule == "fixed"
+        b.follower in ("tracking", "path") and b.sensing.stop_rule in ("fixed", "predicted")
+        and b.sensing.stop_rule == first.sensing.stop_rule
+        and b.sensing.tracks == first.sensing.tracks
+        and b._ssm_detection == first._ssm_detection
         and (b.sensing.detector == "compensated" or not b.sensing.lidar)
         and b.sensing.compiled and b.plan is first.plan
         and b.grid_period == first.grid_period and b.sensing.lidar == first.sensing.lidar
@@ -140,7 +143,17 @@ class BatchBrains:
             robot.PARKED_GAP, robot.MAKE_ROOM_SPEED, robot.MAKE_ROOM_FLOOR, robot.NEAR_GAP,
             robot.CORNER_SPEED, robot.AFTER_SHOW_WAIT, robot.SLOW_TURN_LAG,
             safety.sensor_timeout, float(safety.max_lookup_failures), safety.beep_period,
-            ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from])
+            ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
+            1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half])
+        self.track_params = np.zeros(7)
+        if sensing.stop_rule == "predicted":
+            from dancebots.perception.tracks import TrackParams  # imports SciPy
+
+            tracker = sensing.tracks or TrackParams()
+            self.track_params = np.array([
+                tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
+                float(tracker.max_misses), tracker.acceleration_noise,
+                tracker.measurement_noise])
         # state
         self.history = np.zeros((count, robot.HISTORY_LENGTH + 1, 4))
         self.history_size = np.zeros(count, dtype=np.int64)
@@ -156,6 +169,17 @@ class BatchBrains:
         self.columns = np.zeros((0, 4))
         self.offsets = np.zeros(count + 1, dtype=np.int64)
         self.height_steps = np.full(count, 0.1)
+        # the ``predicted`` rule's tracker (grown before a tick that could overflow it)
+        self.track_states = np.zeros((count, 0, 4))
+        self.track_covariances = np.zeros((count, 0, 4, 4))
+        self.track_hits = np.zeros((count, 0), dtype=np.int64)
+        self.track_misses = np.zeros((count, 0), dtype=np.int64)
+        self.track_count = np.zeros(count, dtype=np.int64)
+        self.track_stamp = np.full(count, np.nan)
+        self.cloud_stamp = np.full(count, np.nan)
+        self.point_velocity = np.zeros((count, 0, 2))
+        self.point_kind = np.zeros((count, 0), dtype=np.int8)
+        self.point_count = np.full(count, -1, dtype=np.int64)
         # outputs
         self.commands = np.zeros((count, 2))
         self.flags = np.zeros((count, 4), dtype=bool)
@@ -220,6 +244,8 @@ class BatchBrains:
                     stamps[i] = cloud.stamp
             self.columns = np.concatenate(self.latest) if count > 1 else self.latest[0]
             self.offsets[1:] = np.cumsum([len(c) for c in self.latest])
+            if self.rules[self._jit.PREDICTED] != 0.0:
+                self._make_room_for_tracks(int(np.diff(self.offsets).max()))
         references, finals = self.references(show_times)
         if override is not None:
             given = ~np.isnan(override[:, 0])
@@ -237,7 +263,10 @@ class BatchBrains:
             self.mate_radius, self.gains, self.detect, self.rules, self.history,
             self.history_size, self.seen_from, self.has_seen_from, self.last_show_time,
             self.making_room, self.near_since, self.safety, self.lookup_failures,
-            self.commands, self.flags, self.events, self.event_values)
+            self.commands, self.flags, self.events, self.event_values, self.track_params,
+            self.track_states, self.track_covariances, self.track_hits, self.track_misses,
+            self.track_count, self.track_stamp, self.cloud_stamp, self.point_velocity,
+            self.point_kind, self.point_count)
         error = self.safety[:, 0] != 0.0
         stopped = self.flags[:, 3]
         holds_show = self.flags[:, 1]
@@ -245,6 +274,29 @@ class BatchBrains:
         return BatchTick(self.commands.copy(), status, holds_show | error,
                          holds_show & stopped & ~error, self.flags[:, 2].copy(),
                          tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist()))
+
+    def _make_room_for_tracks(self, points: int) -> None:
+        """Grow the tracker's arrays so that a cloud of up to ``points`` columns fits: every
+        track now plus one new track per point, one velocity and kind per point."""
+        tracks = int(self.track_count.max()) + points
+        if tracks > self.track_states.shape[1]:
+            grow = max(tracks, 2 * self.track_states.shape[1]) - self.track_states.shape[1]
+            count = len(self.track_count)
+            self.track_states = np.concatenate([self.track_states, np.zeros((count, grow, 4))],
+                                               axis=1)
+            self.track_covariances = np.concatenate(
+                [self.track_covariances, np.zeros((count, grow, 4, 4))], axis=1)
+            self.track_hits = np.concatenate(
+                [self.track_hits, np.zeros((count, grow), dtype=np.int64)], axis=1)
+            self.track_misses = np.concatenate(
+                [self.track_misses, np.zeros((count, grow), dtype=np.int64)], axis=1)
+        if points > self.point_velocity.shape[1]:
+            grow = max(points, 2 * self.point_velocity.shape[1]) - self.point_velocity.shape[1]
+            count = len(self.point_count)
+            self.point_velocity = np.concatenate(
+                [self.point_velocity, np.zeros((count, grow, 2))], axis=1)
+            self.point_kind = np.concatenate(
+                [self.point_kind, np.zeros((count, grow), dtype=np.int8)], axis=1)
 
     def _event(self, robot_index: int) -> Event:
         """The event of the kernel's code for ``robot_index`` (``safety_step``'s texts)."""

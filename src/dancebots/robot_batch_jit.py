@@ -1,13 +1,13 @@
 """Every robot's brain tick in one numba-compiled pass (``robot_batch.BatchBrains`` calls it).
 
 The same decisions as :meth:`dancebots.robot.RobotBrain.step` for the ``tracking`` and
-``path`` followers with the ``fixed`` stop rule and the ``compensated`` detector (the
-defaults), written as loops over robots on arrays of state, so that a formation of 20 robots
-costs one call a tick instead of twenty brains' worth of Python. ``RobotBrain`` remains the
-readable reference: ``tests/test_robot_batch.py`` runs shows through both and holds them
-equal. Each function names the method of ``RobotBrain`` (or the module function) it mirrors,
-and keeps its arithmetic in the same order, so that the two agree to the last bit wherever
-they use the same libm functions.
+``path`` followers with the ``fixed`` or ``predicted`` stop rule and the ``compensated``
+detector (the defaults), written as loops over robots on arrays of state, so that a
+formation of 20 robots costs one call a tick instead of twenty brains' worth of Python.
+``RobotBrain`` remains the readable reference: ``tests/test_robot_batch.py`` runs shows
+through both and holds them equal. Each function names the method of ``RobotBrain`` (or the
+module function) it mirrors, and keeps its arithmetic in the same order, so that the two
+agree to the last bit wherever they use the same libm functions.
 
 Shapes: R robots, M mates per robot (R - 1), K latest-cloud columns of all robots together,
 H own poses of history (``robot.HISTORY_LENGTH`` + 1).
@@ -23,7 +23,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from dancebots.jit_cache import drop_stale
-from dancebots.perception import fast
+from dancebots.perception import fast, tracks_jit
 from dancebots.perception.fast import (
     far_from_all,
     perceive_columns,
@@ -32,6 +32,7 @@ from dancebots.perception.fast import (
     turn_fraction_columns,
     turn_fraction_local,
 )
+from dancebots.perception.tracks_jit import TRACKED, track_cloud
 
 __all__ = ["EVENT_BEEP", "EVENT_ERROR_LIDAR", "EVENT_ERROR_POSE", "EVENT_NONE",
            "EVENT_RESUME", "EVENT_SPEECH", "brains_tick"]
@@ -51,7 +52,10 @@ CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZ
 (FORCE_RADIUS, FORCE_GAIN, APPROACH_GAIN, MATE_GAP, OVERLAP, HOLD_LAG, SLOWED, GIVE_WAY_SPEED,
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
- PLAN_DURATION, REST_FROM) = range(22)
+ PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH) = range(24)
+# indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
+(CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
+ MEASUREMENT_NOISE) = range(7)
 MAKE_ROOM_SHIFTS = (0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6)
 """``robot.MAKE_ROOM_SHIFTS`` (a test holds them equal)."""
 
@@ -267,6 +271,77 @@ def _pose_at(history: FloatArray, size: int, stamp: float) -> int:
 
 
 @njit(cache=True)
+def _crop_points(columns: FloatArray, height_step: float, detect: FloatArray) -> FloatArray:
+    """``perception.obstacles.obstacle_points_from_columns``: the obstacle points (N, 2) of
+    the columns, in their frame."""
+    keep = np.zeros(columns.shape[0], dtype=np.bool_)
+    for i in range(columns.shape[0]):
+        low, high = columns[i, 2], columns[i, 3]
+        first = 0.0 if low > detect[Z_MIN] else math.floor(
+            (detect[Z_MIN] - low) / height_step + 1e-9) + 1.0
+        z = low + first * height_step
+        keep[i] = (z < detect[Z_MAX] and z <= high + 1e-9
+                   and abs(columns[i, 0]) <= detect[CROP_HALF]
+                   and abs(columns[i, 1]) <= detect[CROP_HALF])
+    return columns[keep, :2].copy()
+
+
+@njit(cache=True)
+def _predicted_stop(points: FloatArray, velocity: FloatArray, kind: NDArray[np.int8],
+                    pose: FloatArray, age: float, linear: float, length: float,
+                    width: float, detect: FloatArray, mates: FloatArray,
+                    heard: FloatArray, use_heard: bool, robot: int,
+                    frame_cos_sin: FloatArray, own_frame: FloatArray,
+                    mate_radius: float) -> bool:
+    """``RobotBrain._predicted_stop`` on the points (N, 2) of the latest cloud in
+    ``base_link`` at ``pose`` now (the tracker's kinds (N,) and velocities (N, 2), own map
+    frame; none when their counts differ: tracks of an older cloud): a tracked stranger's
+    point moved on for ``age`` s within the stop distance ahead (``linear`` > 0) or behind,
+    in the corridor; strangers are more than ``mate_radius`` from every mate's place
+    ``mates`` (M, 2) and, where ``use_heard``, from where each other robot said it is
+    (``heard`` (R, 2) show frame, with this robot's frame)."""
+    if points.shape[0] != kind.shape[0] or points.shape[0] == 0:
+        return False  # the tracks of an older cloud
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    mc, ms = frame_cos_sin[0], frame_cos_sin[1]
+    half_l = 0.5 * length
+    front, rear = math.inf, math.inf
+    for i in range(points.shape[0]):
+        if kind[i] != TRACKED:
+            continue
+        px, py = points[i, 0], points[i, 1]
+        near = False
+        for j in range(mates.shape[0] + (heard.shape[0] if use_heard else 0)):
+            if j < mates.shape[0]:
+                wx, wy = mates[j, 0], mates[j, 1]
+            else:
+                k = j - mates.shape[0]
+                if k == robot or not (math.isfinite(heard[k, 0])
+                                      and math.isfinite(heard[k, 1])):
+                    continue
+                wx = own_frame[0] + mc * heard[k, 0] - ms * heard[k, 1]
+                wy = own_frame[1] + ms * heard[k, 0] + mc * heard[k, 1]
+            dx, dy = wx - pose[0], wy - pose[1]  # ``points_to_local``
+            lx, ly = c * dx + s * dy, -s * dx + c * dy
+            if not math.hypot(px - lx, py - ly) > mate_radius:
+                near = True
+                break
+        if near:
+            continue
+        # ``predicted_stop_flags``: moved on at its velocity, in ``base_link``
+        vx, vy = velocity[i, 0], velocity[i, 1]
+        x = px + (vx * c + vy * s) * max(age, 0.0)
+        y = py + (vx * -s + vy * c) * max(age, 0.0)
+        if abs(y) <= 0.5 * width + detect[CORRIDOR_MARGIN]:  # ``clear_distances``
+            if x >= half_l - 1e-9:
+                front = min(front, x - half_l)
+            if x <= -half_l + 1e-9:
+                rear = min(rear, -x - half_l)
+    stop: float = detect[STOP_DISTANCE]
+    return front < stop if linear > 0 else rear < stop
+
+
+@njit(cache=True)
 def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 pose_known: NDArray[np.bool_], arrived: NDArray[np.bool_],
                 stamps: FloatArray, columns: FloatArray, offsets: NDArray[np.int64],
@@ -281,7 +356,12 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 near_since: FloatArray, safety: FloatArray,
                 lookup_failures: NDArray[np.int64], commands: FloatArray,
                 flags: NDArray[np.bool_], events: NDArray[np.int64],
-                event_values: FloatArray) -> None:
+                event_values: FloatArray, track_params: FloatArray,
+                track_states: FloatArray, track_covariances: FloatArray,
+                track_hits: NDArray[np.int64], track_misses: NDArray[np.int64],
+                track_count: NDArray[np.int64], track_stamp: FloatArray,
+                cloud_stamp: FloatArray, point_velocity: FloatArray,
+                point_kind: NDArray[np.int8], point_count: NDArray[np.int64]) -> None:
     """One control tick of every robot (``RobotBrain.step``), in place.
 
     Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
@@ -301,11 +381,22 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     with lookup_failures (R,).
     Out: commands (R, 2); flags (R, 4) held, holds the show, waiting, stopped (the safety's
     stopped state); events (R,) an EVENT_ code and event_values (R,) its figure.
+    The ``predicted`` stop rule (rules[PREDICTED]): its tracker's parameters track_params
+    (indexed above) and, per robot, state updated: tracks (``perception.tracks_jit.
+    track_cloud``) in track_states (R, K, 4), track_covariances (R, K, 4, 4), track_hits,
+    track_misses (R, K), the first track_count (R,) of each valid, last tracked at
+    track_stamp (R,) (NaN: never); the latest cloud's stamp cloud_stamp (R,) (NaN: none);
+    the tracked velocity (R, P, 2) and kind (R, P) of the first point_count (R,) points of
+    the latest tracked cloud (-1: none yet). The caller makes K hold every track plus one per
+    point of the clouds that arrive, and P one per point.
     """
     count = poses.shape[0]
     capacity = history.shape[1]
     stop = detect[STOP_DISTANCE]
     lidar = rules[LIDAR] != 0.0
+    predicted = rules[PREDICTED] != 0.0
+    ssm_detect = detect.copy()  # what the tracker watches: the SSM square
+    ssm_detect[CROP_HALF] = rules[SSM_REACH]
     for r in range(count):
         show_time = show_times[r]
         pose = poses[r]
@@ -324,8 +415,32 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             if at >= 0:
                 seen_from[r] = history[r, at, 1:]
             has_seen_from[r] = at >= 0
+            cloud_stamp[r] = stamps[r]
         cloud = columns[offsets[r]:offsets[r + 1]]
         height_step = height_steps[r]
+        if arrived[r] and lidar and predicted and (has_seen_from[r] or known):
+            # the obstacles tracked in the own map frame (``RobotBrain.step``)
+            taken = seen_from[r] if has_seen_from[r] else pose
+            flat = _crop_points(cloud, height_step, ssm_detect)
+            tc, ts = math.cos(taken[2]), math.sin(taken[2])  # ``points_to_world``
+            world = np.empty_like(flat)
+            for i in range(flat.shape[0]):
+                world[i, 0] = taken[0] + tc * flat[i, 0] - ts * flat[i, 1]
+                world[i, 1] = taken[1] + ts * flat[i, 0] + tc * flat[i, 1]
+            k = track_count[r]
+            states, covariances, hits, misses, velocity, kind = track_cloud(
+                track_states[r, :k], track_covariances[r, :k], track_hits[r, :k],
+                track_misses[r, :k], track_stamp[r], world, stamps[r],
+                track_params[CLUSTER_GAP], track_params[MAX_WIDTH], track_params[GATE],
+                int(track_params[MIN_HITS]), int(track_params[MAX_MISSES]),
+                track_params[ACCELERATION_NOISE], track_params[MEASUREMENT_NOISE])
+            k = states.shape[0]
+            track_states[r, :k], track_covariances[r, :k] = states, covariances
+            track_hits[r, :k], track_misses[r, :k] = hits, misses
+            track_count[r], track_stamp[r] = k, stamps[r]
+            n = velocity.shape[0]
+            point_velocity[r, :n], point_kind[r, :n] = velocity, kind
+            point_count[r] = n
         linear, angular = 0.0, 0.0
         held = holds_show = waiting = False
         near_time = math.nan
@@ -400,6 +515,15 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                   and (linear != 0.0 or angular != 0.0)):
                 held = holds_show = waiting = True
                 linear = angular = 0.0
+            elif (predicted and linear != 0.0 and point_count[r] >= 0 and _predicted_stop(
+                    _points_now(cloud, height_step, ssm_detect, view, pose),
+                    point_velocity[r, :point_count[r]], point_kind[r, :point_count[r]], pose,
+                    now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),
+                    linear, length, width, detect, mates_now, heard, use_heard, r,
+                    frame_cos_sin[r], own_frames[r], mate_radius[r])):
+                # a tracked person will be in the corridor by now (``_predicted_stop``)
+                held = holds_show = True
+                linear = 0.0
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
                 held = True
                 holds_show = (near_front and linear > 0) or (near_rear and linear < 0)
@@ -472,4 +596,4 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         flags[r, 3] = not math.isnan(safety[r, 3])
 
 
-drop_stale(sys.modules[__name__], (fast,))  # its kernels call perception.fast's
+drop_stale(sys.modules[__name__], (fast, tracks_jit))  # its kernels call perception.fast's
