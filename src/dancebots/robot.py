@@ -491,7 +491,9 @@ class RobotBrain:
                     obstacles, height_step, self._ssm_detection), taken_at)
                 tracks, point_velocity, point_kind = track_step(
                     sensing.tracks or TrackParams(), tracks or ObstacleTracks(), points,
-                    cloud.stamp, sensing.compiled)
+                    cloud.stamp, sensing.compiled,
+                    self._near_mates(points, show_time, mates_heard)
+                    if sensing.stop_rule == "predicted" else None)
             if sensing.stop_rule == "closing" and taken_at is not None and pose is not None:
                 strangers_seen, closing = self._closing(
                     strangers_seen, closing, obstacles, height_step, taken_at, pose,
@@ -725,6 +727,23 @@ class RobotBrain:
                 if turn_fraction(moved, length, width, 0.0, angular, detection) > 0.0:
                     return direction
         return 0.0
+
+    def _near_mates(self, points: np.ndarray, show_time: float,
+                    mates_heard: np.ndarray | None) -> np.ndarray | None:
+        """(N,) which points (N, 2), own map frame, lie within ``mate_radius`` of where a
+        formation mate should be at ``show_time`` or said it is (``mates_heard`` (K, 2),
+        show frame): the ``predicted`` rule does not track them (a formation of 20 robots
+        would track every mate's body at every scan); None for a robot that knows no
+        mates."""
+        if self._mates is None:
+            return None
+        where = self.mates_at(show_time)
+        if mates_heard is not None and len(mates_heard):
+            where = np.concatenate([where, compose_points(self._own_frame, mates_heard)])
+        gaps = np.hypot(points[:, None, 0] - where[None, :, 0],
+                        points[:, None, 1] - where[None, :, 1])  # (N, M)
+        near: np.ndarray = np.any(~(gaps > self.mate_radius), axis=1)  # NaN: near
+        return near
 
     def _predicted_stop(self, columns: np.ndarray, height_step: float,
                         seen_from: tuple[float, float, float],

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 
 from dancebots import robot
 from dancebots.perception.cloud import PointCloud
+from dancebots.perception.tracks import TrackParams
 from dancebots.robot import RobotBrain
 from dancebots.safety.monitor import STOP_SENTENCE, Event
 from dancebots.sync.hold import ADVANCE_MIN
@@ -145,15 +146,10 @@ class BatchBrains:
             safety.sensor_timeout, float(safety.max_lookup_failures), safety.beep_period,
             ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half])
-        self.track_params = np.zeros(7)
-        if sensing.stop_rule == "predicted":
-            from dancebots.perception.tracks import TrackParams  # imports SciPy
-
-            tracker = sensing.tracks or TrackParams()
-            self.track_params = np.array([
-                tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
-                float(tracker.max_misses), tracker.acceleration_noise,
-                tracker.measurement_noise])
+        tracker = sensing.tracks or TrackParams()
+        self.track_params = np.array([
+            tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
+            float(tracker.max_misses), tracker.acceleration_noise, tracker.measurement_noise])
         # state
         self.history = np.zeros((count, robot.HISTORY_LENGTH + 1, 4))
         self.history_size = np.zeros(count, dtype=np.int64)

@@ -32,7 +32,7 @@ from dancebots.perception.fast import (
     turn_fraction_columns,
     turn_fraction_local,
 )
-from dancebots.perception.tracks_jit import TRACKED, track_cloud
+from dancebots.perception.tracks_jit import STANDING, TRACKED, track_cloud
 
 __all__ = ["EVENT_BEEP", "EVENT_ERROR_LIDAR", "EVENT_ERROR_POSE", "EVENT_NONE",
            "EVENT_RESUME", "EVENT_SPEECH", "brains_tick"]
@@ -287,6 +287,12 @@ def _crop_points(columns: FloatArray, height_step: float, detect: FloatArray) ->
 
 
 @njit(cache=True)
+def _any_tracked(kind: NDArray[np.int8]) -> bool:
+    """Whether any point is of a tracked object (else ``_predicted_stop`` is False)."""
+    return bool(np.any(kind == TRACKED))
+
+
+@njit(cache=True)
 def _predicted_stop(points: FloatArray, velocity: FloatArray, kind: NDArray[np.int8],
                     pose: FloatArray, age: float, linear: float, length: float,
                     width: float, detect: FloatArray, mates: FloatArray,
@@ -323,7 +329,10 @@ def _predicted_stop(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
                 wy = own_frame[1] + ms * heard[k, 0] + mc * heard[k, 1]
             dx, dy = wx - pose[0], wy - pose[1]  # ``points_to_local``
             lx, ly = c * dx + s * dy, -s * dx + c * dy
-            if not math.hypot(px - lx, py - ly) > mate_radius:
+            ex, ey = px - lx, py - ly
+            if (abs(ex) > mate_radius or abs(ey) > mate_radius) and ex == ex and ey == ey:
+                continue  # far on an axis: far (NaN: near)
+            if not math.hypot(ex, ey) > mate_radius:
                 near = True
                 break
         if near:
@@ -427,10 +436,32 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             for i in range(flat.shape[0]):
                 world[i, 0] = taken[0] + tc * flat[i, 0] - ts * flat[i, 1]
                 world[i, 1] = taken[1] + ts * flat[i, 0] + tc * flat[i, 1]
+            # the mates where they should be or said they are are not tracked
+            # (``RobotBrain._near_mates``)
+            mc, ms = frame_cos_sin[r, 0], frame_cos_sin[r, 1]
+            unknown = np.ones(world.shape[0], dtype=np.bool_)  # no mate: tracked
+            for i in range(world.shape[0]):
+                for j in range(mates[r].shape[0] + (count if use_heard else 0)):
+                    if j < mates[r].shape[0]:
+                        wx, wy = mates[r, j, 0], mates[r, j, 1]
+                    else:
+                        h = j - mates[r].shape[0]
+                        if h == r or not (math.isfinite(heard[h, 0])
+                                          and math.isfinite(heard[h, 1])):
+                            continue
+                        wx = own_frames[r, 0] + mc * heard[h, 0] - ms * heard[h, 1]
+                        wy = own_frames[r, 1] + ms * heard[h, 0] + mc * heard[h, 1]
+                    dx, dy = world[i, 0] - wx, world[i, 1] - wy
+                    if (abs(dx) > mate_radius[r] or abs(dy) > mate_radius[r]) and (
+                            dx == dx and dy == dy):  # (far on an axis: far; NaN: near)
+                        continue
+                    if not math.hypot(dx, dy) > mate_radius[r]:
+                        unknown[i] = False
+                        break
             k = track_count[r]
-            states, covariances, hits, misses, velocity, kind = track_cloud(
+            states, covariances, hits, misses, some_velocity, some_kind = track_cloud(
                 track_states[r, :k], track_covariances[r, :k], track_hits[r, :k],
-                track_misses[r, :k], track_stamp[r], world, stamps[r],
+                track_misses[r, :k], track_stamp[r], world[unknown], stamps[r],
                 track_params[CLUSTER_GAP], track_params[MAX_WIDTH], track_params[GATE],
                 int(track_params[MIN_HITS]), int(track_params[MAX_MISSES]),
                 track_params[ACCELERATION_NOISE], track_params[MEASUREMENT_NOISE])
@@ -438,8 +469,15 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             track_states[r, :k], track_covariances[r, :k] = states, covariances
             track_hits[r, :k], track_misses[r, :k] = hits, misses
             track_count[r], track_stamp[r] = k, stamps[r]
-            n = velocity.shape[0]
-            point_velocity[r, :n], point_kind[r, :n] = velocity, kind
+            n = world.shape[0]
+            point_velocity[r, :n] = 0.0
+            point_kind[r, :n] = STANDING
+            m = 0
+            for i in range(n):
+                if unknown[i]:
+                    point_velocity[r, i] = some_velocity[m]
+                    point_kind[r, i] = some_kind[m]
+                    m += 1
             point_count[r] = n
         linear, angular = 0.0, 0.0
         held = holds_show = waiting = False
@@ -515,7 +553,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                   and (linear != 0.0 or angular != 0.0)):
                 held = holds_show = waiting = True
                 linear = angular = 0.0
-            elif (predicted and linear != 0.0 and point_count[r] >= 0 and _predicted_stop(
+            elif (predicted and linear != 0.0 and point_count[r] >= 0
+                  and _any_tracked(point_kind[r, :point_count[r]]) and _predicted_stop(
                     _points_now(cloud, height_step, ssm_detect, view, pose),
                     point_velocity[r, :point_count[r]], point_kind[r, :point_count[r]], pose,
                     now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),

@@ -168,3 +168,28 @@ def test_the_compiled_kinds_are_the_references() -> None:
 
     assert (tracks_jit.STANDING, tracks_jit.TRACKED, tracks_jit.NEW) == (
         STANDING, TRACKED, NEW)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_ignored_points_are_not_tracked_and_stand(compiled: bool) -> None:
+    """``ignore`` (the ``predicted`` rule's formation mates): those points stand with no
+    velocity and make no track; the others are tracked as without them."""
+    params = TrackParams()
+    tracks, alone = ObstacleTracks(), ObstacleTracks()
+    mate = np.array([0.0, -2.0])
+    velocity = np.array([1.0, 0.0])
+    for k in range(6):
+        person = _person(np.array([-2.0, 1.0]) + velocity * 0.1 * k)
+        mate_points = _person(mate + velocity * 0.1 * k)
+        points = np.concatenate([mate_points, person])
+        ignore = np.arange(len(points)) < len(mate_points)
+        tracks, point_velocity, kind = track_step(params, tracks, points, 0.1 * k, compiled,
+                                                  ignore)
+        alone, alone_velocity, alone_kind = track_step(params, alone, person, 0.1 * k,
+                                                       compiled)
+        assert np.all(kind[ignore] == STANDING)
+        assert np.all(point_velocity[ignore] == 0.0)
+        assert kind[~ignore].tolist() == alone_kind.tolist()
+        np.testing.assert_array_equal(point_velocity[~ignore], alone_velocity)
+        assert len(tracks.states) == len(alone.states) == 1
+    assert np.all(kind[~ignore] == TRACKED)

@@ -17,10 +17,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from dancebots.perception.kalman import kalman_predict, kalman_update
 
@@ -86,6 +82,10 @@ def cluster_points(points: FloatArray, gap: float, compiled: bool = False,
 
         labels, clusters = cluster_labels(np.ascontiguousarray(points, dtype=np.float64), gap)
         return labels, int(clusters)
+    from scipy.sparse import coo_matrix  # (SciPy's imports cost 0.2 s: the reference's only)
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
     pairs = cKDTree(points).query_pairs(gap, output_type="ndarray")
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count))
     clusters, labels = connected_components(graph, directed=False)
@@ -93,14 +93,23 @@ def cluster_points(points: FloatArray, gap: float, compiled: bool = False,
 
 
 def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
-               stamp: float, compiled: bool = False,
+               stamp: float, compiled: bool = False, ignore: NDArray[np.bool_] | None = None,
                ) -> tuple[ObstacleTracks, FloatArray, NDArray[np.int8]]:
     """One scan: obstacle points (N, 2) in the map frame at ``stamp`` s. Returns the new
     tracks, each point's velocity (N, 2) in the map frame (0 for walls) and its kind (N,):
     :data:`STANDING` (a wall or obstacle face), :data:`TRACKED` (a small cluster seen at least
     ``min_hits`` times: its velocity is trusted) or :data:`NEW`. ``compiled``: the numba
     kernel ``tracks_jit.track_cloud`` (the same clusters and assignments, the filter's
-    figures to rounding)."""
+    figures to rounding). ``ignore`` (N,): points left out of the tracking (formation mates
+    where they should be, for the ``predicted`` rule), standing with no velocity."""
+    if ignore is not None and ignore.any():
+        kept = ~ignore
+        tracks, some_velocity, some_kind = track_step(params, tracks, points[kept], stamp,
+                                                      compiled)
+        velocity = np.zeros((len(points), 2))
+        kind = np.full(len(points), STANDING, dtype=np.int8)
+        velocity[kept], kind[kept] = some_velocity, some_kind
+        return tracks, velocity, kind
     if compiled:
         from dancebots.perception.tracks_jit import track_cloud  # imports numba
 
@@ -111,6 +120,8 @@ def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
             params.cluster_gap, params.max_width, params.gate, params.min_hits,
             params.max_misses, params.acceleration_noise, params.measurement_noise)
         return ObstacleTracks(states, covariances, hits, misses, stamp), velocity, kind
+    from scipy.optimize import linear_sum_assignment
+
     labels, count = cluster_points(points, params.cluster_gap)
     velocity = np.zeros((len(points), 2))
     kind = np.full(len(points), STANDING, dtype=np.int8)
