@@ -1,7 +1,8 @@
 """Shows among people (issue 13): the figures of its targets, measured.
 
 Run: ``.venv/bin/python benchmarks/eval_people.py [--runs N] [--skip-speedup]
-[--stop-rule fixed|closing|ssm]`` (the certification's stop rule; default fixed)
+[--stop-rule predicted|fixed|closing|ssm]`` (the certification's stop rule; default
+predicted, the project's default)
 
 Prints:
 1. ``dancebots certify`` of the bundled open-day show among a random crowd
@@ -59,7 +60,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=40)
     parser.add_argument("--skip-speedup", action="store_true")
-    parser.add_argument("--stop-rule", choices=("fixed", "closing", "ssm"), default="fixed")
+    parser.add_argument("--stop-rule", choices=("predicted", "fixed", "closing", "ssm"),
+                        default="predicted")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
         two = certify(args.runs, 2, Path(scratch) / "two", args.stop_rule)

@@ -371,3 +371,23 @@ def test_the_predicted_stop_holds_for_a_stranger_but_not_for_a_moving_mate() -> 
     held = step(stranger, (ahead, -(stranger - np.array(pose[:2]))[1] / 0.3))
     assert held.held
     assert held.holds_show
+
+
+def test_the_default_stop_rule_is_predicted_but_fixed_for_the_thesis_follower() -> None:
+    """``default_stop_rule``: the thesis's follower keeps the thesis's fixed rule (it
+    reproduces the thesis as written); the project's followers predict tracked people; a
+    rule given is kept, an unknown one refused."""
+    from dancebots.robot import BrainOptions, brain_for, default_stop_rule
+    from dancebots.world import DEFAULT_ROBOT_TYPE
+
+    assert default_stop_rule("thesis") == "fixed"
+    assert default_stop_rule("path") == default_stop_rule("tracking") == "predicted"
+    assert default_stop_rule("path", "closing") == "closing"
+    assert default_stop_rule("thesis", "predicted") == "predicted"
+    with pytest.raises(ValueError, match=r"^unknown stop rule 'x'; choose from fixed, "):
+        default_stop_rule("path", "x")
+    plan = plan_of(PLAN_TEXT)
+    assert brain_for(plan, "R1", DEFAULT_ROBOT_TYPE,
+                     BrainOptions(follower="path")).sensing.stop_rule == "predicted"
+    assert brain_for(plan, "R1", DEFAULT_ROBOT_TYPE,
+                     BrainOptions()).sensing.stop_rule == "fixed"

@@ -101,7 +101,7 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(world: str, seed: i
     assert any(e.kind == "speech" for e in batched.events)
     # the prediction did stop robots: the fixed rule decides otherwise in the same crowd
     fixed = simulate(batched.plan, batched.arena, batched.placement,
-                     replace(config, brain=BrainOptions(follower="path")))
+                     replace(config, brain=BrainOptions(follower="path", stop_rule="fixed")))
     assert (fixed.commands.shape != batched.commands.shape
             or not np.array_equal(fixed.commands, batched.commands))
 

@@ -105,9 +105,11 @@ def run(args: argparse.Namespace) -> int:
     missing = profile_missing(args.profile)
     if missing is not None:
         return refuse(NAME, args.json, missing)
+    from dancebots.robot import default_stop_rule
+
     job = CertifyJob(args.scenario, args.world, args.vmax, args.profile, args.follower,
                      args.timing, not args.no_lidar, args.final_tolerance, args.hold,
-                     args.stop_rule)
+                     default_stop_rule(args.follower, args.stop_rule))
     if args.ray is not None:
         refused = _ray_refusal(args.ray)
         if refused is not None:

@@ -197,7 +197,7 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
 
     from dancebots.cli.common import progress
     from dancebots.report.findings import simulated_findings
-    from dancebots.robot import BrainOptions
+    from dancebots.robot import BrainOptions, default_stop_rule
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim.kernels import kernels_to_compile
     from dancebots.sim.setup import SetupError, prepare_show
@@ -207,7 +207,8 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
     # a crowd walks differently on the compiled forces (chaotic runs): as ``run`` has it
     compiled = size > COMPILED_FROM or bool(arena.crowds)
     compile_first = kernels_to_compile(
-        crowds=bool(arena.crowds), stop_rule=args.stop_rule) if compiled else ()
+        crowds=bool(arena.crowds), stop_rule=default_stop_rule(
+            args.follower, args.stop_rule)) if compiled else ()
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)

@@ -578,16 +578,16 @@ STOP_RULES = ("fixed", "closing", "ssm", "predicted")
 
 def add_stop_rule_argument(parser: argparse.ArgumentParser) -> None:
     """--stop-rule: when a robot stops for what it sees (``BrainOptions.stop_rule``)."""
-    parser.add_argument("--stop-rule", choices=STOP_RULES, default="fixed",
-                        help="fixed (default, thesis 5.2): a robot stops when a point is within "
+    parser.add_argument("--stop-rule", choices=STOP_RULES, default=None,
+                        help="predicted (default; fixed with --follower thesis): fixed on the "
+                        "points of tracked people moved on at their speed for the data's age; "
+                        "fixed (thesis 5.2): a robot stops when a point is within "
                         "0.55 m ahead of it (behind, reversing); closing: fixed, and a robot "
                         "stands while a person approaches it (at 0.5 m/s or more, measured "
                         "between scans) faster than it could stop; ssm: speed and separation "
                         "monitoring (ISO/TS 15066): its speed is limited so that it can stop "
                         "before a person, approaching at the tracked speed or at 1.6 m/s "
-                        "when new, comes within 0.25 m of it; predicted: fixed on the points "
-                        "of tracked people moved on at their speed for the data's age "
-                        "(docs/safety.md)")
+                        "when new, comes within 0.25 m of it (docs/safety.md)")
 
 
 HOLDS = ("together", "alone")

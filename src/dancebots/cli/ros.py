@@ -137,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
                    f"robot_name:={args.robot_name}", f"start_strategy:={strategy}", *timecode,
                    f"lidar:={str(not args.no_lidar).lower()}", f"follower:={args.follower}",
                    f"timing:={args.timing}", f"hold:={args.hold or ''}",
-                   f"stop_rule:={args.stop_rule}",
+                   f"stop_rule:={args.stop_rule or ''}",
                    # bash does not export HOSTNAME: pass the host's name when it is unset
                    f"hostname:={os.environ.get('HOSTNAME') or socket.gethostname()}"]
         if args.print_command:
@@ -156,7 +156,7 @@ def run(args: argparse.Namespace) -> int:
         str(Path(args.record).resolve()) if args.record else "",
         plan.duration + START_ALLOWANCE,
         tuple((t.length, t.width, t.max_speed) for t in placement.types),
-        args.follower, args.timing, args.hold or "", args.stop_rule)
+        args.follower, args.timing, args.hold or "", args.stop_rule or "")
     if args.print_command:
         print(text, end="")
         return EXIT_OK

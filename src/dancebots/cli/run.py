@@ -172,7 +172,7 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
               staging: Path, console: Console, target: Path) -> ShowOutcome:
     from dancebots.report.metrics import run_metrics
     from dancebots.report.verdict import FINAL_SLOT_TOLERANCE, run_verdict
-    from dancebots.robot import BrainOptions
+    from dancebots.robot import BrainOptions, default_stop_rule
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim.kernels import kernels_to_compile
     from dancebots.sim.kinematics import PROFILES as CORE_PROFILES
@@ -187,7 +187,8 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
                       f"{'s' if len(arena.spectators) > 1 else ''} in the world: the robots "
                       "cannot see people and will drive into them", style="bold red",
                       highlight=False)
-    compile_first = kernels_to_compile(crowds=bool(arena.crowds), stop_rule=args.stop_rule)
+    compile_first = kernels_to_compile(crowds=bool(arena.crowds), stop_rule=default_stop_rule(
+        args.follower, args.stop_rule))
     if compile_first:
         console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)

@@ -43,7 +43,7 @@ class CertifyJob:
     lidar: bool = True
     final_tolerance: float = 0.5
     hold: str | None = None
-    stop_rule: str = "fixed"
+    stop_rule: str = "predicted"
 
 
 @dataclass(frozen=True, slots=True)

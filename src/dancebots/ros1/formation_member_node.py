@@ -11,10 +11,11 @@ default 0: the time constant with which the robot's speeds follow its commands; 
 tracking and path followers lead their feedforward by it); ``~lidar`` (default true:
 read ``obstacles`` and stop for them); ``~hold`` ("together", the default, or "alone", the
 default with the thesis follower: whether the formation shares one show clock, below);
-``~stop_rule`` ("fixed", the default, "closing" or "ssm": when the robot stops for what it
-sees; docs/safety.md); ``~max_speed`` and ``~max_angular_speed`` (default:
-the robot type of this host, thesis ch. 3); ``~launch_detector`` (default true: start the
-``obstacle_detection`` node through the roslaunch API, as the thesis does);
+``~stop_rule`` ("predicted", the default, "fixed", the default with the thesis follower,
+"closing" or "ssm": when the robot stops for what it sees; docs/safety.md); ``~max_speed``
+and ``~max_angular_speed`` (default: the robot type of this host, thesis ch. 3);
+``~launch_detector`` (default true: start the ``obstacle_detection`` node through the
+roslaunch API, as the thesis does);
 ``~sync_delay``/``~sync_loss``/``~sync_seed`` (test only, see network_test). Robot size from
 ``[/robot_name]/length`` and ``/width``.
 
@@ -73,8 +74,8 @@ from dancebots.robot import (
     BrainState,
     Follower,
     RobotBrain,
-    StopRule,
     brain_for,
+    default_stop_rule,
 )
 from dancebots.ros1.common import (
     NodeLife,
@@ -151,7 +152,7 @@ def main() -> None:
             "alone" if follower == "thesis" else "together")
         if hold not in HOLD_STRATEGIES:
             raise ValueError(f"unknown ~hold {hold!r}; choose from {', '.join(HOLD_STRATEGIES)}")
-        stop_rule = cast(StopRule, str(rospy.get_param("~stop_rule", "fixed")))
+        stop_rule = default_stop_rule(follower, str(rospy.get_param("~stop_rule", "")))
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks both
             follower=follower, lidar=use_lidar, stop_rule=stop_rule,
             actuator_lag=float(rospy.get_param("~actuator_lag", 0.0))))

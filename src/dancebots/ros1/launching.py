@@ -33,11 +33,11 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                       record: str = "", stop_after: float = 0.0,
                       types: tuple[tuple[float, float, float], ...] = (),
                       follower: str = "thesis", timing: str = "thesis",
-                      hold: str = "", stop_rule: str = "fixed") -> str:
+                      hold: str = "", stop_rule: str = "") -> str:
     """The launch file of a ROS simulation: the bridge, and formation.launch per robot with
     its name as prefix; types: per robot (length, width, max speed) of the simulated robot;
     follower, timing, hold and stop_rule: the strategies (``--follower``, ``--timing``,
-    ``--hold``, ``--stop-rule``; a hold of "" lets the node choose)."""
+    ``--hold``, ``--stop-rule``; a hold or stop rule of "" lets the node choose)."""
     def attr(value: object) -> str:
         return quoteattr(str(value))
 

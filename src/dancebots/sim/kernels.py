@@ -14,11 +14,13 @@ from types import ModuleType
 __all__ = ["kernel_modules", "kernels_to_compile"]
 
 
-def kernel_modules(crowds: bool = False, stop_rule: str = "fixed") -> tuple[ModuleType, ...]:
+def kernel_modules(crowds: bool = False, stop_rule: str = "predicted",
+                   ) -> tuple[ModuleType, ...]:
     """The modules that hold numba kernels (importing them imports numba): those every
     formation show runs (its brains' batch and references among them), with ``crowds`` the
-    crowds' social forces too, and those of ``stop_rule`` (``robot.STOP_RULES``): the
-    ``closing`` rule's sectors, the ``ssm`` and ``predicted`` rules' obstacle tracker."""
+    crowds' social forces too, and those of ``stop_rule`` (``robot.STOP_RULES``; by
+    default the default's, ``robot.default_stop_rule``): the ``closing`` rule's sectors, the
+    ``ssm`` and ``predicted`` rules' obstacle tracker."""
     from dancebots import robot_batch_jit
     from dancebots.control import tracking_jit
     from dancebots.perception import fast
@@ -41,7 +43,7 @@ def kernel_modules(crowds: bool = False, stop_rule: str = "fixed") -> tuple[Modu
     return modules
 
 
-def kernels_to_compile(crowds: bool = False, stop_rule: str = "fixed") -> tuple[str, ...]:
+def kernels_to_compile(crowds: bool = False, stop_rule: str = "predicted") -> tuple[str, ...]:
     """``module.function`` of every kernel with no compiled code in numba's disk cache (of a
     show with ``crowds`` too, and ``stop_rule``'s: :func:`kernel_modules`)."""
     missing = []
