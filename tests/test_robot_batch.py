@@ -55,7 +55,8 @@ def assert_same_run(reference: RunResult, batched: RunResult) -> None:
     assert reference.collisions == batched.collisions
 
 
-PATH = SimConfig(brain=BrainOptions(follower="path"))
+PATH = SimConfig(brain=BrainOptions(follower="path"))  # the default stop rule: predicted
+FIXED = SimConfig(brain=BrainOptions(follower="path", stop_rule="fixed"))  # the thesis's
 
 
 @pytest.mark.parametrize(("name", "config"), [
@@ -67,6 +68,9 @@ PATH = SimConfig(brain=BrainOptions(follower="path"))
     ("thesis_6_3", replace(PATH, hold="alone")),
     # hold messages late and lost
     ("square_path", replace(PATH, hold_delay=0.3, hold_loss=0.2, seed=3)),
+    # the thesis's fixed stop rule batched too
+    ("thesis_7_4", FIXED),
+    ("thesis_6_3", replace(FIXED, hold="alone")),
 ])
 def test_batch_runs_the_examples_as_the_brains_do(examples: Path, name: str,
                                                    config: SimConfig) -> None:
@@ -76,12 +80,14 @@ def test_batch_runs_the_examples_as_the_brains_do(examples: Path, name: str,
         assert {e.kind for e in batched.events} >= {"speech", "beep", "resume"}
 
 
-def test_batch_runs_a_show_among_a_crowd_as_the_brains_do() -> None:
+@pytest.mark.parametrize("config", [PATH, FIXED], ids=["predicted", "fixed"])
+def test_batch_runs_a_show_among_a_crowd_as_the_brains_do(config: SimConfig) -> None:
     """The open day among a random crowd, realistic profile: people hold robots, are told to
-    make room, walk into their way (the strangers' rules, the mates heard where they are)."""
+    make room, walk into their way (the strangers' rules, the mates heard where they are),
+    with the default and with the thesis's stop rule."""
     data = ROOT / "src" / "dancebots" / "data"
     reference, batched = both(data / "open_day.dance", data / "open_day_crowd.toml",
-                              replace(PATH, profile=REALISTIC, seed=5))
+                              replace(config, profile=REALISTIC, seed=5))
     assert_same_run(reference, batched)
     assert any(e.kind == "speech" for e in batched.events)
 

@@ -121,18 +121,65 @@ def test_the_compiled_clusters_are_scipys(seed: int, count: int, scale: float) -
        whole=st.booleans())
 def test_the_compiled_assignment_is_scipys(seed: int, rows: int, cols: int,
                                            whole: bool) -> None:
-    """``tracks_jit.assign``: SciPy's ``linear_sum_assignment``, wide and tall, with ties
+    """``assignment.least_cost_assignment`` (the NumPy reference's) and ``tracks_jit.assign``
+    (the same function compiled): SciPy's ``linear_sum_assignment``, wide and tall, with ties
     (whole-number costs) resolved the same way."""
     from scipy.optimize import linear_sum_assignment
 
+    from dancebots.perception.assignment import least_cost_assignment
     from dancebots.perception.tracks_jit import assign
 
     rng = np.random.default_rng(seed)
     cost = rng.integers(0, 4, (rows, cols)).astype(float) if whole else rng.random((rows, cols))
     expected_rows, expected_cols = linear_sum_assignment(cost)
-    got_rows, got_cols = assign(cost)
-    assert got_rows.tolist() == expected_rows.tolist()
-    assert got_cols.tolist() == expected_cols.tolist()
+    for solve in (assign, least_cost_assignment):
+        got_rows, got_cols = solve(cost)
+        assert got_rows.tolist() == expected_rows.tolist()
+        assert got_cols.tolist() == expected_cols.tolist()
+
+
+@pytest.mark.parametrize(("cost", "expected"), [
+    (np.full((2, 2), np.nan), []), (np.array([[np.inf, np.inf], [1.0, np.inf]]), []),
+    (np.array([[0.5, np.nan, 0.2]]), [(0, 2)]), (np.array([[np.nan], [0.3]]), [(1, 0)])])
+def test_costs_that_are_no_number_are_no_way(cost: np.ndarray,
+                                             expected: list[tuple[int, int]]) -> None:
+    """Where SciPy raises on NaN or on infinities that leave no finite assignment, both take
+    a NaN for no way and give the least-cost assignment of the rest, or none (the compiled
+    search looped for ever on NaN)."""
+    from dancebots.perception.assignment import least_cost_assignment
+    from dancebots.perception.tracks_jit import assign
+
+    for solve in (assign, least_cost_assignment):
+        rows, cols = solve(cost)
+        assert list(zip(rows.tolist(), cols.tolist(), strict=True)) == expected
+
+
+def test_both_trackers_pick_the_same_tracks_where_costs_tie() -> None:
+    """Two tracks and two people placed symmetrically (every pairing costs the same): the
+    compiled tracker and the NumPy reference keep the same tracks (an earlier reference
+    assigned by another SciPy routine that breaks ties the other way)."""
+    params = TrackParams(min_hits=1)
+    people = [np.array([[-5.0, 0.2]]), np.array([[-5.0, -0.2]])]
+    later = [np.array([[-5.2, 0.0]]), np.array([[-4.8, 0.0]])]
+    first = np.concatenate(people)
+    second = np.concatenate(later)
+    results = []
+    for compiled in (False, True):
+        tracks, _, _ = track_step(params, ObstacleTracks(), first, 0.0, compiled)
+        tracks, _, _ = track_step(params, tracks, second, 0.1, compiled)
+        results.append(tracks.states)
+    np.testing.assert_allclose(results[0], results[1], rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_stamp_that_is_not_a_number_predicts_nothing(compiled: bool) -> None:
+    params = TrackParams()
+    tracks, _, _ = track_step(params, ObstacleTracks(), _person(np.array([1.0, 0.0])), 0.0,
+                              compiled)
+    tracks, velocity, _ = track_step(params, tracks, _person(np.array([1.1, 0.0])), np.nan,
+                                     compiled)
+    assert np.all(np.isfinite(tracks.states))
+    assert np.all(np.isfinite(velocity))
 
 
 @settings(max_examples=60, deadline=None)

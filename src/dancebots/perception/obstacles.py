@@ -113,7 +113,10 @@ def predicted_stop_flags(points: FloatArray, velocity: FloatArray, moving: NDArr
     if not moving.any():
         return StopFlags(False, False)
     c, s = math.cos(heading), math.sin(heading)
-    ahead = points[moving] + (velocity[moving] @ np.array([[c, -s], [s, c]])) * max(age, 0.0)
+    vx, vy = velocity[moving, 0], velocity[moving, 1]  # into base_link (no BLAS: the
+    span = max(age, 0.0)  # batched kernel's arithmetic to the last bit)
+    ahead = np.column_stack([points[moving, 0] + (vx * c + vy * s) * span,
+                             points[moving, 1] + (vx * -s + vy * c) * span])
     return stop_flags(ahead, length, width, params)
 
 

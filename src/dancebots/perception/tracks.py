@@ -1,13 +1,16 @@
-"""Obstacles tracked over scans, for speed and separation monitoring (``perception.ssm``): an
-addition, the formation robot's counterpart of the second seed's detector A2.
+"""Obstacles tracked over scans, for the ``predicted`` stop rule and speed and separation
+monitoring (``perception.ssm``): an addition, the formation robot's counterpart of the
+second seed's detector A2.
 
-Each cloud's obstacle points that are no formation mate (in the robot's own map frame, m) are
-clustered (points nearer than ``TrackParams.cluster_gap`` join; SciPy's k-d tree and
-connected components); a cluster wider than a person (``max_width``) is a wall or an
-obstacle face and stands still. The small clusters' centres are assigned to the tracks of
-the last scan (least-cost assignment, gated) and filtered by the project's constant-velocity
-Kalman filter (``leader_follower.kalman``), which gives their velocity. A track seen fewer
-than ``min_hits`` times has no trusted velocity yet: SSM takes the walking speed for it.
+Each cloud's obstacle points (in the robot's own map frame, m; for the ``predicted`` rule
+without the formation mates where they should be) are clustered (points at most
+``TrackParams.cluster_gap`` apart join; SciPy's k-d tree and connected components); a
+cluster wider than a person (``max_width``) is a wall or an obstacle face and stands still.
+The small clusters' centres are assigned to the tracks of the last scan (least-cost
+assignment, ``perception.assignment``, gated) and filtered by the project's
+constant-velocity Kalman filter (``perception.kalman``), which gives their velocity. A track
+seen fewer than ``min_hits`` times has no trusted velocity yet: SSM takes the walking speed
+for it. The compiled tracker: ``perception.tracks_jit``.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.perception.assignment import least_cost_assignment
 from dancebots.perception.kalman import kalman_predict, kalman_update
 
 __all__ = [
@@ -92,20 +96,6 @@ def cluster_points(points: FloatArray, gap: float, compiled: bool = False,
     return labels.astype(np.int64), int(clusters)
 
 
-def _assignment(cost: FloatArray) -> tuple[IntArray, IntArray]:
-    """The least-cost assignment of the rows and columns of ``cost`` (R, C), finite, >= 0: the
-    assigned rows in ascending order and their columns (``linear_sum_assignment``'s answer),
-    by SciPy's ``min_weight_full_bipartite_matching`` (LAPJVsp), which the clustering's
-    ``scipy.sparse.csgraph`` brings (``scipy.optimize`` would cost 0.36 s more to import in a
-    short show's check). Every full matching has min(R, C) edges, so the 1 added to every
-    cost keeps the optimum and makes a zero cost an edge (a sparse matrix drops zeros)."""
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.csgraph import min_weight_full_bipartite_matching
-
-    rows, cols = min_weight_full_bipartite_matching(csr_matrix(cost + 1.0))
-    return rows.astype(np.int64), cols.astype(np.int64)
-
-
 def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
                stamp: float, compiled: bool = False, ignore: NDArray[np.bool_] | None = None,
                ) -> tuple[ObstacleTracks, FloatArray, NDArray[np.int8]]:
@@ -113,9 +103,10 @@ def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
     tracks, each point's velocity (N, 2) in the map frame (0 for walls) and its kind (N,):
     :data:`STANDING` (a wall or obstacle face), :data:`TRACKED` (a small cluster seen at least
     ``min_hits`` times: its velocity is trusted) or :data:`NEW`. ``compiled``: the numba
-    kernel ``tracks_jit.track_cloud`` (the same clusters and assignments, the filter's
-    figures to rounding). ``ignore`` (N,): points left out of the tracking (formation mates
-    where they should be, for the ``predicted`` rule), standing with no velocity."""
+    kernel ``tracks_jit.track_cloud`` (the same clusters and assignments, ties included,
+    the filter's figures to rounding). ``ignore`` (N,): points left out of the tracking
+    (formation mates where they should be, for the ``predicted`` rule), standing with no
+    velocity."""
     if ignore is not None and ignore.any():
         kept = ~ignore
         tracks, some_velocity, some_kind = track_step(params, tracks, points[kept], stamp,
@@ -145,7 +136,8 @@ def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
     sums = np.zeros((count, 2))
     np.add.at(sums, labels, points)
     centres = (sums / np.maximum(np.bincount(labels, minlength=count), 1)[:, None])[small]
-    dt = 0.0 if tracks.stamp is None else max(stamp - tracks.stamp, 0.0)
+    step = math.nan if tracks.stamp is None else stamp - tracks.stamp
+    dt = step if step > 0.0 else 0.0  # (a first scan, or a stamp that is not a number)
     states, covariances = kalman_predict(tracks.states, tracks.covariances, dt,
                                          params.acceleration_noise)
     hits, misses = tracks.hits, tracks.misses
@@ -153,7 +145,7 @@ def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,
     if len(states) and len(centres):
         cost = np.hypot(states[:, None, 0] - centres[None, :, 0],
                         states[:, None, 1] - centres[None, :, 1])
-        rows, cols = _assignment(cost)
+        rows, cols = least_cost_assignment(cost)
         good = cost[rows, cols] <= params.gate
         rows, cols = rows[good], cols[good]
         if len(rows):

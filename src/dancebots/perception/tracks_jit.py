@@ -3,11 +3,11 @@
 :func:`cluster_labels` gives the labels of SciPy's ``cKDTree.query_pairs`` and
 ``connected_components`` (points within the gap join, transitively; components numbered in
 the order of their first point) by a sweep along x and a union-find; :func:`assign` is
-SciPy's ``linear_sum_assignment``, the shortest augmenting path algorithm of D. F. Crouse,
-"On implementing 2D rectangular assignment algorithms", IEEE Trans. AES 52(4), 2016, which
-SciPy implements (the same order of search, so the same assignment where two are equally
-cheap); :func:`track_cloud` is ``track_step`` on them with the constant-velocity Kalman
-filter of ``perception.kalman`` written out for its 4 x 4 matrices. The tracker ran at 0.55
+``perception.assignment.least_cost_assignment`` compiled (Crouse's shortest augmenting path
+as SciPy's ``linear_sum_assignment`` runs it, the same assignment where two are equally
+cheap; the NumPy reference runs the same function uncompiled); :func:`track_cloud` is
+``track_step`` on them with the constant-velocity Kalman filter of ``perception.kalman``
+written out for its 4 x 4 matrices. The tracker ran at 0.55
 ms a cloud in NumPy and SciPy (a third of a robot's tick with the ``predicted`` stop rule);
 here it costs microseconds. The labels and the assignment are SciPy's exactly, the filter's
 figures agree to rounding (``tests/perception/test_tracks.py``).
@@ -20,6 +20,8 @@ import math
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
+
+from dancebots.perception.assignment import least_cost_assignment
 
 __all__ = ["assign", "cluster_labels", "track_cloud"]
 
@@ -70,81 +72,9 @@ def cluster_labels(points: FloatArray, gap: float) -> tuple[IntArray, int]:
     return labels, clusters
 
 
-@njit(cache=True)
-def _assign_wide(cost: FloatArray) -> IntArray:
-    """The column of each row (R,) of ``cost`` (R, C), R <= C, finite, of least total cost
-    (Crouse's shortest augmenting path, as SciPy's ``linear_sum_assignment``)."""
-    rows, cols = cost.shape
-    u = np.zeros(rows)
-    v = np.zeros(cols)
-    shortest = np.empty(cols)
-    path = np.full(cols, -1, dtype=np.int64)
-    col4row = np.full(rows, -1, dtype=np.int64)
-    row4col = np.full(cols, -1, dtype=np.int64)
-    seen_rows = np.zeros(rows, dtype=np.bool_)
-    seen_cols = np.zeros(cols, dtype=np.bool_)
-    remaining = np.empty(cols, dtype=np.int64)
-    for current in range(rows):
-        minimum = 0.0
-        left = cols
-        for it in range(cols):
-            remaining[it] = cols - it - 1
-        seen_rows[:] = False
-        seen_cols[:] = False
-        shortest[:] = math.inf
-        sink = -1
-        i = current
-        while sink == -1:
-            index = -1
-            lowest = math.inf
-            seen_rows[i] = True
-            for it in range(left):
-                j = remaining[it]
-                reduced = minimum + cost[i, j] - u[i] - v[j]
-                if reduced < shortest[j]:
-                    path[j] = i
-                    shortest[j] = reduced
-                if shortest[j] < lowest or (shortest[j] == lowest and row4col[j] == -1):
-                    lowest = shortest[j]
-                    index = it
-            minimum = lowest
-            j = remaining[index]
-            if row4col[j] == -1:
-                sink = j
-            else:
-                i = row4col[j]
-            seen_cols[j] = True
-            left -= 1
-            remaining[index] = remaining[left]
-        u[current] += minimum
-        for i in range(rows):
-            if seen_rows[i] and i != current:
-                u[i] += minimum - shortest[col4row[i]]
-        for j in range(cols):
-            if seen_cols[j]:
-                v[j] -= minimum - shortest[j]
-        j = sink
-        while True:
-            i = path[j]
-            row4col[j] = i
-            col4row[i], j = j, col4row[i]
-            if i == current:
-                break
-    return col4row
-
-
-@njit(cache=True)
-def assign(cost: FloatArray) -> tuple[IntArray, IntArray]:
-    """``scipy.optimize.linear_sum_assignment(cost)`` of a finite ``cost`` (R, C): the
-    assigned rows in ascending order and their columns."""
-    rows, cols = cost.shape
-    if rows == 0 or cols == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    if rows <= cols:
-        return np.arange(rows), _assign_wide(cost)
-    row_of_col = _assign_wide(np.ascontiguousarray(cost.T))  # (C,): each column's row
-    order = np.argsort(row_of_col)
-    return row_of_col[order], order.astype(np.int64)
+assign = njit(cache=True)(least_cost_assignment)
+"""``perception.assignment.least_cost_assignment`` compiled: SciPy's
+``linear_sum_assignment`` (the same search), empty where no finite assignment exists."""
 
 
 @njit(cache=True)
@@ -229,7 +159,8 @@ def track_cloud(states: FloatArray, covariances: FloatArray, hits: IntArray,
             centres[found, 1] = sums[c, 1] / max(sizes[c], 1)
             found += 1
     centres = centres[:found]
-    dt = 0.0 if math.isnan(last_stamp) else max(stamp - last_stamp, 0.0)
+    dt = stamp - last_stamp  # (a first scan, or a stamp that is not a number: no step)
+    dt = dt if dt > 0.0 else 0.0
     states = states.copy()
     covariances = covariances.copy()
     _predict(states, covariances, dt, acceleration_noise)
