@@ -113,3 +113,44 @@ def test_choices_match_the_core() -> None:
     assert set(run.DETECTORS) == set(BRAIN_DETECTORS)
     assert set(run.FORCE_STEERINGS) == set(FORCE_STEERINGS)
     assert set(CLI_TIMINGS) == set(TIMINGS)
+
+
+def test_a_ctrl_c_that_python_wrapped_is_an_interrupt_not_a_bug(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """A KeyboardInterrupt raised while a library creates a class at import reaches the
+    command as ``RuntimeError: Error calling __set_name__`` with the interrupt as its cause
+    (seen in CI: Ctrl-C while scikit-learn imported narwhals): exit 130, one line; an error
+    without an interrupt in its causes stays a bug (exit 3, traceback)."""
+    import argparse
+    import importlib
+
+    cli_main = importlib.import_module("dancebots.cli.main")  # (the package exports main)
+
+    def parser_raising(error: Exception) -> argparse.ArgumentParser:
+        parser = argparse.ArgumentParser()
+
+        def handler(_: argparse.Namespace) -> int:
+            raise error
+
+        parser.set_defaults(handler=handler)
+        return parser
+
+    def wrapped() -> Exception:
+        try:
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt as interrupt:
+                raise RuntimeError("Error calling __set_name__") from interrupt
+        except RuntimeError as error:
+            return error
+
+    monkeypatch.setattr(cli_main, "build_parser", lambda: parser_raising(wrapped()))
+    assert cli_main.main([]) == 130
+    assert capsys.readouterr().err == "dancebots: interrupted\n"
+    monkeypatch.setattr(cli_main, "build_parser",
+                        lambda: parser_raising(RuntimeError("a real bug")))
+    status = cli_main.main([])
+    err = capsys.readouterr().err
+    assert status == cli_main.EXIT_BUG
+    assert "Traceback" in err
+    assert err.endswith("please report it with the lines above\n")

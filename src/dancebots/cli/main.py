@@ -97,7 +97,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
-    except Exception:  # a bug: say so, keep the traceback for the report, exit apart
+    except Exception as error:  # a bug: say so, keep the traceback for the report, exit apart
+        if _caused_by_interrupt(error):  # a Ctrl-C that Python wrapped: a RuntimeError of
+            # ``__set_name__`` while a library's class was created at import, and the like
+            print("dancebots: interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
         import traceback
 
         traceback.print_exc()
