@@ -163,12 +163,11 @@ def _turn_reach(length: float, width: float, linear: float, detect: FloatArray) 
 
 
 @njit(cache=True)
-def _points_now(columns: FloatArray, height_step: float, detect: FloatArray,
-                seen_from: FloatArray, pose: FloatArray) -> FloatArray:
-    """``perception.obstacles.obstacle_points_now``: the obstacle points (N, 2) of the
-    columns (``base_link`` at ``seen_from``) in ``base_link`` at ``pose``."""
+def _crop_points(columns: FloatArray, height_step: float, detect: FloatArray) -> FloatArray:
+    """``perception.obstacles.obstacle_points_from_columns``: the obstacle points (N, 2) of
+    the columns, in their frame."""
     keep = np.zeros(columns.shape[0], dtype=np.bool_)
-    for i in range(columns.shape[0]):  # ``obstacle_points_from_columns``
+    for i in range(columns.shape[0]):
         low, high = columns[i, 2], columns[i, 3]
         first = 0.0 if low > detect[Z_MIN] else math.floor(
             (detect[Z_MIN] - low) / height_step + 1e-9) + 1.0
@@ -176,7 +175,15 @@ def _points_now(columns: FloatArray, height_step: float, detect: FloatArray,
         keep[i] = (z < detect[Z_MAX] and z <= high + 1e-9
                    and abs(columns[i, 0]) <= detect[CROP_HALF]
                    and abs(columns[i, 1]) <= detect[CROP_HALF])
-    points = columns[keep, :2].copy()
+    return columns[keep, :2].copy()
+
+
+@njit(cache=True)
+def _points_now(columns: FloatArray, height_step: float, detect: FloatArray,
+                seen_from: FloatArray, pose: FloatArray) -> FloatArray:
+    """``perception.obstacles.obstacle_points_now``: the obstacle points (N, 2) of the
+    columns (``base_link`` at ``seen_from``) in ``base_link`` at ``pose``."""
+    points = _crop_points(columns, height_step, detect)
     if (seen_from[0] == pose[0] and seen_from[1] == pose[1]
             and seen_from[2] == pose[2]):
         return points
@@ -268,22 +275,6 @@ def _pose_at(history: FloatArray, size: int, stamp: float) -> int:
                          <= history[after, 0] - stamp):
         after -= 1
     return after
-
-
-@njit(cache=True)
-def _crop_points(columns: FloatArray, height_step: float, detect: FloatArray) -> FloatArray:
-    """``perception.obstacles.obstacle_points_from_columns``: the obstacle points (N, 2) of
-    the columns, in their frame."""
-    keep = np.zeros(columns.shape[0], dtype=np.bool_)
-    for i in range(columns.shape[0]):
-        low, high = columns[i, 2], columns[i, 3]
-        first = 0.0 if low > detect[Z_MIN] else math.floor(
-            (detect[Z_MIN] - low) / height_step + 1e-9) + 1.0
-        z = low + first * height_step
-        keep[i] = (z < detect[Z_MAX] and z <= high + 1e-9
-                   and abs(columns[i, 0]) <= detect[CROP_HALF]
-                   and abs(columns[i, 1]) <= detect[CROP_HALF])
-    return columns[keep, :2].copy()
 
 
 @njit(cache=True)
