@@ -39,14 +39,14 @@ def test_help_and_demo_import_no_heavy_library() -> None:
 
 def test_check_imports_only_what_checking_needs() -> None:
     """The rigid pass needs NumPy and shapely; the simulation pass the simulator and rich for
-    its progress, SciPy for the default ``predicted`` stop rule's tracker (its NumPy and
-    SciPy reference: 7.1 has 66 robot-seconds, below COMPILED_FROM, so it runs on the
-    references; with the thesis's ``fixed`` rule no SciPy), numba (which brings SciPy too)
-    only for a longer show, but never the plots or the queue's scikit-learn."""
+    its progress (7.1 has 66 robot-seconds, below COMPILED_FROM, so it runs on the NumPy
+    references, the default ``predicted`` stop rule's tracker among them: no SciPy), numba
+    (which brings SciPy) only for a longer show, but never the plots or the queue's
+    scikit-learn."""
     assert imported_by("check", "--rigid-only", "examples/thesis_7_1.dance") == [
         "numpy", "shapely"]
     assert imported_by("check", "examples/thesis_7_1.dance") == [
-        "numpy", "rich", "scipy", "shapely"]
+        "numpy", "rich", "shapely"]
     assert imported_by("check", "--stop-rule", "fixed", "examples/thesis_7_1.dance") == [
         "numpy", "rich", "shapely"]
     assert imported_by("check", "examples/thesis_6_3.dance") == [

@@ -101,19 +101,42 @@ def test_a_repeated_stamp_predicts_nothing(stamp: float) -> None:
 @settings(max_examples=200, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), count=st.integers(0, 250),
        scale=st.sampled_from([1e-300, 0.05, 0.3, 1.0, 4.0]))
-def test_the_compiled_clusters_are_scipys(seed: int, count: int, scale: float) -> None:
-    """``tracks_jit.cluster_labels``: the labels of SciPy's k-d tree and connected
-    components, points spread thin or piled up, repeated points among them."""
+def test_the_clusters_are_scipys(seed: int, count: int, scale: float) -> None:
+    """The NumPy reference and the kernel (``tracks_jit.cluster_labels``) give the labels of
+    SciPy's k-d tree and connected components (numbered by first point), points spread thin
+    or piled up, repeated points among them."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
     from dancebots.perception.tracks_jit import cluster_labels
 
     rng = np.random.default_rng(seed)
     points = rng.uniform(-4.0, 4.0, (count, 2)) * scale
     if count > 2:
         points[rng.integers(0, count, count // 3)] = points[0]
-    labels, clusters = cluster_points(points, 0.3)
+    pairs = cKDTree(points).query_pairs(0.3, output_type="ndarray").reshape(-1, 2)
+    clusters, scipy_labels = connected_components(coo_matrix(
+        (np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(count, count)),
+        directed=False)
+    labels, reference_clusters = cluster_points(points, 0.3)
     compiled, compiled_clusters = cluster_labels(points, 0.3)
-    assert compiled_clusters == clusters
-    assert compiled.tolist() == labels.tolist()
+    assert reference_clusters == compiled_clusters == (clusters if count else 0)
+    assert labels.tolist() == compiled.tolist() == scipy_labels.tolist()
+
+
+def test_a_chain_of_points_is_one_cluster_and_far_or_no_number_points_are_alone() -> None:
+    """Label propagation crosses a long chain (each point joins only its neighbours);
+    points that are not numbers join nothing, as in the kernel."""
+    chain = np.column_stack([np.linspace(0.0, 60.0, 301)[::-1], np.zeros(301)])
+    labels, count = cluster_points(chain, 0.3)
+    assert count == 1
+    assert not labels.any()
+    odd = np.array([[0.0, 0.0], [np.nan, 0.0], [0.1, 0.0], [np.inf, 0.0], [np.inf, 0.0],
+                    [5.0, np.nan]])
+    labels, count = cluster_points(odd, 0.3)
+    assert labels.tolist() == [0, 1, 0, 2, 3, 4]
+    assert count == 5
 
 
 @settings(max_examples=200, deadline=None)

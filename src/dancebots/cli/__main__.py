@@ -2,6 +2,6 @@
 
 import sys
 
-from dancebots.cli.main import main
+from dancebots.cli import command
 
-sys.exit(main())
+sys.exit(command())
