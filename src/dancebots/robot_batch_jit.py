@@ -342,6 +342,52 @@ def _predicted_stop(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
 
 
 @njit(cache=True)
+def _not_near_mates(world: FloatArray, taken: FloatArray, half: float, mates: FloatArray,
+                    heard: FloatArray, use_heard: bool, robot: int, cos_sin: FloatArray,
+                    own_frame: FloatArray, radius: float) -> NDArray[np.bool_]:
+    """(N,) which of the points world (N, 2) (own map frame, within the square of half side
+    ``half`` m around ``taken`` (3,)) lie farther than ``radius`` m from every mate: where it
+    should be (mates (M, 2), own frame) and, with ``use_heard``, where each other robot said
+    it stands (heard (R, 2), show frame; not finite: not heard), placed with the show
+    frame's cos and sin (2,) and pose own_frame (3,) (``RobotBrain._near_mates``). A mate
+    whose place is not a number is near every point. Only the mates that can reach the
+    square are tested (farther than its half diagonal plus ``radius``, with a millimetre to
+    spare for rounding, they are far from every point of it: the same answer), the mate the
+    last point was near first."""
+    c, s = cos_sin[0], cos_sin[1]
+    reach = half * math.sqrt(2.0) + radius + 1e-3
+    where = np.empty((mates.shape[0] + (heard.shape[0] if use_heard else 0), 2))
+    near = 0
+    for j in range(where.shape[0]):
+        if j < mates.shape[0]:
+            wx, wy = mates[j, 0], mates[j, 1]
+        else:
+            h = j - mates.shape[0]
+            if h == robot or not (math.isfinite(heard[h, 0]) and math.isfinite(heard[h, 1])):
+                continue
+            wx = own_frame[0] + c * heard[h, 0] - s * heard[h, 1]
+            wy = own_frame[1] + s * heard[h, 0] + c * heard[h, 1]
+        if math.hypot(wx - taken[0], wy - taken[1]) > reach:  # (NaN: kept, near)
+            continue
+        where[near, 0], where[near, 1] = wx, wy
+        near += 1
+    unknown = np.ones(world.shape[0], dtype=np.bool_)  # no mate: tracked
+    last = 0  # the mate the last point was near first: a scan's next point is on it too
+    for i in range(world.shape[0]):
+        for n in range(near):
+            j = (last + n) % near
+            dx, dy = world[i, 0] - where[j, 0], world[i, 1] - where[j, 1]
+            if (abs(dx) > radius or abs(dy) > radius) and (
+                    dx == dx and dy == dy):  # (far on an axis: far; NaN: near)
+                continue
+            if not math.hypot(dx, dy) > radius:
+                unknown[i] = False
+                last = j
+                break
+    return unknown
+
+
+@njit(cache=True)
 def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 pose_known: NDArray[np.bool_], arrived: NDArray[np.bool_],
                 stamps: FloatArray, columns: FloatArray, offsets: NDArray[np.int64],
@@ -429,46 +475,30 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 world[i, 1] = taken[1] + ts * flat[i, 0] + tc * flat[i, 1]
             # the mates where they should be or said they are are not tracked
             # (``RobotBrain._near_mates``)
-            mc, ms = frame_cos_sin[r, 0], frame_cos_sin[r, 1]
-            unknown = np.ones(world.shape[0], dtype=np.bool_)  # no mate: tracked
-            for i in range(world.shape[0]):
-                for j in range(mates[r].shape[0] + (count if use_heard else 0)):
-                    if j < mates[r].shape[0]:
-                        wx, wy = mates[r, j, 0], mates[r, j, 1]
-                    else:
-                        h = j - mates[r].shape[0]
-                        if h == r or not (math.isfinite(heard[h, 0])
-                                          and math.isfinite(heard[h, 1])):
-                            continue
-                        wx = own_frames[r, 0] + mc * heard[h, 0] - ms * heard[h, 1]
-                        wy = own_frames[r, 1] + ms * heard[h, 0] + mc * heard[h, 1]
-                    dx, dy = world[i, 0] - wx, world[i, 1] - wy
-                    if (abs(dx) > mate_radius[r] or abs(dy) > mate_radius[r]) and (
-                            dx == dx and dy == dy):  # (far on an axis: far; NaN: near)
-                        continue
-                    if not math.hypot(dx, dy) > mate_radius[r]:
-                        unknown[i] = False
-                        break
+            unknown = _not_near_mates(world, taken, rules[SSM_REACH], mates[r], heard,
+                                      use_heard, r, frame_cos_sin[r], own_frames[r],
+                                      mate_radius[r])
             k = track_count[r]
-            states, covariances, hits, misses, some_velocity, some_kind = track_cloud(
-                track_states[r, :k], track_covariances[r, :k], track_hits[r, :k],
-                track_misses[r, :k], track_stamp[r], world[unknown], stamps[r],
-                track_params[CLUSTER_GAP], track_params[MAX_WIDTH], track_params[GATE],
-                int(track_params[MIN_HITS]), int(track_params[MAX_MISSES]),
-                track_params[ACCELERATION_NOISE], track_params[MEASUREMENT_NOISE])
-            k = states.shape[0]
-            track_states[r, :k], track_covariances[r, :k] = states, covariances
-            track_hits[r, :k], track_misses[r, :k] = hits, misses
-            track_count[r], track_stamp[r] = k, stamps[r]
             n = world.shape[0]
             point_velocity[r, :n] = 0.0
             point_kind[r, :n] = STANDING
-            m = 0
-            for i in range(n):
-                if unknown[i]:
-                    point_velocity[r, i] = some_velocity[m]
-                    point_kind[r, i] = some_kind[m]
-                    m += 1
+            if k > 0 or unknown.any():  # (no track and nothing to track: none after it)
+                states, covariances, hits, misses, some_velocity, some_kind = track_cloud(
+                    track_states[r, :k], track_covariances[r, :k], track_hits[r, :k],
+                    track_misses[r, :k], track_stamp[r], world[unknown], stamps[r],
+                    track_params[CLUSTER_GAP], track_params[MAX_WIDTH], track_params[GATE],
+                    int(track_params[MIN_HITS]), int(track_params[MAX_MISSES]),
+                    track_params[ACCELERATION_NOISE], track_params[MEASUREMENT_NOISE])
+                k = states.shape[0]
+                track_states[r, :k], track_covariances[r, :k] = states, covariances
+                track_hits[r, :k], track_misses[r, :k] = hits, misses
+                m = 0
+                for i in range(n):
+                    if unknown[i]:
+                        point_velocity[r, i] = some_velocity[m]
+                        point_kind[r, i] = some_kind[m]
+                        m += 1
+            track_count[r], track_stamp[r] = k, stamps[r]
             point_count[r] = n
         linear, angular = 0.0, 0.0
         held = holds_show = waiting = False
