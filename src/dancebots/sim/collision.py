@@ -80,6 +80,11 @@ class Boundaries:
         self._direction = every[:, 1] - self._start
         self._length2 = np.maximum((self._direction**2).sum(axis=1), 1e-12)
 
+    def edges(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Every edge of the room and the obstacles: starts (E, 2), directions (E, 2) and
+        squared lengths (E,), m."""
+        return self._start, self._direction, self._length2
+
     @staticmethod
     def _segments(polygon: FloatArray) -> FloatArray:
         return np.stack([polygon, np.concatenate([polygon[1:], polygon[:1]])], axis=1)

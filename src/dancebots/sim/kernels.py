@@ -24,10 +24,10 @@ def kernel_modules(crowds: bool = False, stop_rule: str = "predicted",
     from dancebots import robot_batch_jit
     from dancebots.control import tracking_jit
     from dancebots.perception import fast
-    from dancebots.sim import collision_jit, raycast_jit
+    from dancebots.sim import collision_jit, raycast_jit, stage_jit
 
-    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, fast, robot_batch_jit,
-                                       tracking_jit)
+    modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, stage_jit, fast,
+                                       robot_batch_jit, tracking_jit)
     if crowds:
         from dancebots.sim import crowd_jit
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import astuple, dataclass, replace
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import shapely
@@ -150,6 +150,21 @@ class Stage:
                 [(o.polygon, o.height) for o in arena.obstacles],
                 np.column_stack([self.discs[:, 2], self.disc_heights]),
                 "geometric" if profile.drive == "geometric" else "calibrated")
+        self._free_step_data: tuple[Any, ...] | None = None
+        if (compiled and self.physics is None and len(self.discs) == 0
+                and profile.linear_noise == 0.0 and profile.angular_noise == 0.0):
+            # a step free of contacts in one compiled call (``sim.stage_jit``)
+            obstacles = [np.asarray(o.polygon, dtype=float).reshape(-1, 2)
+                         for o in arena.obstacles]
+            lagging = profile.lag > 0.0
+            self._free_step_data = (
+                lagging, 1.0 - math.exp(-dt / profile.lag) if lagging else 0.0,
+                np.array([profile.linear_acceleration, profile.angular_acceleration]) * dt,
+                np.array(profile.standstill, dtype=float), float(dt), self.lengths,
+                self.widths, self.reach, np.ascontiguousarray(arena.room, dtype=float),
+                np.concatenate(obstacles) if obstacles else np.zeros((0, 2)),
+                np.concatenate([[0], np.cumsum([len(o) for o in obstacles])]).astype(np.int64),
+                *self.boundaries.edges())
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
@@ -204,6 +219,16 @@ class Stage:
     def advance(self, now: float, command: FloatArray, issued: FloatArray) -> None:
         """Move everything by one ``dt`` from ``now``: commands (R, 2) (v, w) issued at
         ``issued`` (R,) s act under the 10 Hz rule; contacts block and are recorded."""
+        if self._free_step_data is not None:
+            from dancebots.sim.stage_jit import free_step  # imports numba
+
+            proposed, corners, velocity, free = free_step(
+                self.pose, self.velocity, np.ascontiguousarray(command, dtype=float),
+                np.ascontiguousarray(issued, dtype=float), float(now),
+                float(self.command_timeout), self.limits, *self._free_step_data)
+            if free:  # no contact, none near: what the steps below give, in one call
+                self.pose, self.corners, self.velocity = proposed, corners, velocity
+                return
         dt, count = self.dt, len(self.pose)
         pose, corners_now = self.pose, self.corners
         wanted = fresh_commands(np.clip(command, -self.limits, self.limits), issued, now,
