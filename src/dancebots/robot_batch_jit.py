@@ -387,7 +387,7 @@ def _not_near_mates(world: FloatArray, taken: FloatArray, half: float, mates: Fl
     return unknown
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # (lets a scan run on the other core: ``Stage.scan_ahead``)
 def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 pose_known: NDArray[np.bool_], arrived: NDArray[np.bool_],
                 stamps: FloatArray, columns: FloatArray, offsets: NDArray[np.int64],

@@ -92,3 +92,35 @@ def test_numbers_that_are_not_finite_take_the_numpy_steps() -> None:
     *_, free = free_step(fast.pose, fast.velocity, np.array([[0.3, 0.1]]), np.zeros(1), 0.0,
                          0.1, fast.limits, *fast._free_step_data)
     assert free
+
+
+def test_scans_cast_ahead_on_a_second_thread_are_the_same_clouds() -> None:
+    """``scan_ahead``: every robot gets the same cloud at the same tick as when the stage
+    scans in turn, with a spectator walking by; ``close`` lets the thread go."""
+    import threading
+
+    from dancebots.sim.lidar import LidarConfig
+    from dancebots.world.model import Spectator
+
+    starts = np.array([[-2.0, -1.0, 0.0], [0.0, 1.0, 1.0], [2.0, -1.5, 2.5]])
+    kinds = [BUILTIN_ROBOT_TYPES[name] for name in ("SIM", "HUSKY", "TURTLEBOT3")]
+    placement = Placement(("A", "B", "C"), tuple(kinds), starts, Pose(0.0, 0.0, 0.0))
+    walker = Spectator("visitor", 0.25, 1.7, 0.8, np.array([[-4.0, 3.0], [4.0, 3.0]]),
+                       np.zeros(2), False, 0.0, 1)
+    arena = Arena(ROOM, 1.0, (CRATE,), None, (walker,))
+    stages = [Stage(arena, placement, IDEAL, 0.1, LidarConfig(), scan_ahead=ahead)
+              for ahead in (True, False)]
+    for k in range(30):
+        now = 0.1 * k
+        got = [stage.deliveries(now) for stage in stages]
+        for ahead, inturn in zip(*got, strict=True):
+            assert (ahead is None) == (inturn is None)
+            if ahead is not None and inturn is not None:
+                assert ahead.stamp == inturn.stamp
+                assert ahead.columns.tobytes() == inturn.columns.tobytes()
+        for stage in stages:
+            stage.advance(now, np.array([[0.3, 0.2], [0.2, -0.3], [0.1, 0.5]]), np.full(3, now))
+    assert any(t.name.startswith("dancebots-lidar") for t in threading.enumerate())
+    for stage in stages:
+        stage.close()
+    assert not any(t.name.startswith("dancebots-lidar") for t in threading.enumerate())

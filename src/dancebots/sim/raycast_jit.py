@@ -51,7 +51,7 @@ def _ray_hit(dx: float, dy: float, qx: float, qy: float, ex: float, ey: float) -
     return np.inf
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
                corners: FloatArray, robot_height: float, segments: FloatArray,
                heights: FloatArray, discs: FloatArray, disc_heights: FloatArray,
@@ -144,7 +144,7 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
     return solid, solid_height, wall
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
                   angles: FloatArray, min_range: float, max_range: float,
                   wall_height: float) -> tuple[FloatArray, NDArray[np.int64]]:

@@ -13,6 +13,8 @@ counted and reported, never passed through). Noise comes from a seeded generator
 from __future__ import annotations
 
 import math
+import weakref
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import astuple, dataclass, replace
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -99,8 +101,12 @@ class Stage:
 
     def __init__(self, arena: Arena, placement: Placement, profile: Profile, dt: float,
                  lidar: LidarConfig | None, command_timeout: float = 0.1, seed: int = 0,
-                 record_lidar: bool = False, compiled: bool = True) -> None:
+                 record_lidar: bool = False, compiled: bool = True,
+                 scan_ahead: bool = False) -> None:
         self.compiled = compiled  # collision tests compiled with numba, else NumPy
+        # scans cast on a second thread while the caller goes on (:meth:`deliveries`)
+        self.scan_ahead = scan_ahead
+        self._scanner: ThreadPoolExecutor | None = None
         self.arena, self.placement, self.profile, self.dt = arena, placement, profile, dt
         self.lidar, self.command_timeout, self.record_lidar = lidar, command_timeout, record_lidar
         self.rng = np.random.default_rng(seed)
@@ -168,7 +174,7 @@ class Stage:
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
-        self.pending: list[tuple[float, list[PointCloud]]] = []
+        self.pending: list[tuple[float, list[PointCloud] | Future[list[PointCloud]]]] = []
         self.planar_pending: list[tuple[float, float, FloatArray, FloatArray]] = []
         self.collisions: list[CollisionEvent] = []
         self.scans: list[tuple[float, tuple[FloatArray, ...]]] = []
@@ -182,19 +188,41 @@ class Stage:
 
     def deliveries(self, now: float) -> list[PointCloud | None]:
         """Scan when a LIDAR period is due at ``now``, and return each robot's cloud that
-        reaches it at ``now`` after the LIDAR's latency (None for robots that get none)."""
+        reaches it at ``now`` after the LIDAR's latency (None for robots that get none).
+
+        With ``scan_ahead`` (and a compiled LIDAR with a latency, scans not recorded) the
+        scan is cast on a second thread: the caster lets go of Python's lock, so it runs
+        on the other core while the caller decides and moves the robots, and its clouds are
+        taken when they reach the robots, the latency later. The same clouds: the scan reads
+        the stage as it is at ``now`` (its arrays are replaced, never changed, by a step)."""
         count = len(self.pose)
         lidar = self.lidar
         if lidar is not None and period_due(now, lidar.period):
-            clouds = scan_clouds(lidar, now, self.pose, self.corners, self.scene, self.discs,
-                                 self.disc_heights)
-            self.pending.append((now + lidar.latency, clouds))
-            if self.record_lidar:
-                self.scans.append((now + lidar.latency, _world_points(clouds, self.pose)))
+            scene = (lidar, now, self.pose, self.corners, self.scene, self.discs,
+                     self.disc_heights)
+            if (self.scan_ahead and lidar.compiled and lidar.latency > 1e-9
+                    and not self.record_lidar):
+                if self._scanner is None:
+                    self._scanner = ThreadPoolExecutor(1, thread_name_prefix="dancebots-lidar")
+                    weakref.finalize(self, self._scanner.shutdown, wait=False)
+                self.pending.append((now + lidar.latency,
+                                     self._scanner.submit(scan_clouds, *scene)))
+            else:
+                clouds = scan_clouds(*scene)
+                self.pending.append((now + lidar.latency, clouds))
+                if self.record_lidar:
+                    self.scans.append((now + lidar.latency, _world_points(clouds, self.pose)))
         arrived: list[PointCloud | None] = [None] * count
         while self.pending and self.pending[0][0] <= now + 1e-9:
-            arrived = list(self.pending.pop(0)[1])
+            scan = self.pending.pop(0)[1]
+            arrived = list(scan.result() if isinstance(scan, Future) else scan)
         return arrived
+
+    def close(self) -> None:
+        """Let the scanning thread go (``scan_ahead``); a stage can still step after."""
+        if self._scanner is not None:
+            self._scanner.shutdown(wait=True)
+            self._scanner = None
 
     def planar_deliveries(self, now: float, lidar: LidarConfig,
                           ) -> list[tuple[float, FloatArray, FloatArray]]:
