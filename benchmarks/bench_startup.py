@@ -1,6 +1,6 @@
 """Start-up time of the ``dancebots`` command (targets on a 2-core machine: at most 0.3 s for
 ``--help`` and for ``check --rigid-only`` of a thesis listing; at most 1 s for ``check`` with
-its simulation pass, issue 12).
+its simulation pass, every thesis listing, issue 12).
 
 Run: ``.venv/bin/python benchmarks/bench_startup.py [--repeat N]``. Each command runs N times
 (default 10) as a fresh process, after one warm-up run that fills the OS file cache; prints
@@ -23,6 +23,8 @@ TARGET = 0.3
 """s: the wall-time target of --help and the rigid check."""
 SIMULATED_TARGET = 1.0
 """s: the wall-time target of check with its simulation pass."""
+LISTINGS = ("6_1", "6_2", "6_3", "7_1", "7_2", "7_3", "7_4")
+"""The thesis listings (``examples/thesis_*.dance``) whose check is timed."""
 
 
 def wall_times(command: list[str], repeat: int) -> list[float]:
@@ -48,8 +50,9 @@ def main() -> int:
                                              "examples/thesis_7_1.dance"],
         "dancebots check --rigid-only 6_3": [*dancebots, "check", "--rigid-only",
                                              "examples/thesis_6_3.dance"],
-        "dancebots check thesis_7_1": [*dancebots, "check", "examples/thesis_7_1.dance"],
-        "dancebots check thesis_6_3": [*dancebots, "check", "examples/thesis_6_3.dance"],
+        **{f"dancebots check thesis_{listing}": [*dancebots, "check",
+                                                  f"examples/thesis_{listing}.dance"]
+           for listing in LISTINGS},
         "dancebots check thesis_7_1 eq4.4": [*dancebots, "check", "--follower", "thesis",
                                              "--timing", "thesis",
                                              "examples/thesis_7_1.dance"],
