@@ -160,17 +160,17 @@ def summary_text(report: CheckReport, plan: Plan | None) -> str:
 
 SIMULATION_LIMIT = 10_000
 """Robots times show duration (s) up to which check simulates a show by default: 20 robots
-for about 8 minutes, about 16 s here; a larger show gets a warning that it was not simulated
-(``--simulation-limit`` raises it)."""
+for about 8 minutes, about 3 s of simulation here; a larger show gets a warning that it was
+not simulated (``--simulation-limit`` raises it)."""
 COMPILED_FROM = 100
 """Robot-seconds from which check simulates with the numba-compiled kernels; a shorter show
 runs on their NumPy references (``SimConfig.compiled``), which simulate 3-4 times slower
-but need no numba, whose import and start take about 0.75 s (listing 7.1, 66
-robot-seconds: 0.45 s against 0.15 s plus 0.75 s)."""
-SIMULATION_RATE = 2700
+but need no numba, whose import and start take about 0.45 s (listing 7.1, 66
+robot-seconds: its whole check 0.59 s on the references)."""
+SIMULATION_RATE = 3300
 """Robot-seconds check simulates per second of wall time, about, on the project's 2-core
 machines (the 20-robot, 1,000-line show of ``benchmarks/bench_compile.py`` with the defaults
-and LIDAR, 47,050 robot-seconds: 17-19 s in all): the hint's rough estimate."""
+and LIDAR, 47,050 robot-seconds: 14-15 s in all): the hint's rough estimate."""
 
 
 def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:
