@@ -263,3 +263,25 @@ def test_ignored_points_are_not_tracked_and_stand(compiled: bool) -> None:
         np.testing.assert_array_equal(point_velocity[~ignore], alone_velocity)
         assert len(tracks.states) == len(alone.states) == 1
     assert np.all(kind[~ignore] == TRACKED)
+
+
+def test_the_pairs_are_tested_in_blocks_with_the_same_labels(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Blocks of a few candidate pairs (a wall along y puts every point in every x-window:
+    the blocks bound the memory) give the kernel's labels; a 3,000-point wall is one
+    cluster."""
+    import dancebots.perception.tracks as tracks
+    from dancebots.perception.tracks_jit import cluster_labels
+
+    monkeypatch.setattr(tracks, "PAIR_BLOCK", 7)
+    rng = np.random.default_rng(1)
+    for _ in range(100):
+        points = rng.uniform(-2.0, 2.0, (int(rng.integers(0, 60)), 2))
+        if len(points) > 3:
+            points[: len(points) // 3, 0] = points[0, 0]  # a wall along y
+        labels, count = cluster_points(points, 0.3)
+        expected, expected_count = cluster_labels(points, 0.3)
+        assert count == expected_count
+        assert labels.tolist() == expected.tolist()
+    wall = np.column_stack([np.zeros(3000), np.linspace(0.0, 300.0, 3000)])
+    assert cluster_points(wall, 0.3)[1] == 1

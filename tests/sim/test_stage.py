@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -16,18 +17,23 @@ from dancebots.sim.stage import Stage
 from dancebots.world.model import BUILTIN_ROBOT_TYPES, Obstacle
 
 ROOM = np.array([[-5.0, -5.0], [5.0, -5.0], [5.0, 5.0], [-5.0, 5.0]])
+L_ROOM = np.array([[-5.0, -5.0], [5.0, -5.0], [5.0, 0.0], [0.0, 0.0], [0.0, 5.0],
+                   [-5.0, 5.0]])  # not convex
 CRATE = Obstacle("crate", np.array([[2.0, 2.0], [3.0, 2.0], [3.0, 3.5], [2.0, 3.0]]), 0.5, 1)
+POST = Obstacle("post", np.array([[-3.0, -3.0], [-3.0, -2.5], [-2.5, -2.5], [-2.5, -3.0]]),
+                1.0, 2)  # clockwise
 LAGGING = Profile("lagging", lag=0.25, linear_acceleration=1.0, angular_acceleration=4.0,
                   standstill=(0.01, 0.02))
 
 
-def _stages(starts: np.ndarray, profile: Profile) -> tuple[Stage, Stage]:
+def _stages(starts: np.ndarray, profile: Profile, room: np.ndarray = ROOM,
+            obstacles: tuple[Obstacle, ...] = (CRATE,)) -> tuple[Stage, Stage]:
     """The same stage twice: the compiled free step on, and off (the NumPy steps only)."""
     kinds = [BUILTIN_ROBOT_TYPES[name] for name in ("SIM", "HUSKY", "TURTLEBOT3")]
     types = tuple(kinds[k % 3] for k in range(len(starts)))
     placement = Placement(tuple(f"R{k}" for k in range(len(starts))), types, starts,
                           Pose(0.0, 0.0, 0.0))
-    arena = Arena(ROOM, 1.0, (CRATE,), None)
+    arena = Arena(room, 1.0, obstacles, None)
     fast = Stage(arena, placement, profile, 0.1, None)
     slow = Stage(arena, placement, profile, 0.1, None)
     slow._free_step_data = None
@@ -37,17 +43,22 @@ def _stages(starts: np.ndarray, profile: Profile) -> tuple[Stage, Stage]:
 
 @settings(max_examples=60, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), count=st.integers(1, 6),
-       lagging=st.booleans(), spread=st.sampled_from([0.6, 1.5, 4.0]))
+       lagging=st.booleans(), spread=st.sampled_from([0.6, 1.5, 4.0]),
+       l_room=st.booleans())
 def test_the_free_step_moves_the_robots_as_the_numpy_steps(seed: int, count: int,
-                                                           lagging: bool,
-                                                           spread: float) -> None:
+                                                           lagging: bool, spread: float,
+                                                           l_room: bool) -> None:
     """Random commands (some stale, some beyond the limits, some zero) drive robots that
-    start close (contacts) or spread out, into walls and the crate: poses, corners,
-    velocities and every contact the same, bit for bit."""
+    start close (contacts) or spread out, into walls and the crate, in a square room or an
+    L-shaped one with a clockwise post: poses, corners, velocities and every contact the
+    same, bit for bit."""
     rng = np.random.default_rng(seed)
     starts = np.column_stack([rng.uniform(-spread, spread, (count, 2)),
                               rng.uniform(-math.pi, math.pi, count)])
-    fast, slow = _stages(starts, LAGGING if lagging else IDEAL)
+    if l_room:
+        starts[:, :2] = np.minimum(starts[:, :2], -0.5)  # in the L's lower left
+    fast, slow = _stages(starts, LAGGING if lagging else IDEAL,
+                         *((L_ROOM, (POST,)) if l_room else (ROOM, (CRATE,))))
     issued = np.zeros(count)
     command = np.zeros((count, 2))
     for k in range(80):
@@ -61,6 +72,36 @@ def test_the_free_step_moves_the_robots_as_the_numpy_steps(seed: int, count: int
         assert fast.velocity.tobytes() == slow.velocity.tobytes()
         assert fast.corners.tobytes() == slow.corners.tobytes()
     assert fast.collisions == slow.collisions
+
+
+def test_the_free_step_takes_every_step_of_robots_that_keep_apart() -> None:
+    """Four robots well apart, driving gently in the middle of the room: every step is the
+    free step's (counted: the equality above holds for a free step that takes none too);
+    the same poses as the NumPy steps."""
+    import dancebots.sim.stage_jit as stage_jit
+
+    starts = np.array([[-2.0, -2.0, 0.0], [2.0, -2.0, 1.0], [-2.0, 1.5, 2.0],
+                       [1.0, 1.0, -1.0]])
+    fast, slow = _stages(starts, IDEAL)
+    taken = []
+    original = stage_jit.free_step
+
+    def counted(*args: object) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        result = original(*args)
+        taken.append(result[3])
+        return result  # type: ignore[no-any-return]
+
+    stage_jit.free_step = counted  # type: ignore[assignment]
+    try:
+        for k in range(50):
+            command = np.full((4, 2), 0.1) * np.array([[1.0, 0.5]])
+            fast.advance(0.1 * k, command, np.full(4, 0.1 * k))
+            slow.advance(0.1 * k, command, np.full(4, 0.1 * k))
+    finally:
+        stage_jit.free_step = original  # type: ignore[assignment]
+    assert len(taken) == 50
+    assert all(taken)
+    assert fast.pose.tobytes() == slow.pose.tobytes()
 
 
 def test_a_step_with_a_contact_is_left_to_the_numpy_steps() -> None:
@@ -110,6 +151,17 @@ def test_scans_cast_ahead_on_a_second_thread_are_the_same_clouds() -> None:
     arena = Arena(ROOM, 1.0, (CRATE,), None, (walker,))
     stages = [Stage(arena, placement, IDEAL, 0.1, LidarConfig(), scan_ahead=ahead)
               for ahead in (True, False)]
+    try:
+        _compare_scans(stages)
+        assert any(t.name.startswith("dancebots-lidar") for t in threading.enumerate())
+    finally:
+        for stage in stages:
+            stage.close()
+    assert not any(t.name.startswith("dancebots-lidar") for t in threading.enumerate())
+
+
+def _compare_scans(stages: list[Stage]) -> None:
+    """Thirty ticks of both stages: the same clouds at the same ticks."""
     for k in range(30):
         now = 0.1 * k
         got = [stage.deliveries(now) for stage in stages]
@@ -120,7 +172,34 @@ def test_scans_cast_ahead_on_a_second_thread_are_the_same_clouds() -> None:
                 assert ahead.columns.tobytes() == inturn.columns.tobytes()
         for stage in stages:
             stage.advance(now, np.array([[0.3, 0.2], [0.2, -0.3], [0.1, 0.5]]), np.full(3, now))
-    assert any(t.name.startswith("dancebots-lidar") for t in threading.enumerate())
-    for stage in stages:
-        stage.close()
-    assert not any(t.name.startswith("dancebots-lidar") for t in threading.enumerate())
+
+
+def test_a_scan_that_failed_on_the_thread_is_not_lost(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A scan that raises on the second thread raises where its clouds are taken; one never
+    taken raises at ``close``, unless the caller is already stopping on another error."""
+    import dancebots.sim.stage as stage_module
+    from dancebots.sim.lidar import LidarConfig
+
+    def broken(*args: object) -> None:
+        raise RuntimeError("caster failed")
+
+    placement = Placement(("A",), (BUILTIN_ROBOT_TYPES["SIM"],), np.zeros((1, 3)),
+                          Pose(0.0, 0.0, 0.0))
+    arena = Arena(ROOM, 1.0, (), None)
+    taken, untaken, stopping = (Stage(arena, placement, IDEAL, 0.1, LidarConfig(),
+                                      scan_ahead=True) for _ in range(3))
+    monkeypatch.setattr(stage_module, "scan_clouds", broken)  # (after the scans before t = 0)
+    try:
+        assert taken.deliveries(0.0)[0] is not None  # one scanned before the start: fine
+        for k in (1, 2):  # (cast broken; the last scans from before t = 0 arrive)
+            assert taken.deliveries(0.1 * k)[0] is not None
+        with pytest.raises(RuntimeError, match="caster failed"):
+            taken.deliveries(0.3)  # the scan cast at t = 0 arrives
+        untaken.deliveries(0.0)  # cast, never taken
+        with pytest.raises(RuntimeError, match="caster failed"):
+            untaken.close()
+        stopping.deliveries(0.0)
+        stopping.close(check=False)
+    finally:
+        for stage in (taken, untaken, stopping):
+            stage.close(check=False)

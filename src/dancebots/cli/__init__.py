@@ -29,8 +29,10 @@ def command() -> int:
     """The ``dancebots`` command (its console script and ``python -m dancebots.cli``):
     :func:`main`, then every object there is is left out of the interpreter's last garbage
     collections. Once numba has started, those walk its whole object graph for nothing (about
-    0.2 s of every command that simulated); every file the command wrote is closed by then,
-    and the objects are still freed by reference counting as modules are torn down."""
+    0.2 s of every command that simulated). Every file the command wrote is closed by then
+    and ``atexit`` and ``weakref.finalize`` callbacks still run; objects in reference
+    cycles are no longer collected (their ``__del__`` does not run), which nothing of the
+    command's output relies on."""
     import gc
 
     status = main()

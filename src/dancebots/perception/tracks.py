@@ -96,7 +96,11 @@ def cluster_points(points: FloatArray, gap: float, compiled: bool = False,
         joined = labels.copy()
         np.minimum.at(joined, first, labels[second])
         np.minimum.at(joined, second, labels[first])
-        joined = joined[joined]
+        while True:  # short-cut to the end of each chain of labels
+            further = joined[joined]
+            if np.array_equal(further, joined):
+                break
+            joined = further
         if np.array_equal(joined, labels):
             break
         labels = joined
@@ -104,24 +108,43 @@ def cluster_points(points: FloatArray, gap: float, compiled: bool = False,
     return numbered.astype(np.int64), len(roots)
 
 
+PAIR_BLOCK = 1_000_000
+"""Candidate pairs :func:`_pairs_within` tests at once (its memory: some 50 bytes each)."""
+
+
 def _pairs_within(points: FloatArray, gap: float) -> tuple[IntArray, IntArray]:
     """The index pairs (P,), (P,) of points (N, 2) at most ``gap`` m apart, as the kernel's
     sweep over the points sorted by x finds them (``tracks_jit.cluster_labels``: dx after
-    the sort at most ``gap``, then dx^2 + dy^2 at most gap^2)."""
+    the sort at most ``gap``, then dx^2 + dy^2 at most gap^2). The candidates (each point
+    with those after it in x within the gap) are tested in blocks of rows of at most about
+    :data:`PAIR_BLOCK` (a wall along y puts every point in every window)."""
     order = np.argsort(points[:, 0], kind="mergesort")
     ordered = points[order]
     xs = ordered[:, 0]
-    # a window a little wide, then the kernel's own test: x_b - x_a <= gap, as it subtracts
-    ends = np.searchsorted(xs, xs + abs(gap) * (1.0 + 1e-9) + 1e-300, side="right")
-    ends = np.maximum(ends, np.arange(1, len(xs) + 1))
-    counts = ends - np.arange(len(xs)) - 1
-    a = np.repeat(np.arange(len(xs)), counts)
-    b = a + 1 + np.arange(len(a)) - np.repeat(np.cumsum(counts) - counts, counts)
-    with np.errstate(invalid="ignore"):  # inf - inf: no number, no pair (as the kernel)
-        dx = xs[b] - xs[a]
-        dy = ordered[b, 1] - ordered[a, 1]
-        near = (dx <= gap) & (dx * dx + dy * dy <= gap * gap)
-    return order[a[near]], order[b[near]]
+    rows = np.arange(len(xs))
+    with np.errstate(invalid="ignore", over="ignore"):  # (inf - inf: no number, no pair)
+        # a window a little wide, then the kernel's own test: x_b - x_a <= gap, as it
+        # subtracts
+        ends = np.searchsorted(xs, xs + abs(gap) * (1.0 + 1e-9) + 1e-300, side="right")
+    counts = np.maximum(ends, rows + 1) - rows - 1
+    total = np.cumsum(counts)
+    firsts, seconds = [], []
+    begin = 0
+    while begin < len(xs):
+        # rows begin..stop-1 hold at most PAIR_BLOCK candidates (a row with more: alone)
+        stop = max(int(np.searchsorted(total, total[begin] - counts[begin] + PAIR_BLOCK,
+                                       side="right")), begin + 1)
+        block = counts[begin:stop]
+        a = np.repeat(rows[begin:stop], block)
+        b = a + 1 + np.arange(len(a)) - np.repeat(np.cumsum(block) - block, block)
+        with np.errstate(invalid="ignore", over="ignore"):
+            dx = xs[b] - xs[a]
+            dy = ordered[b, 1] - ordered[a, 1]
+            near = (dx <= gap) & (dx * dx + dy * dy <= gap * gap)
+        firsts.append(order[a[near]])
+        seconds.append(order[b[near]])
+        begin = stop
+    return np.concatenate(firsts), np.concatenate(seconds)
 
 
 def track_step(params: TrackParams, tracks: ObstacleTracks, points: FloatArray,

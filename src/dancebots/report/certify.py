@@ -125,7 +125,8 @@ def run_seed(job: CertifyJob, seed: int) -> RunSummary:
                        lidar=LidarConfig() if job.lidar else None,
                        brain=BrainOptions(follower=job.follower,  # type: ignore[arg-type]
                                           stop_rule=job.stop_rule),  # type: ignore[arg-type]
-                       hold=job.hold)  # type: ignore[arg-type]
+                       hold=job.hold,  # type: ignore[arg-type]
+                       scan_ahead=False)  # (the processes fill the cores)
     started = time.perf_counter()
     result = simulate(plan, arena, placement, config)
     metrics = run_metrics(result)

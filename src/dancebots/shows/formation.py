@@ -120,6 +120,9 @@ class SimConfig:
         broadcasts at 10 Hz over the same transport as the hold messages (``hold_delay``,
         ``hold_loss``), extrapolated by the velocity it sent over the message's age on the
         receiver's clock. One formation, batched brains only.
+    scan_ahead: with :data:`SCAN_AHEAD_FROM` robots or more, cast each scan on a second
+        thread (``Stage.scan_ahead``; off where processes fill every core already, as
+        ``certify``'s do).
     """
 
     profile: Profile = IDEAL
@@ -140,6 +143,7 @@ class SimConfig:
     batched: bool = True
     clock_offsets: tuple[float, ...] = ()
     formation_control: FormationControl = "virtual-leader"
+    scan_ahead: bool = True
 
     def __post_init__(self) -> None:
         if not (0.0 <= self.hold_delay < HoldParams().heartbeat_timeout
@@ -288,15 +292,17 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
               for robot, kind in zip(placement.robots, placement.types, strict=True)]
     stage = Stage(arena, placement, config.profile, config.dt, lidar,
                   config.command_timeout, config.seed, config.record_lidar, config.compiled,
-                  scan_ahead=len(placement.robots) >= SCAN_AHEAD_FROM)
+                  scan_ahead=config.scan_ahead and len(placement.robots) >= SCAN_AHEAD_FROM)
     try:
         crew = _Crew(brains, placement.robots, stage, config)
         clock = Clock(config.dt, plan.duration + config.settle,
                       max(1, round(config.control_period / config.dt)),
                       settle_from=plan.duration, max_pause=config.max_pause)
         recorder = run_show(stage, crew.step, clock, progress)
-    finally:
-        stage.close()
+    except BaseException:
+        stage.close(check=False)  # (the error that stopped the run is the one to see)
+        raise
+    stage.close()
     return _result(plan, arena, placement, config, recorder, brains, tuple(stage.collisions),
                    tuple(crew.events), tuple(stage.scans), stage.discs[:, 2].copy())
 

@@ -194,12 +194,12 @@ class Stage:
         scan is cast on a second thread: the caster lets go of Python's lock, so it runs
         on the other core while the caller decides and moves the robots, and its clouds are
         taken when they reach the robots, the latency later. The same clouds: the scan reads
-        the stage as it is at ``now`` (its arrays are replaced, never changed, by a step)."""
+        copies of the stage's arrays at ``now``."""
         count = len(self.pose)
         lidar = self.lidar
         if lidar is not None and period_due(now, lidar.period):
-            scene = (lidar, now, self.pose, self.corners, self.scene, self.discs,
-                     self.disc_heights)
+            scene = (lidar, now, self.pose.copy(), self.corners.copy(), self.scene,
+                     self.discs.copy(), self.disc_heights)
             if (self.scan_ahead and lidar.compiled and lidar.latency > 1e-9
                     and not self.record_lidar):
                 if self._scanner is None:
@@ -218,11 +218,21 @@ class Stage:
             arrived = list(scan.result() if isinstance(scan, Future) else scan)
         return arrived
 
-    def close(self) -> None:
-        """Let the scanning thread go (``scan_ahead``); a stage can still step after."""
-        if self._scanner is not None:
-            self._scanner.shutdown(wait=True)
-            self._scanner = None
+    def close(self, check: bool = True) -> None:
+        """Let the scanning thread go (``scan_ahead``; the scans not begun yet are dropped),
+        then, with ``check``, raise the error of a scan cast but never taken (a stage can
+        still step after)."""
+        if self._scanner is None:
+            return
+        self._scanner.shutdown(wait=True, cancel_futures=True)
+        self._scanner = None
+        scans = [scan for _, scan in self.pending if isinstance(scan, Future)]
+        self.pending = [(due, scan) for due, scan in self.pending
+                        if not isinstance(scan, Future)]
+        for scan in scans:
+            error = None if scan.cancelled() else scan.exception()
+            if check and error is not None:
+                raise error
 
     def planar_deliveries(self, now: float, lidar: LidarConfig,
                           ) -> list[tuple[float, FloatArray, FloatArray]]:
