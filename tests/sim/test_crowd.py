@@ -295,3 +295,53 @@ def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None
     unknown = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]),
                        np.array([[0.0, 0.0], [math.nan, 0.0]]), np.array([0.6, 0.6]), 0.2)
     assert unknown.tolist() == pytest.approx([1.0, 0.0])
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_child_asked_for_room_walks_out_of_a_stopped_formation(
+        compiled: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The open-day crowd's seed 404 at t = 150 s: a child in the middle of a stopped 2 x 2
+    formation (footprints 0.56-0.65 m apart), every robot speaking. With LEAVING_RANGE it
+    walks out between two robots within 20 s (five draws) and never touches one; at its
+    kind's whole robot range the four robots' pushes keep it in the middle for 25 s in every
+    draw (over 100 s in that run)."""
+    import dancebots.sim.crowd as crowd_module
+    from dancebots.sim.crowd import LEAVING_RANGE
+    from dancebots.sim.stage import _footprint_gaps
+    from dancebots.world.model import BUILTIN_ROBOT_TYPES
+
+    room = square_room(20.0)
+    walls = wall_segments(room, ())
+    poses = np.array([[10.39, 7.25, -1.6], [9.04, 7.34, -1.68], [10.68, 8.8, -2.5],
+                      [8.91, 8.87, -0.73]])
+    middle = poses[:, :2].mean(axis=0)
+    kinds = [BUILTIN_ROBOT_TYPES[k] for k in ("HUSKY", "HUSKY", "TRADR", "TRADR")]
+    lengths = np.array([k.length for k in kinds])
+    widths = np.array([k.width for k in kinds])
+    area = np.array([[1.0, 1.0], [19.0, 1.0], [19.0, 19.0], [1.0, 19.0]])
+    child = Crowd("children", 1, area, "child", 1.3, 0.4, 0.18, 1.1, 0, 1)  # the kind's own
+    start = crowd_start([child], NO_ROBOTS, NONE, None, walls, np.random.default_rng(0))
+
+    def out_after(share: float, seed: int, limit: float) -> tuple[float | None, float]:
+        """When the child is 1.5 m from the square's middle (None: not within ``limit``
+        s), and the least gap to a footprint on the way, m."""
+        monkeypatch.setattr(crowd_module, "LEAVING_RANGE", share)
+        state = dataclasses.replace(start, position=np.array([[9.68, 8.36]]),
+                                    goal=np.array([[9.68, 8.36]]), velocity=np.zeros((1, 2)),
+                                    pause=np.array([5.0]))
+        rng = np.random.default_rng(seed)
+        nearest = math.inf
+        for k in range(round(limit / 0.1)):
+            state = crowd_step(state, 0.1, [room], walls, poses, lengths, widths, rng,
+                               speaking=np.ones(4, dtype=bool), compiled=compiled)
+            nearest = min(nearest, float(_footprint_gaps(poses, lengths, widths,
+                                                         state.position)[0]))
+            if np.hypot(*(state.position[0] - middle)) > 1.5:
+                return 0.1 * (k + 1), nearest
+        return None, nearest
+
+    for seed in range(5):
+        when, nearest = out_after(LEAVING_RANGE, seed, 20.0)
+        assert when is not None
+        assert nearest > 0.18  # the child's radius: it never touched a robot
+        assert out_after(1.0, seed, 25.0)[0] is None
