@@ -39,7 +39,7 @@ from numpy.typing import NDArray
 
 from dancebots.world.model import Crowd, Obstacle
 
-__all__ = ["KIND_BEHAVIOUR", "LEAVING_RANGE", "CrowdState", "KindBehaviour", "SocialForceParams",
+__all__ = ["KIND_BEHAVIOUR", "CrowdState", "KindBehaviour", "SocialForceParams",
            "crowd_start", "crowd_step", "social_acceleration", "wall_rings", "wall_segments"]
 
 FloatArray = NDArray[np.float64]
@@ -100,14 +100,6 @@ HEARING = 2.0
 """m from a speaking robot's footprint (about) within which people hear it."""
 ROOM_MADE = (1.5, 3.0)
 """m: how far a person who heeds a speaking robot walks away (``_make_room``)."""
-LEAVING_RANGE = 0.6
-"""The share of its kind's robot range (H&M's R for robots) that a person keeps while it
-walks out of the robots' way at a robot's request: the range is the distance people keep
-from a robot while they walk freely; asked to leave, they pass nearer the robots. With the
-whole range a child inside a stopped 2 x 2 formation (footprints 0.56-0.65 m apart) stayed
-trapped in its middle for over 100 s, held by the four robots' pushes, and kept the
-formation waiting until the run's end (open-day crowd, seed 404); with 0.3 people leaving
-brushed past robots that moved again (8 contacts in 200 open-day crowds)."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -115,9 +107,7 @@ class CrowdState:
     """P pedestrians: position (P, 2) and velocity (P, 2) in the world frame (m, m/s), goal
     (P, 2), pause (P,) s left to stand at the goal (0 while walking), preferred speed (P,)
     m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
-    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,); leaving (P,):
-    walking out of the robots' way because a robot asked for room (``_make_room``), until
-    the way-out goal is reached or another goal chosen (:meth:`robot_range`)."""
+    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
 
     position: FloatArray
     velocity: FloatArray
@@ -129,18 +119,10 @@ class CrowdState:
     crowd: IntArray
     behaviour: FloatArray
     names: tuple[str, ...]
-    leaving: NDArray[np.bool_]
 
     def column(self, field: str) -> FloatArray:
         """One :class:`KindBehaviour` field (P,) of every pedestrian."""
         return self.behaviour[:, _BEHAVIOUR_FIELDS.index(field)]
-
-    def robot_range(self) -> FloatArray:
-        """The range (P,) m of the robots' repulsion for each pedestrian: the kind's, times
-        :data:`LEAVING_RANGE` for one leaving at a robot's request."""
-        result: FloatArray = self.column("robot_range") * np.where(self.leaving,
-                                                                   LEAVING_RANGE, 1.0)
-        return result
 
 
 def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray:
@@ -255,7 +237,7 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
     if len(robot_poses):
         accel += _border_force(
             _from_footprints(position, robot_poses, robot_lengths, robot_widths),
-            params.border_strength, state.robot_range()[:, None])
+            params.border_strength, state.column("robot_range")[:, None])
     return accel
 
 
@@ -358,7 +340,7 @@ def crowd_start(crowds: Sequence[Crowd], robot_poses: FloatArray, robot_reach: F
                        np.zeros(count), table[:, 2].copy(), table[:, 3].copy(),
                        np.array(heights, dtype=float), table[:, 4].astype(np.int64),
                        np.array(behaviour, dtype=float).reshape(count, len(_BEHAVIOUR_FIELDS)),
-                       tuple(names), np.zeros(count, dtype=bool))
+                       tuple(names))
     areas = [c.area for c in crowds]
     return replace(state, goal=_new_goals(state, np.arange(count), areas, walls, robot_poses,
                                           robot_reach, rng))
@@ -408,9 +390,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         goal = goal.copy()
         which = np.flatnonzero(rethink)
         goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng)
-    # out of the way: at the way-out goal, or off to another one
-    leaving = state.leaving & ~arrived & ~rethink
-    moving = replace(state, goal=goal, pause=pause, leaving=leaving)
+    moving = replace(state, goal=goal, pause=pause)
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
     position, velocity = moving.position, moving.velocity
@@ -423,7 +403,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         if compiled:
             accel = crowd_jit.social_acceleration_loops(
                 position, velocity, moving.goal, moving.pause <= 0.0, moving.preferred,
-                moving.robot_range(), walls, borders, robot_poses, robot_lengths,
+                moving.column("robot_range"), walls, borders, robot_poses, robot_lengths,
                 robot_widths, params.relaxation, params.pedestrian_strength,
                 params.pedestrian_range, params.border_strength, params.border_range,
                 params.step_time, math.cos(params.sight), params.out_of_sight)
@@ -469,7 +449,7 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     heeds = hears & (rng.random(len(hears)) < state.column("heed") * dt)
     if not heeds.any():
         return state
-    goal, pause, leaving = state.goal.copy(), state.pause.copy(), state.leaving.copy()
+    goal, pause = state.goal.copy(), state.pause.copy()
     for a in np.flatnonzero(heeds).tolist():
         away = offsets[a, nearest[a]]
         direction = _way_out(state.position[a], away, robots[:, :2], robot_reach,
@@ -478,8 +458,7 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
         goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
                            rng, goal[a])
         pause[a] = 0.0
-        leaving[a] = True
-    return replace(state, goal=goal, pause=pause, leaving=leaving)
+    return replace(state, goal=goal, pause=pause)
 
 
 WAYS_OUT = 16
