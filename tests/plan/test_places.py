@@ -120,3 +120,30 @@ def test_places_are_finite_and_end_on_the_rigid_slots(
             continue
         keep = min(math.hypot(ax - bx, ay - by), reach)
         assert np.hypot(*(placed[a] - placed[b]).T)[first].min() > keep - 0.02, (a, b)
+
+
+def _held_back_loops(abeam: np.ndarray, room: np.ndarray) -> np.ndarray:
+    """The two passes of ``places._held_back`` as plain loops over every sample."""
+    values, rooms = abeam.tolist(), room.tolist()
+    for k in range(len(values) - 2, -1, -1):
+        values[k] = min(values[k], values[k + 1] + rooms[k])
+    for k in range(1, len(values)):
+        values[k] = min(values[k], values[k - 1] + rooms[k - 1])
+    return np.array(values, dtype=float)
+
+
+@settings(max_examples=300, deadline=None)
+@given(steps=st.lists(st.floats(-2.0, 3.0) | st.sampled_from([math.nan, 1e300, -1e-300]),
+                      min_size=1, max_size=60),
+       rooms=st.lists(st.floats(0.0, 0.5) | st.sampled_from([math.inf, 0.0, 1e-300]),
+                      min_size=60, max_size=60))
+def test_holding_back_only_where_the_bound_binds_is_the_loops(steps: list[float],
+                                                              rooms: list[float]) -> None:
+    """``_held_back`` runs its passes only from where the rate bound binds: the same
+    numbers as the loops over every sample, bit for bit, waits (drops) and NaNs among
+    them."""
+    from dancebots.plan.places import _held_back
+
+    abeam = np.cumsum(np.array(steps))
+    room = np.array(rooms[: len(steps) - 1], dtype=float)
+    assert _held_back(abeam, room).tobytes() == _held_back_loops(abeam, room).tobytes()

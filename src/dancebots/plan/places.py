@@ -256,14 +256,29 @@ def _drivable(path: OffsetPath, abeam: FloatArray, fastest: FloatArray) -> Float
     place's own speed: the leader's path length per step over the stretch there
     (|1 - kappa oy|); both passes only move places further back."""
     for _ in range(RATE_PASSES):
-        room = (fastest / np.maximum(np.abs(path.at(abeam)[2][:-1]), 1.0)).tolist()
-        values = abeam.tolist()
-        for k in range(len(values) - 2, -1, -1):
-            values[k] = min(values[k], values[k + 1] + room[k])
-        for k in range(1, len(values)):
-            values[k] = min(values[k], values[k - 1] + room[k - 1])
-        abeam = np.array(values)
+        room = fastest / np.maximum(np.abs(path.at(abeam)[2][:-1]), 1.0)
+        abeam = _held_back(abeam, room)
     return abeam
+
+
+def _held_back(abeam: FloatArray, room: FloatArray) -> FloatArray:
+    """``abeam`` (N,) after a backward pass ``v[k] = min(v[k], v[k + 1] + room[k])`` (k from
+    N - 2 down) and a forward pass ``v[k] = min(v[k], v[k - 1] + room[k - 1])`` (k from 1 up),
+    room (N - 1,): the same numbers as the two loops, running each only from where its
+    bound binds (a sample changes only where it did with the values before the pass or its
+    neighbour just changed; some 400 of 700,000 samples in a 1,000-line show)."""
+    values = abeam.copy()
+    for start in np.flatnonzero(values[1:] + room < values[:-1])[::-1].tolist():
+        k = start
+        while k >= 0 and values[k + 1] + room[k] < values[k]:  # (its chain went past: no)
+            values[k] = values[k + 1] + room[k]
+            k -= 1
+    for start in np.flatnonzero(values[:-1] + room < values[1:]).tolist():
+        k = start + 1
+        while k < len(values) and values[k - 1] + room[k - 1] < values[k]:
+            values[k] = values[k - 1] + room[k - 1]
+            k += 1
+    return values
 
 
 def path_places(plan: Plan, robot: str, times: FloatArray, wait_behind: bool = True,
