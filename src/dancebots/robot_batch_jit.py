@@ -26,6 +26,7 @@ from dancebots.jit_cache import drop_stale
 from dancebots.perception import fast, tracks_jit
 from dancebots.perception.fast import (
     far_from_all,
+    kept_columns,
     perceive_columns,
     perceive_columns_split,
     to_local,
@@ -166,15 +167,8 @@ def _turn_reach(length: float, width: float, linear: float, detect: FloatArray) 
 def _crop_points(columns: FloatArray, height_step: float, detect: FloatArray) -> FloatArray:
     """``perception.obstacles.obstacle_points_from_columns``: the obstacle points (N, 2) of
     the columns, in their frame."""
-    keep = np.zeros(columns.shape[0], dtype=np.bool_)
-    for i in range(columns.shape[0]):
-        low, high = columns[i, 2], columns[i, 3]
-        first = 0.0 if low > detect[Z_MIN] else math.floor(
-            (detect[Z_MIN] - low) / height_step + 1e-9) + 1.0
-        z = low + first * height_step
-        keep[i] = (z < detect[Z_MAX] and z <= high + 1e-9
-                   and abs(columns[i, 0]) <= detect[CROP_HALF]
-                   and abs(columns[i, 1]) <= detect[CROP_HALF])
+    keep = kept_columns(columns, height_step, detect[CROP_HALF], detect[Z_MIN],
+                        detect[Z_MAX])
     return columns[keep, :2].copy()
 
 

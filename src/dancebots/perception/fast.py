@@ -13,9 +13,30 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["far_from_all", "perceive_columns", "perceive_columns_split", "perceive_moved",
-           "to_local", "turn_fraction_columns",
-           "turn_fraction_local"]
+__all__ = ["far_from_all", "kept_columns", "perceive_columns", "perceive_columns_split",
+           "perceive_moved", "to_local", "turn_fraction_columns", "turn_fraction_local"]
+
+
+@njit(cache=True)
+def kept_columns(columns: NDArray[np.float64], height_step: float, crop_half: float,
+                 z_min: float, z_max: float) -> NDArray[np.bool_]:
+    """Which columns (K, 4) of a cloud (see ``PointCloud``) hold an obstacle point: the crop
+    and height filter of ``obstacle_points_from_columns`` (K,). The lowest point at or above
+    ``z_min`` is worked out once for a run of columns with the same foot (most stand on the
+    floor), only for those in the crop: the same answers."""
+    keep = np.zeros(columns.shape[0], dtype=np.bool_)
+    last_low, z = math.nan, math.nan
+    for i in range(columns.shape[0]):
+        if not (abs(columns[i, 0]) <= crop_half and abs(columns[i, 1]) <= crop_half):
+            continue
+        low = columns[i, 2]
+        if low != last_low:  # (NaN: each time)
+            last_low = low
+            first = (0.0 if low > z_min
+                     else math.floor((z_min - low) / height_step + 1e-9) + 1.0)
+            z = low + first * height_step
+        keep[i] = z < z_max and z <= columns[i, 3] + 1e-9
+    return keep
 
 
 @njit(cache=True)
@@ -23,14 +44,7 @@ def _kept(columns: NDArray[np.float64], height_step: float, crop_half: float, z_
           z_max: float) -> NDArray[np.float64]:
     """The obstacle points (M, 2) of a cloud stored as columns (K, 4) (see ``PointCloud``):
     the crop and height filter of ``obstacle_points_from_columns``."""
-    keep = np.zeros(columns.shape[0], dtype=np.bool_)
-    for i in range(columns.shape[0]):
-        low, high = columns[i, 2], columns[i, 3]
-        first = 0.0 if low > z_min else math.floor((z_min - low) / height_step + 1e-9) + 1.0
-        z = low + first * height_step
-        keep[i] = (z < z_max and z <= high + 1e-9 and abs(columns[i, 0]) <= crop_half
-                   and abs(columns[i, 1]) <= crop_half)
-    return columns[keep, :2]
+    return columns[kept_columns(columns, height_step, crop_half, z_min, z_max), :2]
 
 
 @njit(cache=True)
@@ -304,12 +318,9 @@ def perceive_columns_split(columns: NDArray[np.float64], height_step: float, cro
     front, rear, nearest, fx, fy = math.inf, math.inf, math.inf, 0.0, 0.0
     s_front, s_rear, s_nearest, s_fx, s_fy = math.inf, math.inf, math.inf, 0.0, 0.0
     left_out = False
+    keep = kept_columns(columns, height_step, crop_half, z_min, z_max)
     for i in range(columns.shape[0]):
-        low, high = columns[i, 2], columns[i, 3]  # ``_kept``'s filter
-        first = 0.0 if low > z_min else math.floor((z_min - low) / height_step + 1e-9) + 1.0
-        z = low + first * height_step
-        kept = (z < z_max and z <= high + 1e-9 and abs(columns[i, 0]) <= crop_half
-                and abs(columns[i, 1]) <= crop_half)
+        kept = keep[i]
         if not kept and left_out:
             continue
         near = _near_a_mate(columns[i, 0], columns[i, 1], close if kept else local,
