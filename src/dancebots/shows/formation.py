@@ -35,6 +35,7 @@ from dancebots.sim.setup import Arena, Placement
 from dancebots.sim.stage import CollisionEvent, Stage
 from dancebots.sync.hold import (
     ADVANCE_MIN,
+    FormationClocks,
     HoldParams,
     HoldStrategy,
     formation_clocks,
@@ -326,6 +327,10 @@ class _Crew:
         # messages sent but not yet heard: (due time, per robot: sent (not lost), stamp, show
         # time, holds, position), in the order sent
         self.in_flight: list[tuple[float, tuple[np.ndarray, ...]]] = []
+        self.compiled_clocks = config.compiled
+        self.hold_params = HoldParams()
+        self.no_message = (np.zeros(count, dtype=bool), np.zeros(count), np.zeros(count),
+                           np.zeros(count, dtype=bool), np.zeros((count, 2)))
         # each robot's frame of the show: where it tells its mates it stands
         self.show_frames = np.array([[b.slot0.x, b.slot0.y, b.slot0.theta] for b in brains])
         self.delay, self.loss = config.hold_delay, config.hold_loss
@@ -361,10 +366,23 @@ class _Crew:
             self.show_times[:] = now
             return
         clocks = self.clocks
-        for _, batch in (m for m in self.in_flight if m[0] <= now + 1e-9):
-            clocks = formation_receive(clocks, *batch)
+        due = [batch for at, batch in self.in_flight if at <= now + 1e-9]
         self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
-        self.clocks = formation_tick(clocks, now, self.holding)  # each one's at the last tick
+        if self.compiled_clocks:  # the same in one compiled call (``sync.hold_jit``)
+            from dancebots.sync.hold_jit import receive_and_tick
+
+            for batch in due[:-1]:
+                clocks = formation_receive(clocks, *batch)
+            sent, stamp, shown, holds, position = due[-1] if due else self.no_message
+            self.clocks = FormationClocks(*receive_and_tick(
+                clocks.show_time, clocks.updated, clocks.stamp, clocks.sent_show_time,
+                clocks.holds, clocks.position, bool(due), sent, stamp, shown, holds,
+                position, float(now), self.holding, self.hold_params.heartbeat_timeout,
+                ADVANCE_MIN))
+        else:
+            for batch in due:
+                clocks = formation_receive(clocks, *batch)
+            self.clocks = formation_tick(clocks, now, self.holding)  # each one's last tick
         self.show_times[:] = self.clocks.show_time
 
     def _mates_heard(self) -> list[np.ndarray | None]:

@@ -25,9 +25,10 @@ def kernel_modules(crowds: bool = False, stop_rule: str = "predicted",
     from dancebots.control import tracking_jit
     from dancebots.perception import fast
     from dancebots.sim import collision_jit, raycast_jit, stage_jit
+    from dancebots.sync import hold_jit
 
     modules: tuple[ModuleType, ...] = (raycast_jit, collision_jit, stage_jit, fast,
-                                       robot_batch_jit, tracking_jit)
+                                       robot_batch_jit, tracking_jit, hold_jit)
     if crowds:
         from dancebots.sim import crowd_jit
 

@@ -1,0 +1,55 @@
+"""The compiled step of the formation's clocks (sync/hold_jit.py) is ``formation_receive``
+then ``formation_tick`` of sync/hold.py, bit for bit."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dancebots.sync.hold import (
+    ADVANCE_MIN,
+    FormationClocks,
+    HoldParams,
+    formation_receive,
+    formation_tick,
+)
+
+TIMES = st.sampled_from([0.0, -0.0, 0.1, 0.35, 1.0, 2.5, math.nan, math.inf, -math.inf,
+                         1e-300, 3.0])
+
+
+@settings(max_examples=300, deadline=None)
+@given(count=st.integers(0, 6), data=st.data())
+def test_the_compiled_clocks_step_is_receive_then_tick(count: int,
+                                                        data: st.DataObject) -> None:
+    """Random clocks (nothing heard yet, old, holding, ahead or behind), a batch of messages
+    or none (lost ones, stamps and show times that are not numbers, signed zeros) and the
+    robots' own holds: the six arrays equal, bit for bit."""
+    from dancebots.sync.hold_jit import receive_and_tick
+
+    def floats(n: int) -> np.ndarray:
+        return np.array(data.draw(st.lists(TIMES, min_size=n, max_size=n)), dtype=float)
+
+    def flags(n: int) -> np.ndarray:
+        return np.array(data.draw(st.lists(st.booleans(), min_size=n, max_size=n)),
+                        dtype=bool)
+
+    clocks = FormationClocks(floats(count), floats(count), floats(count), floats(count),
+                             flags(count), floats(2 * count).reshape(count, 2))
+    message = data.draw(st.booleans())
+    batch = (flags(count), floats(count), floats(count), flags(count),
+             floats(2 * count).reshape(count, 2))
+    now = data.draw(st.sampled_from([0.0, 0.1, 1.3, 5.0]))
+    holding = flags(count)
+    with np.errstate(invalid="ignore"):  # (inf - inf in the reference: no number, as here)
+        expected = formation_tick(formation_receive(clocks, *batch) if message else clocks,
+                                  now, holding)
+    got = receive_and_tick(clocks.show_time, clocks.updated, clocks.stamp,
+                           clocks.sent_show_time, clocks.holds, clocks.position, message,
+                           *batch, now, holding, HoldParams().heartbeat_timeout, ADVANCE_MIN)
+    for name, value in zip(("show_time", "updated", "stamp", "sent_show_time", "holds",
+                            "position"), got, strict=True):
+        assert value.tobytes() == getattr(expected, name).tobytes(), name
