@@ -147,3 +147,24 @@ def test_holding_back_only_where_the_bound_binds_is_the_loops(steps: list[float]
     abeam = np.cumsum(np.array(steps))
     room = np.array(rooms[: len(steps) - 1], dtype=float)
     assert _held_back(abeam, room).tobytes() == _held_back_loops(abeam, room).tobytes()
+
+
+@settings(max_examples=200, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), samples=st.integers(1, 30), queries=st.integers(0, 20))
+def test_the_points_and_stretch_alone_are_those_of_the_whole_look_up(
+        seed: int, samples: int, queries: int) -> None:
+    """``OffsetPath.points_at`` and ``stretch_at`` (what the file table and the rate bound
+    ask for) are ``at``'s points and stretch, bit for bit: before the path, on steps that do
+    not move, after it, at lengths that are not numbers."""
+    from dancebots.plan.places import OffsetPath
+
+    rng = np.random.default_rng(seed)
+    driven = np.cumsum(np.where(rng.random(samples) < 0.2, 0.0, rng.uniform(0, 1, samples)))
+    path = OffsetPath(driven - driven[0], rng.normal(size=(samples, 2)),
+                      np.cumsum(rng.normal(size=samples)), rng.normal(size=samples))
+    lengths = rng.uniform(-2.0, float(path.driven[-1]) + 2.0, queries)
+    if queries:
+        lengths[0] = math.nan
+    points, _, stretch = path.at(lengths)
+    assert path.points_at(lengths).tobytes() == points.tobytes()
+    assert path.stretch_at(lengths).tobytes() == stretch.tobytes()

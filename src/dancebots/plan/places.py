@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import itertools
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -66,13 +66,34 @@ class OffsetPath:
     (N, 2), the shifted path's point, show frame, m; heading (N,), the leader's heading, rad,
     unwrapped; stretch (N,), how fast the shifted point moves per metre the leader drives
     over the step from the sample (1 - kappa oy, kappa the leader's curvature; negative
-    where it loops back).
+    where it loops back). Each step's change of driven, points and heading (N - 1,) is kept
+    too (the look-ups use it: the same differences, once).
     """
 
     driven: FloatArray
     points: FloatArray
     heading: FloatArray
     stretch: FloatArray
+    _step: FloatArray = field(init=False, repr=False)
+    _point_step: FloatArray = field(init=False, repr=False)
+    _heading_step: FloatArray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_step", self.driven[1:] - self.driven[:-1])
+        object.__setattr__(self, "_point_step", self.points[1:] - self.points[:-1])
+        object.__setattr__(self, "_heading_step", self.heading[1:] - self.heading[:-1])
+
+    def _between(self, driven: FloatArray) -> tuple[NDArray[np.int64], FloatArray]:
+        """For path lengths ``driven`` (T,), the sample j (T,) each lies after and the
+        fraction (T,) of the step to the next one (clipped to [0, 1]; 0 on a step that
+        does not move); needs two samples or more."""
+        j = np.clip(np.searchsorted(self.driven, driven, side="right") - 1, 0,
+                    len(self.driven) - 2)
+        step = self._step[j]
+        moves = step > 0.0
+        fraction = np.clip(np.where(moves, (driven - self.driven[j])
+                                    / np.where(moves, step, 1.0), 0.0), 0.0, 1.0)
+        return j, fraction
 
     def at(self, driven: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Where the shifted path is when the leader has driven ``driven`` (T,) m: points
@@ -84,23 +105,48 @@ class OffsetPath:
             heading = np.full(count, self.heading[0])
             stretch = np.ones(count)
         else:
-            j = np.clip(np.searchsorted(self.driven, driven, side="right") - 1, 0,
-                        len(self.driven) - 2)
-            step = self.driven[j + 1] - self.driven[j]
-            fraction = np.clip(np.where(step > 0.0, (driven - self.driven[j])
-                                        / np.where(step > 0.0, step, 1.0), 0.0), 0.0, 1.0)
-            points = self.points[j] + fraction[:, None] * (self.points[j + 1] - self.points[j])
-            heading = self.heading[j] + fraction * (self.heading[j + 1] - self.heading[j])
+            j, fraction = self._between(driven)
+            points = self.points[j] + fraction[:, None] * self._point_step[j]
+            heading = self.heading[j] + fraction * self._heading_step[j]
             stretch = self.stretch[j].copy()
         behind = driven < 0.0
         if behind.any():
             back = driven[behind]
             first = self.heading[0]
-            points[behind] = self.points[0] + back[:, None] * np.array(
-                [np.cos(first), np.sin(first)])
+            points[behind] = self._behind(back)
             heading[behind] = first
             stretch[behind] = 1.0
         return points, heading, stretch
+
+    def points_at(self, driven: FloatArray) -> FloatArray:
+        """The points (T, 2) of :meth:`at` alone."""
+        if len(self.driven) < 2:
+            points: FloatArray = np.broadcast_to(self.points[0], (len(driven), 2)).copy()
+        else:
+            j, fraction = self._between(driven)
+            points = self.points[j] + fraction[:, None] * self._point_step[j]
+        behind = driven < 0.0
+        if behind.any():
+            points[behind] = self._behind(driven[behind])
+        return points
+
+    def stretch_at(self, driven: FloatArray) -> FloatArray:
+        """The stretch (T,) of :meth:`at` alone."""
+        if len(self.driven) < 2:
+            return np.ones(len(driven))
+        j = np.clip(np.searchsorted(self.driven, driven, side="right") - 1, 0,
+                    len(self.driven) - 2)
+        stretch: FloatArray = self.stretch[j].copy()
+        stretch[driven < 0.0] = 1.0
+        return stretch
+
+    def _behind(self, back: FloatArray) -> FloatArray:
+        """Points (B, 2) ``back`` (B,) m (negative) along the straight line behind the
+        leader's first pose."""
+        first = self.heading[0]
+        result: FloatArray = self.points[0] + back[:, None] * np.array(
+            [np.cos(first), np.sin(first)])
+        return result
 
 
 def catch_up_speed(plan: Plan) -> float:
@@ -200,7 +246,7 @@ def _compute_file_table(leader: LeaderTrajectory,
             abeam = _kept_apart(path, abeam, fronts)
             abeam = _drivable(path, abeam, fastest)
             abeam = _kept_apart(path, abeam, fronts)
-        placed[robot] = (abeam, path.at(abeam)[0])
+        placed[robot] = (abeam, path.points_at(abeam))
     return {robot: abeam for robot, (abeam, _) in placed.items()}
 
 
@@ -231,7 +277,7 @@ def _kept_apart(path: OffsetPath, abeam: FloatArray,
     last_short = np.full(count, np.nan)
     last_step = np.zeros(count)
     for _ in range(FILE_ITERATIONS):
-        point = path.at(abeam[active])[0]
+        point = path.points_at(abeam[active])
         short = np.zeros(len(active))
         for gap, front_place in fronts:
             short = np.maximum(short, gap - np.hypot(*(point - front_place[active]).T))
@@ -256,7 +302,7 @@ def _drivable(path: OffsetPath, abeam: FloatArray, fastest: FloatArray) -> Float
     place's own speed: the leader's path length per step over the stretch there
     (|1 - kappa oy|); both passes only move places further back."""
     for _ in range(RATE_PASSES):
-        room = fastest / np.maximum(np.abs(path.at(abeam)[2][:-1]), 1.0)
+        room = fastest / np.maximum(np.abs(path.stretch_at(abeam)[:-1]), 1.0)
         abeam = _held_back(abeam, room)
     return abeam
 
@@ -409,7 +455,7 @@ def _compute_places_end(plan: Plan) -> float:
         offsets = np.empty((len(table), 2))
         for row, (robot, abeam) in enumerate(table.items()):
             ox, oy = formation.offsets[robot]
-            ends[row] = _offset_path(formation, oy).at(abeam[-1:])[0][0]
+            ends[row] = _offset_path(formation, oy).points_at(abeam[-1:])[0]
             offsets[row] = ox, oy
         slots = compose_points(leader.poses[-1], offsets)  # (R, 2)
         way = float(np.hypot(*(slots - ends).T).max())
