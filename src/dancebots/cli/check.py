@@ -167,10 +167,10 @@ COMPILED_FROM = 100
 runs on their NumPy references (``SimConfig.compiled``), which simulate 3-4 times slower
 but need no numba, whose import and start take about 0.45 s (listing 7.1, 66
 robot-seconds: its whole check 0.59 s on the references)."""
-SIMULATION_RATE = 3300
+SIMULATION_RATE = 3700
 """Robot-seconds check simulates per second of wall time, about, on the project's 2-core
 machines (the 20-robot, 1,000-line show of ``benchmarks/bench_compile.py`` with the defaults
-and LIDAR, 47,050 robot-seconds: 14-15 s in all): the hint's rough estimate."""
+and LIDAR, 47,050 robot-seconds: 12.4-13.7 s in all): the hint's rough estimate."""
 
 
 def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic]:
