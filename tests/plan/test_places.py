@@ -165,6 +165,37 @@ def test_the_points_and_stretch_alone_are_those_of_the_whole_look_up(
     lengths = rng.uniform(-2.0, float(path.driven[-1]) + 2.0, queries)
     if queries:
         lengths[0] = math.nan
-    points, _, stretch = path.at(lengths)
+    points, heading, stretch = path.at(lengths)
     assert path.points_at(lengths).tobytes() == points.tobytes()
     assert path.stretch_at(lengths).tobytes() == stretch.tobytes()
+    # ``at`` as it was before it kept the steps' differences
+    before = _at_before(path, lengths)
+    for new, old in zip((points, heading, stretch), before, strict=True):
+        assert new.tobytes() == old.tobytes()
+
+
+def _at_before(path: object, driven: np.ndarray) -> tuple[np.ndarray, ...]:
+    """``OffsetPath.at`` as written before 2026-11-27 (the differences taken per call)."""
+    p_driven, p_points = path.driven, path.points  # type: ignore[attr-defined]
+    p_heading, p_stretch = path.heading, path.stretch  # type: ignore[attr-defined]
+    count = len(driven)
+    if len(p_driven) < 2:
+        points = np.broadcast_to(p_points[0], (count, 2)).copy()
+        heading = np.full(count, p_heading[0])
+        stretch = np.ones(count)
+    else:
+        j = np.clip(np.searchsorted(p_driven, driven, side="right") - 1, 0, len(p_driven) - 2)
+        step = p_driven[j + 1] - p_driven[j]
+        fraction = np.clip(np.where(step > 0.0, (driven - p_driven[j])
+                                    / np.where(step > 0.0, step, 1.0), 0.0), 0.0, 1.0)
+        points = p_points[j] + fraction[:, None] * (p_points[j + 1] - p_points[j])
+        heading = p_heading[j] + fraction * (p_heading[j + 1] - p_heading[j])
+        stretch = p_stretch[j].copy()
+    behind = driven < 0.0
+    if behind.any():
+        first = p_heading[0]
+        points[behind] = p_points[0] + driven[behind][:, None] * np.array(
+            [np.cos(first), np.sin(first)])
+        heading[behind] = first
+        stretch[behind] = 1.0
+    return points, heading, stretch

@@ -18,7 +18,7 @@ from dancebots.sync.hold import (
 )
 
 TIMES = st.sampled_from([0.0, -0.0, 0.1, 0.35, 1.0, 2.5, math.nan, math.inf, -math.inf,
-                         1e-300, 3.0])
+                         1e-300, 3.0, -1.0])
 
 
 @settings(max_examples=300, deadline=None)
@@ -42,7 +42,7 @@ def test_the_compiled_clocks_step_is_receive_then_tick(count: int,
     message = data.draw(st.booleans())
     batch = (flags(count), floats(count), floats(count), flags(count),
              floats(2 * count).reshape(count, 2))
-    now = data.draw(st.sampled_from([0.0, 0.1, 1.3, 5.0]))
+    now = data.draw(st.sampled_from([0.0, -0.0, 0.1, 1.3, 5.0]))
     holding = flags(count)
     with np.errstate(invalid="ignore"):  # (inf - inf in the reference: no number, as here)
         expected = formation_tick(formation_receive(clocks, *batch) if message else clocks,
@@ -53,3 +53,21 @@ def test_the_compiled_clocks_step_is_receive_then_tick(count: int,
     for name, value in zip(("show_time", "updated", "stamp", "sent_show_time", "holds",
                             "position"), got, strict=True):
         assert value.tobytes() == getattr(expected, name).tobytes(), name
+
+
+def test_a_tie_of_signed_zeros_is_numpys() -> None:
+    """``np.maximum(-0.0, 0.0)`` is 0.0 and ``np.maximum(0.0, -0.0)`` -0.0 (NumPy 2.x as
+    measured): a robot whose age and mate's show time are signed zeros gets NumPy's zero."""
+    from dancebots.sync.hold_jit import receive_and_tick
+
+    clocks = FormationClocks(np.array([-1.0, 0.0]), np.array([-1.0, 0.0]), np.zeros(2),
+                             np.array([0.0, -0.0]), np.zeros(2, dtype=bool), np.zeros((2, 2)))
+    batch = (np.zeros(2, dtype=bool), np.zeros(2), np.zeros(2), np.zeros(2, dtype=bool),
+             np.zeros((2, 2)))
+    expected = formation_tick(clocks, -0.0, np.zeros(2, dtype=bool))
+    got = receive_and_tick(clocks.show_time, clocks.updated, clocks.stamp,
+                           clocks.sent_show_time, clocks.holds, clocks.position, False, *batch,
+                           -0.0, np.zeros(2, dtype=bool), HoldParams().heartbeat_timeout,
+                           ADVANCE_MIN)
+    assert got[0].tobytes() == expected.show_time.tobytes()
+    assert str(expected.show_time[0]) == "0.0"

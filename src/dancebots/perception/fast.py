@@ -21,7 +21,7 @@ __all__ = ["far_from_all", "kept_columns", "perceive_columns", "perceive_columns
 def kept_columns(columns: NDArray[np.float64], height_step: float, crop_half: float,
                  z_min: float, z_max: float) -> NDArray[np.bool_]:
     """Which columns (K, 4) of a cloud (see ``PointCloud``) hold an obstacle point: the crop
-    and height filter of ``obstacle_points_from_columns`` (K,). The lowest point at or above
+    and height filter of ``obstacle_points_from_columns`` (K,). The lowest point above
     ``z_min`` is worked out once for a run of columns with the same foot (most stand on the
     floor), only for those in the crop: the same answers."""
     keep = np.zeros(columns.shape[0], dtype=np.bool_)

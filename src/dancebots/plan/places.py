@@ -314,6 +314,12 @@ def _held_back(abeam: FloatArray, room: FloatArray) -> FloatArray:
     bound binds (a sample changes only where it did with the values before the pass or its
     neighbour just changed; some 400 of 700,000 samples in a 1,000-line show)."""
     values = abeam.copy()
+    with np.errstate(over="ignore", invalid="ignore"):  # (as the loops' Python floats)
+        return _held_back_passes(values, room)
+
+
+def _held_back_passes(values: FloatArray, room: FloatArray) -> FloatArray:
+    """The two passes of :func:`_held_back` on ``values`` (changed in place, returned)."""
     for start in np.flatnonzero(values[1:] + room < values[:-1])[::-1].tolist():
         k = start
         while k >= 0 and values[k + 1] + room[k] < values[k]:  # (its chain went past: no)

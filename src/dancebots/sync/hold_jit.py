@@ -79,15 +79,15 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
 
 @njit(cache=True)
 def _maximum(a: float, b: float) -> float:
-    """``np.maximum`` of two floats, signed zeros and NaN as NumPy has them: ``a`` where it
-    is larger or not a number, else ``b``."""
+    """``np.maximum`` of two floats, signed zeros and NaN as NumPy 2.x has them (measured:
+    on a tie of zeros the second): ``a`` where it is larger or not a number, else ``b``."""
     return a if (a > b or math.isnan(a)) else b
 
 
 @njit(cache=True)
 def _minimum(a: float, b: float) -> float:
-    """``np.minimum`` of two floats, signed zeros and NaN as NumPy has them: ``a`` where it
-    is smaller or not a number, else ``b``."""
+    """``np.minimum`` of two floats, signed zeros and NaN as NumPy 2.x has them (measured:
+    on a tie of zeros the second): ``a`` where it is smaller or not a number, else ``b``."""
     return a if (a < b or math.isnan(a)) else b
 
 
