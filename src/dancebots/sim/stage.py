@@ -198,17 +198,17 @@ class Stage:
         count = len(self.pose)
         lidar = self.lidar
         if lidar is not None and period_due(now, lidar.period):
-            scene = (lidar, now, self.pose.copy(), self.corners.copy(), self.scene,
-                     self.discs.copy(), self.disc_heights)
             if (self.scan_ahead and lidar.compiled and lidar.latency > 1e-9
                     and not self.record_lidar):
                 if self._scanner is None:
                     self._scanner = ThreadPoolExecutor(1, thread_name_prefix="dancebots-lidar")
                     weakref.finalize(self, self._scanner.shutdown, wait=False)
-                self.pending.append((now + lidar.latency,
-                                     self._scanner.submit(scan_clouds, *scene)))
+                self.pending.append((now + lidar.latency, self._scanner.submit(
+                    scan_clouds, lidar, now, self.pose.copy(), self.corners.copy(),
+                    self.scene, self.discs.copy(), self.disc_heights)))
             else:
-                clouds = scan_clouds(*scene)
+                clouds = scan_clouds(lidar, now, self.pose, self.corners, self.scene,
+                                     self.discs, self.disc_heights)
                 self.pending.append((now + lidar.latency, clouds))
                 if self.record_lidar:
                     self.scans.append((now + lidar.latency, _world_points(clouds, self.pose)))
