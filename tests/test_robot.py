@@ -391,3 +391,40 @@ def test_the_default_stop_rule_is_predicted_but_fixed_for_the_thesis_follower() 
                      BrainOptions(follower="path")).sensing.stop_rule == "predicted"
     assert brain_for(plan, "R1", DEFAULT_ROBOT_TYPE,
                      BrainOptions()).sensing.stop_rule == "fixed"
+
+
+def test_the_predicted_rule_keeps_a_robot_from_turning_into_a_stranger_running_at_its_side(
+) -> None:
+    """A robot that turns (its heading 0.5 rad off its place's) with a tracked stranger
+    0.3 s ago beside it, outside the circle its footprint sweeps: the stranger standing, it
+    turns; the stranger running at its side at 1 m/s, which by now puts it within that
+    circle (``sweep_reach`` of the footprint), it does not (in dense crowds children ran
+    into the sides of robots turning slowly on the spot: docs/safety.md, "Stop rules")."""
+    from dancebots.perception.tracks import TRACKED
+    from dancebots.robot import BrainState, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    slot = brain.slot_at(now).pose
+    pose = (slot[0], slot[1], slot[2] + 0.5)
+    half_width = 0.5 * brain.sensing.width
+    predicted_gap = 0.5 * brain.sweep_reach  # where the stranger will be, from the side
+    side = half_width + predicted_gap + 0.3  # where it was seen 0.3 s ago (1 m/s)
+    assert side - half_width > brain.sweep_reach  # seen outside the circle
+
+    def command(velocity: float) -> tuple[float, bool]:
+        local = (0.0, side)  # beside the robot's centre, on its left
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        world_velocity = (-s * velocity, c * velocity)  # towards the robot: -y in base_link
+        state = BrainState(obstacles=np.array([[local[0], local[1], 0.0, 1.0]]),
+                           seen_from=pose, cloud_stamp=now - 0.3,
+                           point_velocity=np.array([world_velocity]),
+                           point_kind=np.array([TRACKED], dtype=np.int8))
+        state, cmd, _ = brain.step(state, now, pose, None, clock=now)
+        return cmd.angular, state.held
+
+    turning, _ = command(0.0)
+    assert abs(turning) > 0.1
+    kept, _ = command(-1.0)
+    assert kept == 0.0

@@ -47,10 +47,11 @@ from dancebots.perception.obstacles import (
     Perception,
     StopFlags,
     clear_distances,
+    footprint_clearance,
     obstacle_points_from_columns,
     obstacle_points_now,
     perceive,
-    predicted_stop_flags,
+    predicted_points,
     turn_fraction,
     turn_reach,
 )
@@ -565,6 +566,15 @@ class RobotBrain:
             if stranger_near and show_time >= self.plan.duration:
                 near_since = now if state.stranger_near_since is None else (
                     state.stranger_near_since)
+            # ``predicted``: where the tracked strangers will be by now (m ahead, behind, from
+            # the footprint; inf: none)
+            predicted = (math.inf, math.inf, math.inf)
+            if (sensing.stop_rule == "predicted" and (linear != 0.0 or angular != 0.0)
+                    and point_velocity is not None and point_kind is not None):
+                predicted = self._predicted_gaps(
+                    obstacles, height_step, seen_from or pose, pose, point_velocity,
+                    point_kind, now - (cloud_stamp if cloud_stamp is not None else now),
+                    show_time, mates_heard)
             if near.nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -603,12 +613,8 @@ class RobotBrain:
                         # standing, it does not swing a corner out at a person walking up
                         linear = angular = 0.0
             elif (sensing.stop_rule == "predicted" and linear != 0.0
-                  and point_velocity is not None and point_kind is not None
-                  and self._predicted_stop(obstacles, height_step, seen_from or pose, pose,
-                                           point_velocity, point_kind,
-                                           now - (cloud_stamp if cloud_stamp is not None
-                                                  else now), linear, show_time,
-                                           mates_heard)):
+                  and (predicted[0] if linear > 0 else predicted[1])
+                  < sensing.detection.stop_distance):
                 # a tracked person will be in the corridor by now: thesis 5.2's stop, on
                 # where it will be (it holds the show: a person, not a mate on its place)
                 held = holds_show = True
@@ -645,6 +651,10 @@ class RobotBrain:
             if held and angular != 0.0 and knows_strangers and near.nearest < self.sweep_reach:
                 # held, it turns only when nothing but mates on their places is within the
                 # circle its footprint sweeps (its corners' swing beyond its sides)
+                angular = 0.0
+            if angular != 0.0 and predicted[2] < self.sweep_reach:
+                # ``predicted``: nor while a tracked stranger will be within that circle by
+                # now (a child running at its side)
                 angular = 0.0
             if not held and behind > HOLD_LAG:
                 # falling behind its place, slowed or kept from turning by a stranger (not by
@@ -761,26 +771,27 @@ class RobotBrain:
         near: np.ndarray = np.any(~(gaps > self.mate_radius), axis=1)  # NaN: near
         return near
 
-    def _predicted_stop(self, columns: np.ndarray, height_step: float,
+    def _predicted_gaps(self, columns: np.ndarray, height_step: float,
                         seen_from: tuple[float, float, float],
                         pose: tuple[float, float, float], velocity: np.ndarray,
-                        kind: np.ndarray, age: float, linear: float, show_time: float,
-                        mates_heard: np.ndarray | None = None) -> bool:
-        """The ``predicted`` stop rule: whether a point of a tracked moving stranger (``kind``
+                        kind: np.ndarray, age: float, show_time: float,
+                        mates_heard: np.ndarray | None = None) -> tuple[float, float, float]:
+        """The ``predicted`` stop rule: the points of tracked moving strangers (``kind``
         TRACKED, ``velocity`` (N, 2) in the own map frame, of the cloud's columns seen from
-        ``seen_from``) moved on at its velocity for ``age`` s lies within the stop distance
-        ahead (``linear`` > 0) or behind (< 0) in the corridor the robot sweeps
-        (``perception.obstacles.stop_flags`` on the predicted points). A stranger: no point
-        within ``mate_radius`` of where a formation mate should be at ``show_time`` or said
-        it is (``mates_heard`` (K, 2), show frame); a mate moves with the show, and a rule
-        that held the show for it stalled the formation (seed 41 of the open-day crowd: R4
-        held for its moving mates until the run's limit)."""
+        ``seen_from``) moved on at their velocity for ``age`` s, and how far (m) the nearest
+        of them is ahead and behind in the corridor the robot sweeps
+        (``perception.obstacles.clear_distances``) and from its footprint
+        (``footprint_clearance``); inf where none. A stranger: no point within
+        ``mate_radius`` of where a formation mate should be at ``show_time`` or said it is
+        (``mates_heard`` (K, 2), show frame); a mate moves with the show, and a rule that
+        held the show for it stalled the formation (seed 41 of the open-day crowd: R4 held
+        for its moving mates until the run's limit)."""
         from dancebots.perception.tracks import TRACKED
 
         points = obstacle_points_now(columns, height_step, seen_from, pose,
                                      self._ssm_detection)
         if len(points) != len(kind) or not len(points):  # tracks of an older cloud
-            return False
+            return math.inf, math.inf, math.inf
         moving = kind == TRACKED
         if self._mates is not None and moving.any():
             where = self.mates_at(show_time)
@@ -790,10 +801,13 @@ class RobotBrain:
             gaps = np.hypot(points[:, None, 0] - local[None, :, 0],
                             points[:, None, 1] - local[None, :, 1])  # (N, M)
             moving &= ~np.any(~(gaps > self.mate_radius), axis=1)  # NaN: near (a mate)
-        flags = predicted_stop_flags(points, velocity, moving, pose[2], age,
-                                     self.sensing.length, self.sensing.width,
-                                     self.sensing.detection)
-        return bool(flags.front if linear > 0 else flags.rear)
+        if not moving.any():
+            return math.inf, math.inf, math.inf
+        ahead = predicted_points(points, velocity, moving, pose[2], age)
+        front, rear = clear_distances(ahead, self.sensing.length, self.sensing.width,
+                                      self.sensing.detection)
+        return front, rear, footprint_clearance(ahead, self.sensing.length,
+                                                self.sensing.width)
 
     def _separation_limits(self, columns: np.ndarray, height_step: float,
                            seen_from: tuple[float, float, float],

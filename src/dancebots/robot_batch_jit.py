@@ -273,30 +273,31 @@ def _pose_at(history: FloatArray, size: int, stamp: float) -> int:
 
 @njit(cache=True)
 def _any_tracked(kind: NDArray[np.int8]) -> bool:
-    """Whether any point is of a tracked object (else ``_predicted_stop`` is False)."""
+    """Whether any point is of a tracked object (else ``_predicted_gaps`` finds none)."""
     return bool(np.any(kind == TRACKED))
 
 
 @njit(cache=True)
-def _predicted_stop(points: FloatArray, velocity: FloatArray, kind: NDArray[np.int8],
-                    pose: FloatArray, age: float, linear: float, length: float,
+def _predicted_gaps(points: FloatArray, velocity: FloatArray, kind: NDArray[np.int8],
+                    pose: FloatArray, age: float, length: float,
                     width: float, detect: FloatArray, mates: FloatArray,
                     heard: FloatArray, use_heard: bool, robot: int,
                     frame_cos_sin: FloatArray, own_frame: FloatArray,
-                    mate_radius: float) -> bool:
-    """``RobotBrain._predicted_stop`` on the points (N, 2) of the latest cloud in
+                    mate_radius: float) -> tuple[float, float, float]:
+    """``RobotBrain._predicted_gaps`` on the points (N, 2) of the latest cloud in
     ``base_link`` at ``pose`` now (the tracker's kinds (N,) and velocities (N, 2), own map
-    frame; none when their counts differ: tracks of an older cloud): a tracked stranger's
-    point moved on for ``age`` s within the stop distance ahead (``linear`` > 0) or behind,
-    in the corridor; strangers are more than ``mate_radius`` from every mate's place
-    ``mates`` (M, 2) and, where ``use_heard``, from where each other robot said it is
-    (``heard`` (R, 2) show frame, with this robot's frame)."""
+    frame; none when their counts differ: tracks of an older cloud): the tracked
+    strangers' points moved on for ``age`` s, and how far (m) the nearest is ahead and
+    behind in the corridor and from the footprint (inf: none); strangers are more than
+    ``mate_radius`` from every mate's place ``mates`` (M, 2) and, where ``use_heard``, from
+    where each other robot said it is (``heard`` (R, 2) show frame, with this robot's
+    frame)."""
+    front, rear, nearest = math.inf, math.inf, math.inf
     if points.shape[0] != kind.shape[0] or points.shape[0] == 0:
-        return False  # the tracks of an older cloud
+        return front, rear, nearest  # the tracks of an older cloud
     c, s = math.cos(pose[2]), math.sin(pose[2])
     mc, ms = frame_cos_sin[0], frame_cos_sin[1]
-    half_l = 0.5 * length
-    front, rear = math.inf, math.inf
+    half_l, half_w = 0.5 * length, 0.5 * width
     for i in range(points.shape[0]):
         if kind[i] != TRACKED:
             continue
@@ -331,8 +332,10 @@ def _predicted_stop(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
                 front = min(front, x - half_l)
             if x <= -half_l + 1e-9:
                 rear = min(rear, -x - half_l)
-    stop: float = detect[STOP_DISTANCE]
-    return front < stop if linear > 0 else rear < stop
+        # ``footprint_clearance``
+        nearest = min(nearest, math.hypot(max(abs(x) - half_l, 0.0),
+                                          max(abs(y) - half_w, 0.0)))
+    return front, rear, nearest
 
 
 @njit(cache=True)
@@ -561,6 +564,16 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             stranger_near = n_nearest < rules[NEAR_GAP]
             if stranger_near and show_time >= rules[PLAN_DURATION]:
                 near_time = now if math.isnan(near_since[r]) else near_since[r]
+            # ``predicted``: where the tracked strangers will be by now
+            p_front, p_rear, p_nearest = math.inf, math.inf, math.inf
+            if (predicted and (linear != 0.0 or angular != 0.0) and point_count[r] >= 0
+                    and _any_tracked(point_kind[r, :point_count[r]])):
+                p_front, p_rear, p_nearest = _predicted_gaps(
+                    _points_now(cloud, height_step, ssm_detect, view, pose),
+                    point_velocity[r, :point_count[r]], point_kind[r, :point_count[r]], pose,
+                    now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),
+                    length, width, detect, mates_now, heard, use_heard, r,
+                    frame_cos_sin[r], own_frames[r], mate_radius[r])
             if n_nearest <= rules[OVERLAP]:
                 held = holds_show = True
                 linear = angular = 0.0
@@ -568,14 +581,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                   and (linear != 0.0 or angular != 0.0)):
                 held = holds_show = waiting = True
                 linear = angular = 0.0
-            elif (predicted and linear != 0.0 and point_count[r] >= 0
-                  and _any_tracked(point_kind[r, :point_count[r]]) and _predicted_stop(
-                    _points_now(cloud, height_step, ssm_detect, view, pose),
-                    point_velocity[r, :point_count[r]], point_kind[r, :point_count[r]], pose,
-                    now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),
-                    linear, length, width, detect, mates_now, heard, use_heard, r,
-                    frame_cos_sin[r], own_frames[r], mate_radius[r])):
-                # a tracked person will be in the corridor by now (``_predicted_stop``)
+            elif predicted and linear != 0.0 and (p_front if linear > 0 else p_rear) < stop:
+                # a tracked person will be in the corridor by now (``_predicted_gaps``)
                 held = holds_show = True
                 linear = 0.0
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
@@ -601,6 +608,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     may_make_room, making_room[r], rules)
             sweep_reach = (0.5 * math.hypot(length, width) - 0.5 * min(length, width))
             if held and angular != 0.0 and n_nearest < sweep_reach:
+                angular = 0.0
+            if angular != 0.0 and p_nearest < sweep_reach:  # a stranger will be within it
                 angular = 0.0
             if not held and behind > rules[HOLD_LAG]:
                 free = n_front if wanted_linear >= 0.0 else n_rear

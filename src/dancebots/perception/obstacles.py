@@ -31,6 +31,7 @@ __all__ = [
     "obstacle_points_from_columns",
     "obstacle_points_now",
     "perceive",
+    "predicted_points",
     "predicted_stop_flags",
     "stop_flags",
     "turn_fraction",
@@ -102,22 +103,28 @@ def stop_flags(points: FloatArray, length: float, width: float,
     return StopFlags(front < params.stop_distance, rear < params.stop_distance)
 
 
-def predicted_stop_flags(points: FloatArray, velocity: FloatArray, moving: NDArray[np.bool_],
-                         heading: float, age: float, length: float, width: float,
-                         params: DetectorParams = DetectorParams()) -> StopFlags:
-    """:func:`stop_flags` on where moving points will be: points (N, 2) in ``base_link``,
+def predicted_points(points: FloatArray, velocity: FloatArray, moving: NDArray[np.bool_],
+                     heading: float, age: float) -> FloatArray:
+    """Where the moving points will be (M, 2), ``base_link``: points (N, 2) in ``base_link``,
     those with ``moving`` (N,) moved on at their ``velocity`` (N, 2), m/s in the map frame
-    the robot's ``heading`` (rad) is in, for ``age`` s (the data's age); the others are left
-    out (they stand, and :func:`stop_flags` on the cloud already sees them). The
-    ``predicted`` stop rule (``robot.STOP_RULES``)."""
-    if not moving.any():
-        return StopFlags(False, False)
+    the robot's ``heading`` (rad) is in, for ``age`` s (the data's age)."""
     c, s = math.cos(heading), math.sin(heading)
     vx, vy = velocity[moving, 0], velocity[moving, 1]  # into base_link (no BLAS: the
     span = max(age, 0.0)  # batched kernel's arithmetic to the last bit)
-    ahead = np.column_stack([points[moving, 0] + (vx * c + vy * s) * span,
-                             points[moving, 1] + (vx * -s + vy * c) * span])
-    return stop_flags(ahead, length, width, params)
+    return np.column_stack([points[moving, 0] + (vx * c + vy * s) * span,
+                            points[moving, 1] + (vx * -s + vy * c) * span])
+
+
+def predicted_stop_flags(points: FloatArray, velocity: FloatArray, moving: NDArray[np.bool_],
+                         heading: float, age: float, length: float, width: float,
+                         params: DetectorParams = DetectorParams()) -> StopFlags:
+    """:func:`stop_flags` on where moving points will be (:func:`predicted_points`); the
+    others are left out (they stand, and :func:`stop_flags` on the cloud already sees
+    them). The ``predicted`` stop rule (``robot.STOP_RULES``)."""
+    if not moving.any():
+        return StopFlags(False, False)
+    return stop_flags(predicted_points(points, velocity, moving, heading, age), length,
+                      width, params)
 
 
 def clear_distances(points: FloatArray, length: float, width: float,
