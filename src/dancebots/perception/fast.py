@@ -25,7 +25,7 @@ def kept_columns(columns: NDArray[np.float64], height_step: float, crop_half: fl
     ``z_min`` is worked out once for a run of columns with the same foot (most stand on the
     floor), only for those in the crop: the same answers."""
     keep = np.zeros(columns.shape[0], dtype=np.bool_)
-    last_low, z = math.nan, math.nan
+    last_low, z, first = math.nan, math.nan, math.nan
     for i in range(columns.shape[0]):
         if not (abs(columns[i, 0]) <= crop_half and abs(columns[i, 1]) <= crop_half):
             continue
@@ -34,8 +34,14 @@ def kept_columns(columns: NDArray[np.float64], height_step: float, crop_half: fl
             last_low = low
             first = (0.0 if low > z_min
                      else math.floor((z_min - low) / height_step + 1e-9) + 1.0)
+            if first >= 1.0 and low + (first - 1.0) * height_step > z_min:
+                first -= 1.0  # (the rounding allowance skipped a level just above z_min)
             z = low + first * height_step
-        keep[i] = z < z_max and z <= columns[i, 3] + 1e-9
+        high = columns[i, 3]
+        # up to the column's highest level (``PointCloud.points``'s rule, worked out only
+        # where z is within a micrometre of the top: elsewhere its answer is plain)
+        keep[i] = z < z_max and (z <= high - 1e-6 or (
+            z <= high + 1e-6 and first <= math.floor((high - low) / height_step + 1e-9)))
     return keep
 
 

@@ -86,8 +86,12 @@ def obstacle_points_from_columns(columns: FloatArray, height_step: float,
     low, high = columns[:, 2], columns[:, 3]
     first = np.where(low > params.z_min, 0.0,
                      np.floor((params.z_min - low) / height_step + 1e-9) + 1.0)
+    # (the rounding allowance can skip a level just above z_min: take it back)
+    first = np.where((first >= 1.0) & (low + (first - 1.0) * height_step > params.z_min),
+                     first - 1.0, first)
     z = low + first * height_step  # the lowest level above z_min
-    keep = ((z < params.z_max) & (z <= high + 1e-9)
+    top = np.floor((high - low) / height_step + 1e-9)  # the highest (``PointCloud.points``)
+    keep = ((z < params.z_max) & (first <= top)
             & (np.abs(columns[:, 0]) <= params.crop_half)
             & (np.abs(columns[:, 1]) <= params.crop_half))
     flat: FloatArray = columns[keep, :2]  # one column per ray and object: no duplicates
