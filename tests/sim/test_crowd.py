@@ -233,15 +233,12 @@ def test_the_compiled_social_forces_are_the_numpy_ones(seed: int, count: int, ro
     lengths, widths = rng.uniform(0.5, 1.2, robots), rng.uniform(0.4, 0.8, robots)
     if robots:
         state.position[0] = poses[0, :2]  # one inside a footprint
-    # some leave at a robot's request, past some robots that stand still
-    state = dataclasses.replace(state, leaving=rng.random(count) < 0.5)
-    still = rng.random(robots) < 0.5
     params = SocialForceParams()
     expected = social_acceleration(state, walls, poses, lengths, widths, params,
-                                   None if per_segment else rings, robot_still=still)
+                                   None if per_segment else rings)
     got = social_acceleration_loops(
         state.position, state.velocity, state.goal, state.pause <= 0.0, state.preferred,
-        state.robot_ranges(still), walls, rings, poses, lengths, widths, params.relaxation,
+        state.column("robot_range"), walls, rings, poses, lengths, widths, params.relaxation,
         params.pedestrian_strength, params.pedestrian_range, params.border_strength,
         params.border_range, params.step_time, math.cos(params.sight), params.out_of_sight)
     np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-9)
@@ -298,61 +295,3 @@ def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None
     unknown = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]),
                        np.array([[0.0, 0.0], [math.nan, 0.0]]), np.array([0.6, 0.6]), 0.2)
     assert unknown.tolist() == pytest.approx([1.0, 0.0])
-
-
-@pytest.mark.parametrize("speaker", range(4))
-def test_a_child_asked_for_room_walks_out_between_robots_that_stand_still(speaker: int) -> None:
-    """The open-day crowd's seed 404 at t = 110 s: a child (radius 0.18 m) in the middle of a
-    stopped 2 x 2 formation (HUSKYs in front, TRADRs behind, footprints 0.56-0.65 m apart).
-    Asked for room by any of the four, it walks its way out (``_way_out``) past the robots
-    that stand still with LEAVING_RANGE of its robot range, out of the square within 20 s
-    and clear of every footprint; with the whole range (robots that move, or a child not
-    asked) the four robots' pushes hold it in the middle, as in that run."""
-    from dancebots.sim.crowd import _BEHAVIOUR_FIELDS, _from_footprints, _way_out
-
-    robots = np.array([[10.397, 7.287, -1.631], [9.039, 7.361, -1.646],
-                       [10.689, 8.804, -2.441], [8.891, 8.889, -0.783]])
-    lengths, widths = np.array([0.99, 0.99, 0.73, 0.73]), np.array([0.67, 0.67, 0.6, 0.6])
-    reach = 0.5 * np.hypot(lengths, widths)
-    room = square_room(20.0)
-    walls = wall_segments(room, ())
-    child = Crowd("child", 1, room.copy(), "child", 1.0, 0.2, 0.18, 1.2, 0, 1)  # type: ignore[arg-type]
-    start = np.array([9.667, 8.401])
-    centre = robots[:, :2].mean(axis=0)
-    way = _way_out(start, start - robots[speaker, :2], robots[:, :2], reach, 0.18)
-    ends = {}
-    for still, leaving in ((True, True), (False, True), (True, False)):
-        rng = np.random.default_rng(3)
-        state = crowd_start([child], NO_ROBOTS, NONE, None, walls, rng)
-        state.behaviour[:, _BEHAVIOUR_FIELDS.index("change_rate")] = 0.0  # no change of mind
-        state = dataclasses.replace(state, position=start[None].copy(),
-                                    goal=(start + 2.0 * way)[None], velocity=np.zeros((1, 2)),
-                                    pause=np.zeros(1), leaving=np.array([leaving]))
-        clearance = math.inf
-        for _ in range(200):
-            state = crowd_step(state, 0.1, [room], walls, robots, lengths, widths, rng,
-                               robot_still=np.full(4, still), compiled=True)
-            gaps = np.hypot(*_from_footprints(state.position, robots, lengths, widths)[0].T)
-            clearance = min(clearance, float(gaps.min()) - 0.18)
-        ends[still, leaving] = float(np.hypot(*(state.position[0] - centre)))
-        assert clearance > 0.0  # never on a footprint
-    assert ends[True, True] > 1.3  # out past the robots (their centres 1.02-1.18 m out)
-    assert ends[False, True] < 0.5  # held in the middle by robots that move
-    assert ends[True, False] < 0.5  # and when not asked to leave
-
-
-def test_inside_the_formation_is_inside_the_hull_of_the_robots_centres() -> None:
-    """Only a person inside a formation squeezes out (LEAVING_RANGE): inside the convex hull
-    of the robots' centres; not beside it, not by a row of robots, not by fewer than three;
-    a robot whose pose is not known is left out."""
-    from dancebots.sim.crowd import _inside_formation
-
-    square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
-    assert _inside_formation(np.array([1.0, 1.2]), square)
-    assert not _inside_formation(np.array([2.5, 1.0]), square)
-    row = np.array([[0.0, 0.0], [1.5, 0.0], [3.0, 0.0]])
-    assert not _inside_formation(np.array([1.0, 0.0]), row)
-    assert not _inside_formation(np.array([1.0, 1.0]), square[:2])
-    unknown = np.vstack([square[:3], [[math.nan, 5.0]]])
-    assert _inside_formation(np.array([1.5, 0.5]), unknown)
-    assert not _inside_formation(np.array([0.5, 1.5]), unknown)  # beyond the diagonal

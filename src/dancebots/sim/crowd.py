@@ -39,9 +39,8 @@ from numpy.typing import NDArray
 
 from dancebots.world.model import Crowd, Obstacle
 
-__all__ = ["KIND_BEHAVIOUR", "LEAVING_RANGE", "STILL_SPEED", "CrowdState", "KindBehaviour",
-           "SocialForceParams", "crowd_start", "crowd_step", "social_acceleration",
-           "wall_rings", "wall_segments"]
+__all__ = ["KIND_BEHAVIOUR", "CrowdState", "KindBehaviour", "SocialForceParams",
+           "crowd_start", "crowd_step", "social_acceleration", "wall_rings", "wall_segments"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -101,18 +100,6 @@ HEARING = 2.0
 """m from a speaking robot's footprint (about) within which people hear it."""
 ROOM_MADE = (1.5, 3.0)
 """m: how far a person who heeds a speaking robot walks away (``_make_room``)."""
-LEAVING_RANGE = 0.3
-"""The share of its kind's robot range (H&M's R for robots) that a person inside the
-formation (:func:`_inside_formation`) keeps from a robot standing still while it walks out
-at a robot's request: people keep their distance from machines that move, but squeeze out
-past ones that stand. With the whole range a child inside a stopped 2 x 2 formation
-(footprints 0.56-0.65 m apart) stayed in its middle for over 100 s, held there by the four
-robots' pushes, and the formation waited for it until the run's end (open-day crowd, seed
-404). Robots that move keep the whole range, and so do people outside the formation: the
-share for everyone who heeds let people brush past robots that moved again
-(docs/safety.md, "Crowds")."""
-STILL_SPEED = (0.01, 0.02)
-"""m/s, rad/s: a robot slower than both stands still for the people around it."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -120,10 +107,7 @@ class CrowdState:
     """P pedestrians: position (P, 2) and velocity (P, 2) in the world frame (m, m/s), goal
     (P, 2), pause (P,) s left to stand at the goal (0 while walking), preferred speed (P,)
     m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
-    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,); leaving (P,):
-    walking out of the formation because a robot asked for room (``_make_room``, from inside
-    the formation), until the way-out goal is reached or another goal chosen
-    (:meth:`robot_ranges`)."""
+    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
 
     position: FloatArray
     velocity: FloatArray
@@ -135,20 +119,10 @@ class CrowdState:
     crowd: IntArray
     behaviour: FloatArray
     names: tuple[str, ...]
-    leaving: NDArray[np.bool_]
 
     def column(self, field: str) -> FloatArray:
         """One :class:`KindBehaviour` field (P,) of every pedestrian."""
         return self.behaviour[:, _BEHAVIOUR_FIELDS.index(field)]
-
-    def robot_ranges(self, still: NDArray[np.bool_]) -> FloatArray:
-        """The range (P, R) m of each robot's repulsion (H&M eq. 6's R) for each pedestrian,
-        ``still`` (R,) the robots that stand still: the kind's range, times
-        :data:`LEAVING_RANGE` from a robot that stands still for one who leaves at a
-        robot's request."""
-        share = np.where(self.leaving[:, None] & still[None, :], LEAVING_RANGE, 1.0)
-        result: FloatArray = self.column("robot_range")[:, None] * share
-        return result
 
 
 def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray:
@@ -220,15 +194,13 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
                         robot_lengths: FloatArray, robot_widths: FloatArray,
                         params: SocialForceParams = SocialForceParams(),
                         rings: IntArray | None = None,
-                        wall_vectors: FloatArray | None = None,
-                        robot_still: NDArray[np.bool_] | None = None) -> FloatArray:
+                        wall_vectors: FloatArray | None = None) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian (H&M eq. 2-6, module docstring): towards its goal
     (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2);
     ``rings`` (S,) the border of each, :func:`wall_rings`: each border pushes from its
     nearest point; None: each segment is a border) and the robots (poses (R, 3), lengths
-    and widths (R,); ``robot_still`` (R,) those that stand still, None: none,
-    :meth:`CrowdState.robot_ranges`); ``wall_vectors``: :func:`_nearest_on_segments` of the
-    positions and walls when the caller has them already."""
+    and widths (R,)); ``wall_vectors``: :func:`_nearest_on_segments` of the positions and
+    walls when the caller has them already."""
     position, velocity = state.position, state.velocity
     count = len(position)
     to_goal = state.goal - position
@@ -265,9 +237,7 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
     if len(robot_poses):
         accel += _border_force(
             _from_footprints(position, robot_poses, robot_lengths, robot_widths),
-            params.border_strength, state.robot_ranges(
-                np.zeros(len(robot_poses), dtype=bool) if robot_still is None
-                else robot_still))
+            params.border_strength, state.column("robot_range")[:, None])
     return accel
 
 
@@ -370,7 +340,7 @@ def crowd_start(crowds: Sequence[Crowd], robot_poses: FloatArray, robot_reach: F
                        np.zeros(count), table[:, 2].copy(), table[:, 3].copy(),
                        np.array(heights, dtype=float), table[:, 4].astype(np.int64),
                        np.array(behaviour, dtype=float).reshape(count, len(_BEHAVIOUR_FIELDS)),
-                       tuple(names), np.zeros(count, dtype=bool))
+                       tuple(names))
     areas = [c.area for c in crowds]
     return replace(state, goal=_new_goals(state, np.arange(count), areas, walls, robot_poses,
                                           robot_reach, rng))
@@ -392,12 +362,9 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
                rng: np.random.Generator,
                params: SocialForceParams = SocialForceParams(),
                speaking: NDArray[np.bool_] | None = None,
-               rings: IntArray | None = None, compiled: bool = False,
-               robot_still: NDArray[np.bool_] | None = None) -> CrowdState:
+               rings: IntArray | None = None, compiled: bool = False) -> CrowdState:
     """The crowd ``dt`` s later: people near a robot that stopped for people and speaks
-    (``speaking`` (R,)) heed it at their kind's rate and step away (past the robots that
-    stand still, ``robot_still`` (R,), nearer than they walk by others:
-    :data:`LEAVING_RANGE`); goals reached start a
+    (``speaking`` (R,)) heed it at their kind's rate and step away; goals reached start a
     pause, pauses that end and children who change their mind pick new goals (``areas``:
     each crowd's polygon), then the social forces (:func:`social_acceleration`) move
     everyone in substeps of ``params.substep``, speeds capped at ``max_speed_factor`` times
@@ -423,11 +390,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         goal = goal.copy()
         which = np.flatnonzero(rethink)
         goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng)
-    # out of the robots' way: at the way-out goal, or off to another one
-    leaving = state.leaving & ~arrived & ~rethink
-    moving = replace(state, goal=goal, pause=pause, leaving=leaving)
-    still = (np.zeros(len(robot_poses), dtype=bool) if robot_still is None
-             else robot_still)
+    moving = replace(state, goal=goal, pause=pause)
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
     position, velocity = moving.position, moving.velocity
@@ -440,7 +403,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         if compiled:
             accel = crowd_jit.social_acceleration_loops(
                 position, velocity, moving.goal, moving.pause <= 0.0, moving.preferred,
-                moving.robot_ranges(still), walls, borders, robot_poses, robot_lengths,
+                moving.column("robot_range"), walls, borders, robot_poses, robot_lengths,
                 robot_widths, params.relaxation, params.pedestrian_strength,
                 params.pedestrian_range, params.border_strength, params.border_range,
                 params.step_time, math.cos(params.sight), params.out_of_sight)
@@ -451,7 +414,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
             vectors = _nearest_on_segments(position, walls) if len(walls) else None
             accel = social_acceleration(replace(moving, position=position, velocity=velocity),
                                         walls, robot_poses, robot_lengths, robot_widths,
-                                        params, rings, vectors, still)
+                                        params, rings, vectors)
             before = (None if vectors is None
                       else np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1))
         velocity = velocity + h * accel
@@ -486,7 +449,7 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     heeds = hears & (rng.random(len(hears)) < state.column("heed") * dt)
     if not heeds.any():
         return state
-    goal, pause, leaving = state.goal.copy(), state.pause.copy(), state.leaving.copy()
+    goal, pause = state.goal.copy(), state.pause.copy()
     for a in np.flatnonzero(heeds).tolist():
         away = offsets[a, nearest[a]]
         direction = _way_out(state.position[a], away, robots[:, :2], robot_reach,
@@ -495,20 +458,7 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
         goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
                            rng, goal[a])
         pause[a] = 0.0
-        leaving[a] = _inside_formation(state.position[a], robots[:, :2])
-    return replace(state, goal=goal, pause=pause, leaving=leaving)
-
-
-def _inside_formation(position: FloatArray, robots: FloatArray) -> bool:
-    """Whether a person at ``position`` (2,) stands inside the formation: within the convex
-    hull of the robots' centres (R, 2; those not known left out; none for fewer than three
-    or robots in a line)."""
-    known = robots[np.isfinite(robots).all(axis=1)]
-    if len(known) < 3:
-        return False
-    hull = shapely.MultiPoint(known).convex_hull
-    return bool(hull.geom_type == "Polygon"
-                and shapely.contains_xy(hull, float(position[0]), float(position[1])))
+    return replace(state, goal=goal, pause=pause)
 
 
 WAYS_OUT = 16

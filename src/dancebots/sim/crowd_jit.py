@@ -61,10 +61,9 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
                               border_range: float, step_time: float, cos_sight: float,
                               out_of_sight: float) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian: ``crowd.social_acceleration`` (H&M eq. 2-6) for
-    positions, velocities and goals (P, 2), walking (P,) (not pausing), preferred speeds
-    (P,), robot ranges (P, R) (``CrowdState.robot_ranges``), walls (S, 2, 2) with the
-    border of each (``rings`` (S,), contiguous; each border pushes from its nearest point),
-    robots' poses (R, 3) and sizes (R,)."""
+    positions, velocities and goals (P, 2), walking (P,) (not pausing), preferred speeds and
+    robot ranges (P,), walls (S, 2, 2) with the border of each (``rings`` (S,), contiguous;
+    each border pushes from its nearest point), robots' poses (R, 3) and sizes (R,)."""
     count = position.shape[0]
     accel = np.empty((count, 2))
     heading = np.empty((count, 2))
@@ -127,7 +126,7 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
             if ex == 0.0 and ey == 0.0:  # inside: pushed out the way it lies
                 ex, ey = lx, ly
             fx, fy = _border_push(c * ex - sn * ey, sn * ex + c * ey, border_strength,
-                                  robot_range[a, r])
+                                  robot_range[a])
             accel[a, 0] += fx
             accel[a, 1] += fy
     return accel

@@ -39,7 +39,6 @@ from dancebots.sim.collision import (
     rectangles_overlap,
 )
 from dancebots.sim.crowd import (
-    STILL_SPEED,
     CrowdState,
     crowd_start,
     crowd_step,
@@ -347,7 +346,7 @@ class Stage:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
                                self.pose, self.lengths, self.widths, self.crowd_rng,
                                speaking=self.speaking, rings=self.wall_rings,
-                               compiled=self.compiled, robot_still=self._still())
+                               compiled=self.compiled)
             stands = self._steps_into_robots(crowd.position, moved.position, crowd.radius)
             if stands.any():
                 position, velocity = moved.position.copy(), moved.velocity.copy()
@@ -355,14 +354,6 @@ class Stage:
                 moved = replace(moved, position=position, velocity=velocity)
             self.crowd = moved
         self.discs = self._discs(scripted)
-
-    def _still(self) -> NDArray[np.bool_]:
-        """(R,) the robots that stand still for the people around them (``crowd.STILL_SPEED``:
-        their speeds over the last step)."""
-        linear, angular = STILL_SPEED
-        result: NDArray[np.bool_] = ((np.abs(self.velocity[:, 0]) < linear)
-                                     & (np.abs(self.velocity[:, 1]) < angular))
-        return result
 
     def _steps_into_robots(self, before: FloatArray, after: FloatArray,
                            radii: FloatArray) -> NDArray[np.bool_]:
