@@ -94,16 +94,31 @@ def test_batch_runs_a_show_among_a_crowd_as_the_brains_do(config: SimConfig) -> 
 
 @pytest.mark.parametrize(("world", "seed"), [("open_day_crowd.toml", 41),
                                              ("open_day_runners.toml", 9)])
-def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(world: str, seed: int) -> None:
+def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
+        world: str, seed: int, monkeypatch: pytest.MonkeyPatch) -> None:
     """The ``predicted`` rule in the batch (the tracker's kernel per cloud and robot, the
-    stop on where tracked strangers will be): the same runs as the brains one by one, among
-    the open-day crowd and among runners (seeds where the rule stops robots)."""
+    stop on where tracked strangers will be, no turn while one will be within the circle the
+    footprint sweeps): the same runs as the brains one by one, among the open-day crowd and
+    among runners (seeds where the rule stops robots; in the crowd's, a stranger will be
+    within that circle at some ticks)."""
     data = ROOT / "src" / "dancebots" / "data"
     path = data / world if world == "open_day_crowd.toml" else ROOT / "examples" / "worlds" / world
     config = replace(PATH, profile=REALISTIC, seed=seed,
                      brain=BrainOptions(follower="path", stop_rule="predicted"))
+    within: list[float] = []
+    gaps = robot.RobotBrain._predicted_gaps
+
+    def counted(brain: robot.RobotBrain, *args: object, **kwargs: object,
+                ) -> tuple[float, float, float]:
+        found = gaps(brain, *args, **kwargs)  # type: ignore[arg-type]
+        if found[2] < brain.sweep_reach:
+            within.append(found[2])
+        return found
+
+    monkeypatch.setattr(robot.RobotBrain, "_predicted_gaps", counted)
     reference, batched = both(data / "open_day.dance", path, config)
     assert_same_run(reference, batched)
+    assert within or world != "open_day_crowd.toml"  # the turn rule had its say
     assert any(e.kind == "speech" for e in batched.events)
     # the prediction did stop robots: the fixed rule decides otherwise in the same crowd
     fixed = simulate(batched.plan, batched.arena, batched.placement,

@@ -804,6 +804,7 @@ class RobotBrain:
         if not moving.any():
             return math.inf, math.inf, math.inf
         ahead = predicted_points(points, velocity, moving, pose[2], age)
+        ahead = ahead[np.isfinite(ahead).all(axis=1)]  # (as the kernel's min skips NaN)
         front, rear = clear_distances(ahead, self.sensing.length, self.sensing.width,
                                       self.sensing.detection)
         return front, rear, footprint_clearance(ahead, self.sensing.length,

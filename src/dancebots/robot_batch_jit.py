@@ -323,7 +323,7 @@ def _predicted_gaps(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
                 break
         if near:
             continue
-        # ``predicted_stop_flags``: moved on at its velocity, in ``base_link``
+        # ``predicted_points``: moved on at its velocity, in ``base_link``
         vx, vy = velocity[i, 0], velocity[i, 1]
         x = px + (vx * c + vy * s) * max(age, 0.0)
         y = py + (vx * -s + vy * c) * max(age, 0.0)

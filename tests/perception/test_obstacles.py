@@ -75,8 +75,8 @@ columns = arrays(np.float64, st.tuples(st.integers(0, 30), st.just(4)),
 
 
 @given(columns)
-@example(np.array([[1.263004e-13, 1.263004e-13, 2.526008e-13, 1.25e-01]]))  # a level 6e-14 m
-# above z_min, which the rounding allowance of the lowest level once skipped
+@example(np.array([[1.263004e-13, 1.263004e-13, 2.526008e-13, 1.25e-01]]))  # a level 1.3e-13
+# m above z_min, which the rounding allowance of the lowest level once skipped
 def test_columns_give_the_same_points_as_the_expanded_cloud(data: np.ndarray) -> None:
     data = data.copy()
     data[:, 2] = np.abs(data[:, 2]) * 0.5  # z_low >= 0
@@ -93,7 +93,7 @@ def test_columns_give_the_same_points_as_the_expanded_cloud(data: np.ndarray) ->
 
 
 knife_edge_columns = st.tuples(
-    st.integers(-3, 12), st.integers(0, 25), st.sampled_from([-1e-9, -1e-12, 0.0, 1e-12, 1e-9]),
+    st.integers(0, 1), st.integers(0, 25), st.sampled_from([-1e-9, -1e-12, 0.0, 1e-12, 1e-9]),
     st.sampled_from([-1e-9, -1e-12, 0.0, 1e-12, 1e-9, 0.05]), st.floats(-2.5, 2.5))
 
 
@@ -101,25 +101,47 @@ knife_edge_columns = st.tuples(
 @given(st.lists(knife_edge_columns, min_size=1, max_size=20),
        st.sampled_from([0.1, 0.07, 0.25]))
 @example([(1, 1, 1e-12, 0.0, 0.5)], 0.1)  # the level just above z_min is the column's top
-@example([(2, 3, 0.0, 1e-12, 0.5)], 0.07)
+@example([(0, 2, 0.0, -1e-12, 0.5)], 0.07)  # the top just under a level
 def test_the_compiled_column_filter_is_the_numpy_one_on_knife_edges(
         rows: list[tuple[int, int, float, float, float]], step: float) -> None:
-    """Columns whose foot or top lies within 1e-9 m of a level (z_min + k step, low + k
-    step): ``perception.fast.kept_columns`` keeps exactly the columns that
+    """Columns whose foot or top lies within 1e-9 m of a level (z_min - k step, low +
+    levels step): ``perception.fast.kept_columns`` keeps exactly the columns that
     ``obstacle_points_from_columns`` does, and both the points of the expanded cloud."""
     from dancebots.perception.fast import kept_columns
 
     params = DetectorParams()
-    data = np.array([[x, 0.5, params.z_min - k * step + low_edge,
-                      params.z_min - k * step + low_edge + levels * step + top_edge]
-                     for k, levels, low_edge, top_edge, x in rows])
-    data[:, 2] = np.maximum(data[:, 2], 0.0)
-    data[:, 3] = np.maximum(data[:, 3], data[:, 2])
+    low = np.maximum([params.z_min - k * step + low_edge for k, _, low_edge, _, _ in rows], 0.0)
+    high = np.maximum([foot + levels * step + top_edge
+                       for foot, (_, levels, _, top_edge, _) in zip(low, rows, strict=True)],
+                      low)
+    data = np.column_stack([[x for *_, x in rows], np.full(len(rows), 0.5), low, high])
     expected = obstacle_points_from_columns(data, step, params)
     kept = kept_columns(data, step, params.crop_half, params.z_min, params.z_max)
     np.testing.assert_array_equal(data[kept, :2], expected)
     from_points = obstacle_points(PointCloud(0.0, data, step).points(), params)
     assert {tuple(p) for p in np.round(expected, 9)} == {tuple(p) for p in from_points}
+
+
+@settings(max_examples=200, deadline=None)
+@given(arrays(np.float64, st.tuples(st.integers(1, 20), st.just(2)),
+              elements=st.floats(-1e12, 1e12, allow_nan=False)),
+       st.sampled_from([1e-3, 0.1, 1e4, 1e7]))
+@example(np.array([[0.200002, 0.2]]), 1e4)  # steps or heights where rounding reaches 1e-6 m
+@example(np.array([[-6.6e10, -6.6e10 + 3.0]]), 0.25)
+def test_the_compiled_column_filter_is_the_numpy_one_for_any_heights(
+        heights: np.ndarray, step: float) -> None:
+    """Whatever the heights (to 1e12 m, a foot above its top too) and the step: the compiled
+    filter keeps the columns the NumPy one keeps (its shortcut applies only where rounding
+    cannot matter)."""
+    from dancebots.perception.fast import kept_columns
+
+    params = DetectorParams()
+    low, high = heights[:, 0], heights[:, 1]  # (a foot above the top too: no point)
+    data = np.column_stack([np.full(len(low), 0.5), np.full(len(low), 0.5), low, high])
+    with np.errstate(all="ignore"):
+        expected = obstacle_points_from_columns(data, step, params)
+    kept = kept_columns(data, step, params.crop_half, params.z_min, params.z_max)
+    np.testing.assert_array_equal(data[kept, :2], expected)
 
 
 def test_compensation_moves_points_by_own_motion() -> None:

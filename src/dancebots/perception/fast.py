@@ -39,9 +39,12 @@ def kept_columns(columns: NDArray[np.float64], height_step: float, crop_half: fl
             z = low + first * height_step
         high = columns[i, 3]
         # up to the column's highest level (``PointCloud.points``'s rule, worked out only
-        # where z is within a micrometre of the top: elsewhere its answer is plain)
-        keep[i] = z < z_max and (z <= high - 1e-6 or (
-            z <= high + 1e-6 and first <= math.floor((high - low) / height_step + 1e-9)))
+        # where z is within a micrometre of the top, or where heights or the step are so
+        # large that rounding could reach one: elsewhere its answer is plain)
+        plain = abs(low) < 1e6 and abs(high) < 1e6 and height_step < 10.0
+        keep[i] = z < z_max and ((plain and z <= high - 1e-6) or (
+            (not plain or z <= high + 1e-6)
+            and first <= math.floor((high - low) / height_step + 1e-9)))
     return keep
 
 
