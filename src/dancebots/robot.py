@@ -665,8 +665,7 @@ class RobotBrain:
                                self._approach_limit(free, None, 0.0)) < abs(wanted[0]) - SLOWED
                 turn_cut = abs(angular) < abs(wanted[1]) - SLOWED and (
                     (stranger_near and behind > SLOW_TURN_LAG) or near.nearest < turn_reach(
-                        sensing.length, sensing.width, linear, sensing.detection)
-                    or predicted[2] < self.sweep_reach)
+                        sensing.length, sensing.width, linear, sensing.detection))
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
             command = Command(linear, angular)
         else:

@@ -617,8 +617,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     abs(wanted_linear) - rules[SLOWED])
                 turn_cut = abs(angular) < abs(wanted_angular) - rules[SLOWED] and (
                     (stranger_near and behind > rules[SLOW_TURN_LAG])
-                    or n_nearest < _turn_reach(length, width, linear, detect)
-                    or p_nearest < sweep_reach)
+                    or n_nearest < _turn_reach(length, width, linear, detect))
                 holds_show = (abs(linear) < abs(wanted_linear) - rules[SLOWED]
                               and by_stranger) or turn_cut
         # ``safety.monitor.safety_step``
