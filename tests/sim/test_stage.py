@@ -3,7 +3,9 @@ its NumPy steps do, and leaves every step with a contact, or near one, to them."
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Iterator
 
 import numpy as np
 import pytest
@@ -39,6 +41,26 @@ def _stages(starts: np.ndarray, profile: Profile, room: np.ndarray = ROOM,
     slow._free_step_data = None
     assert fast._free_step_data is not None
     return fast, slow
+
+
+@contextlib.contextmanager
+def _free_steps_counted() -> Iterator[list[bool]]:
+    """Within: every call of ``stage_jit.free_step`` appends whether it took the step."""
+    import dancebots.sim.stage_jit as stage_jit
+
+    taken: list[bool] = []
+    original = stage_jit.free_step
+
+    def counted(*args: object) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+        result = original(*args)
+        taken.append(result[3])
+        return result  # type: ignore[no-any-return]
+
+    stage_jit.free_step = counted  # type: ignore[assignment]
+    try:
+        yield taken
+    finally:
+        stage_jit.free_step = original  # type: ignore[assignment]
 
 
 @settings(max_examples=60, deadline=None)
@@ -78,27 +100,14 @@ def test_the_free_step_takes_every_step_of_robots_that_keep_apart() -> None:
     """Four robots well apart, driving gently in the middle of the room: every step is the
     free step's (counted: the equality above holds for a free step that takes none too);
     the same poses as the NumPy steps."""
-    import dancebots.sim.stage_jit as stage_jit
-
     starts = np.array([[-2.0, -2.0, 0.0], [2.0, -2.0, 1.0], [-2.0, 1.5, 2.0],
                        [1.0, 1.0, -1.0]])
     fast, slow = _stages(starts, IDEAL)
-    taken = []
-    original = stage_jit.free_step
-
-    def counted(*args: object) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-        result = original(*args)
-        taken.append(result[3])
-        return result  # type: ignore[no-any-return]
-
-    stage_jit.free_step = counted  # type: ignore[assignment]
-    try:
+    with _free_steps_counted() as taken:
         for k in range(50):
             command = np.full((4, 2), 0.1) * np.array([[1.0, 0.5]])
             fast.advance(0.1 * k, command, np.full(4, 0.1 * k))
             slow.advance(0.1 * k, command, np.full(4, 0.1 * k))
-    finally:
-        stage_jit.free_step = original  # type: ignore[assignment]
     assert len(taken) == 50
     assert all(taken)
     assert fast.pose.tobytes() == slow.pose.tobytes()
@@ -120,6 +129,76 @@ def test_a_step_with_a_contact_is_left_to_the_numpy_steps() -> None:
     assert fast.pose.tobytes() == slow.pose.tobytes()
 
 
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), count=st.integers(1, 4))
+def test_the_free_step_moves_noisy_robots_among_people_as_the_numpy_steps(seed: int,
+                                                                          count: int) -> None:
+    """The realistic profile (lag, noise) with a scripted visitor walking between the robots
+    and a crowd of children around them: robots, people and contacts the same, bit for bit,
+    whether the free step takes a step (some it does) or leaves it to the NumPy steps."""
+    from dancebots.sim.kinematics import REALISTIC
+    from dancebots.world.model import Crowd, Spectator
+
+    rng = np.random.default_rng(seed)
+    corners = np.array([[-2.0, -2.0], [2.0, -2.0], [-2.0, 1.5], [1.0, 1.0]])[:count]
+    starts = np.column_stack([corners + rng.uniform(-0.3, 0.3, (count, 2)),
+                              rng.uniform(-math.pi, math.pi, count)])
+    visitor = Spectator("visitor", 0.25, 1.7, 1.0, np.array([[-4.0, 0.2], [4.0, -0.3]]),
+                        np.zeros(2), True, 0.0, 1)
+    children = Crowd("child", 8, np.array([[-4.5, -4.5], [4.5, -4.5], [4.5, 4.5], [-4.5, 4.5]]),
+                     "child", 1.4, 0.3, 0.18, 1.2, seed % 1000, 2)
+    kinds = [BUILTIN_ROBOT_TYPES[name] for name in ("SIM", "HUSKY", "TURTLEBOT3")]
+    placement = Placement(tuple(f"R{k}" for k in range(count)),
+                          tuple(kinds[k % 3] for k in range(count)), starts,
+                          Pose(0.0, 0.0, 0.0))
+    arena = Arena(ROOM, 1.0, (CRATE,), None, (visitor,), (children,))
+    fast = Stage(arena, placement, REALISTIC, 0.1, None, seed=seed % 1000)
+    slow = Stage(arena, placement, REALISTIC, 0.1, None, seed=seed % 1000)
+    slow._free_step_data = None
+    with _free_steps_counted() as taken:
+        command = np.zeros((count, 2))
+        for k in range(120):
+            now = 0.1 * k
+            if k % 5 == 0:
+                command = rng.uniform(-0.6, 0.6, (count, 2)) * rng.integers(0, 2, (count, 1))
+            fast.advance(now, command, np.full(count, now))
+            slow.advance(now, command, np.full(count, now))
+            assert fast.pose.tobytes() == slow.pose.tobytes()
+            assert fast.velocity.tobytes() == slow.velocity.tobytes()
+            assert fast.discs.tobytes() == slow.discs.tobytes()
+    assert fast.collisions == slow.collisions
+    assert fast.corners.tobytes() == slow.corners.tobytes()
+    assert fast.crowd is not None
+    assert slow.crowd is not None
+    assert fast.crowd.position.tobytes() == slow.crowd.position.tobytes()
+    assert fast.crowd.velocity.tobytes() == slow.crowd.velocity.tobytes()
+    assert any(taken)
+
+
+def test_a_robot_touching_a_person_is_left_to_the_numpy_steps() -> None:
+    """A robot driven into a standing visitor: the free step declines the steps of the
+    contact, the NumPy steps record it and stop the robot, as without the free step."""
+    from dancebots.world.model import Spectator
+
+    visitor = Spectator("visitor", 0.25, 1.7, 0.0, np.array([[1.2, 0.0]]), np.zeros(1),
+                        False, 0.0, 1)
+    placement = Placement(("R0",), (BUILTIN_ROBOT_TYPES["SIM"],), np.zeros((1, 3)),
+                          Pose(0.0, 0.0, 0.0))
+    arena = Arena(ROOM, 1.0, (), None, (visitor,))
+    fast = Stage(arena, placement, IDEAL, 0.1, None)
+    slow = Stage(arena, placement, IDEAL, 0.1, None)
+    slow._free_step_data = None
+    with _free_steps_counted() as taken:
+        for k in range(40):
+            fast.advance(0.1 * k, np.array([[0.5, 0.0]]), np.full(1, 0.1 * k))
+            slow.advance(0.1 * k, np.array([[0.5, 0.0]]), np.full(1, 0.1 * k))
+    assert [(c.robot, c.kind) for c in fast.collisions] == [("R0", "spectator")]
+    assert taken[:3] == [True] * 3  # free until the contact
+    assert not all(taken)
+    assert fast.collisions == slow.collisions
+    assert fast.pose.tobytes() == slow.pose.tobytes()
+
+
 def test_numbers_that_are_not_finite_take_the_numpy_steps() -> None:
     """A command that is not a number: the free step declines, the NumPy steps decide."""
     from dancebots.sim.stage_jit import free_step
@@ -128,10 +207,11 @@ def test_numbers_that_are_not_finite_take_the_numpy_steps() -> None:
     assert fast._free_step_data is not None
     for bad in (math.nan, math.inf):
         *_, free = free_step(fast.pose, fast.velocity, np.array([[bad, 0.0]]), np.zeros(1),
-                             0.0, 0.1, fast.limits, *fast._free_step_data)
+                             0.0, 0.1, fast.limits, np.zeros((1, 2)), fast.discs,
+                             *fast._free_step_data)
         assert not free
     *_, free = free_step(fast.pose, fast.velocity, np.array([[0.3, 0.1]]), np.zeros(1), 0.0,
-                         0.1, fast.limits, *fast._free_step_data)
+                         0.1, fast.limits, np.zeros((1, 2)), fast.discs, *fast._free_step_data)
     assert free
 
 

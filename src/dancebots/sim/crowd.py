@@ -393,37 +393,34 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     moving = replace(state, goal=goal, pause=pause)
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
-    position, velocity = moving.position, moving.velocity
-    cap = params.max_speed_factor * moving.preferred
-    if compiled:
+    if compiled:  # the substeps in one call, the same operations (``crowd_jit.walk``)
         from dancebots.sim import crowd_jit  # imports numba
 
-        borders = rings if rings is not None else np.arange(len(walls))
+        position, velocity = crowd_jit.walk(
+            moving.position, moving.velocity, moving.goal, moving.pause <= 0.0,
+            moving.preferred, moving.column("robot_range"), moving.radius, walls,
+            rings if rings is not None else np.arange(len(walls)), robot_poses,
+            robot_lengths, robot_widths, params.relaxation, params.pedestrian_strength,
+            params.pedestrian_range, params.border_strength, params.border_range,
+            params.step_time, math.cos(params.sight), params.out_of_sight,
+            params.max_speed_factor, steps, h)
+        return replace(moving, position=position, velocity=velocity)
+    position, velocity = moving.position, moving.velocity
+    cap = params.max_speed_factor * moving.preferred
     for _ in range(steps):
-        if compiled:
-            accel = crowd_jit.social_acceleration_loops(
-                position, velocity, moving.goal, moving.pause <= 0.0, moving.preferred,
-                moving.column("robot_range"), walls, borders, robot_poses, robot_lengths,
-                robot_widths, params.relaxation, params.pedestrian_strength,
-                params.pedestrian_range, params.border_strength, params.border_range,
-                params.step_time, math.cos(params.sight), params.out_of_sight)
-            before = crowd_jit.wall_distances(position, walls) if len(walls) else None
-        else:
-            # the walls' nearest points, once per substep: the walls' push and the step's
-            # check
-            vectors = _nearest_on_segments(position, walls) if len(walls) else None
-            accel = social_acceleration(replace(moving, position=position, velocity=velocity),
-                                        walls, robot_poses, robot_lengths, robot_widths,
-                                        params, rings, vectors)
-            before = (None if vectors is None
-                      else np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1))
+        # the walls' nearest points, once per substep: the walls' push and the step's check
+        vectors = _nearest_on_segments(position, walls) if len(walls) else None
+        accel = social_acceleration(replace(moving, position=position, velocity=velocity),
+                                    walls, robot_poses, robot_lengths, robot_widths,
+                                    params, rings, vectors)
+        before = (None if vectors is None
+                  else np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1))
         velocity = velocity + h * accel
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         velocity = velocity * np.minimum(1.0, cap / np.maximum(speed, 1e-12))[:, None]
         ahead = position + h * velocity
         if before is not None:  # no step through a wall: a disc that would touch one stands
-            after = (crowd_jit.wall_distances(ahead, walls) if compiled
-                     else _wall_distance(ahead, walls))
+            after = _wall_distance(ahead, walls)
             touch = (after < moving.radius) & (after < before)
             ahead[touch] = position[touch]
             velocity[touch] = 0.0

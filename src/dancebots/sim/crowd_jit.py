@@ -12,7 +12,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["social_acceleration_loops", "wall_distances"]
+__all__ = ["social_acceleration_loops", "steps_into_robots", "walk", "wall_distances"]
 
 FloatArray = NDArray[np.float64]
 
@@ -130,3 +130,70 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
             accel[a, 0] += fx
             accel[a, 1] += fy
     return accel
+
+
+@njit(cache=True)
+def walk(position: FloatArray, velocity: FloatArray, goal: FloatArray,
+         walking: NDArray[np.bool_], preferred: FloatArray, robot_range: FloatArray,
+         radius: FloatArray, walls: FloatArray, rings: NDArray[np.int64],
+         robot_poses: FloatArray, robot_lengths: FloatArray, robot_widths: FloatArray,
+         relaxation: float, pedestrian_strength: float, pedestrian_range: float,
+         border_strength: float, border_range: float, step_time: float, cos_sight: float,
+         out_of_sight: float, max_speed_factor: float, steps: int,
+         h: float) -> tuple[FloatArray, FloatArray]:
+    """``crowd_step``'s ``steps`` substeps of ``h`` s in one call: the social forces
+    (:func:`social_acceleration_loops`), the velocity capped at ``max_speed_factor`` times
+    the preferred speed (H&M eq. 7), and no step through a wall (a disc, ``radius`` (P,)
+    m, that would touch one, nearer than before, stands). The same operations in the same
+    order as ``crowd_step``'s NumPy loop around the forces. Returns positions and
+    velocities (P, 2)."""
+    count = position.shape[0]
+    position, velocity = position.copy(), velocity.copy()
+    ahead = np.empty((count, 2))
+    for _ in range(steps):
+        accel = social_acceleration_loops(
+            position, velocity, goal, walking, preferred, robot_range, walls, rings,
+            robot_poses, robot_lengths, robot_widths, relaxation, pedestrian_strength,
+            pedestrian_range, border_strength, border_range, step_time, cos_sight,
+            out_of_sight)
+        before = wall_distances(position, walls)
+        for a in range(count):
+            vx, vy = velocity[a, 0] + h * accel[a, 0], velocity[a, 1] + h * accel[a, 1]
+            factor = min(1.0, max_speed_factor * preferred[a] / max(math.hypot(vx, vy), 1e-12))
+            velocity[a, 0], velocity[a, 1] = vx * factor, vy * factor
+            ahead[a, 0] = position[a, 0] + h * velocity[a, 0]
+            ahead[a, 1] = position[a, 1] + h * velocity[a, 1]
+        if walls.shape[0] > 0:
+            after = wall_distances(ahead, walls)
+            for a in range(count):
+                if after[a] < radius[a] and after[a] < before[a]:
+                    ahead[a, 0], ahead[a, 1] = position[a, 0], position[a, 1]
+                    velocity[a, 0], velocity[a, 1] = 0.0, 0.0
+        position[:, :] = ahead
+    return position, velocity
+
+
+@njit(cache=True)
+def steps_into_robots(before: FloatArray, after: FloatArray, radii: FloatArray,
+                      poses: FloatArray, lengths: FloatArray,
+                      widths: FloatArray) -> NDArray[np.bool_]:
+    """``Stage._steps_into_robots``: (P,) the people (centres (P, 2) before and after a
+    step, radii (P,) m) whose step would reach into a robot's footprint (poses (R, 3),
+    sizes (R,)) from outside (``collision.footprint_gaps``, the nearest robot's)."""
+    result = np.zeros(before.shape[0], dtype=np.bool_)
+    for p in range(before.shape[0]):
+        gap_before, gap_after = math.inf, math.inf
+        for r in range(poses.shape[0]):
+            c, s = math.cos(poses[r, 2]), math.sin(poses[r, 2])
+            half_l, half_w = 0.5 * lengths[r], 0.5 * widths[r]
+            for k in range(2):
+                dx = (before[p, 0] if k == 0 else after[p, 0]) - poses[r, 0]
+                dy = (before[p, 1] if k == 0 else after[p, 1]) - poses[r, 1]
+                ex = max(abs(c * dx + s * dy) - half_l, 0.0)
+                ey = max(abs(-s * dx + c * dy) - half_w, 0.0)
+                if k == 0:
+                    gap_before = min(gap_before, math.hypot(ex, ey))
+                else:
+                    gap_after = min(gap_after, math.hypot(ex, ey))
+        result[p] = gap_after < radii[p] and gap_before >= radii[p]
+    return result

@@ -65,8 +65,10 @@ PROFILES = {profile.name: profile
 
 
 def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: float,
-            rng: np.random.Generator) -> FloatArray:
-    """The velocities (R, 2) after one step of dt s from ``velocity`` towards ``command``."""
+            rng: np.random.Generator, noise: FloatArray | None = None) -> FloatArray:
+    """The velocities (R, 2) after one step of dt s from ``velocity`` towards ``command``;
+    a noisy profile's standard normal draws (R, 2) are ``noise`` when given, else drawn from
+    ``rng`` here."""
     if profile.lag > 0.0:
         target = velocity + (command - velocity) * (1.0 - math.exp(-dt / profile.lag))
     else:
@@ -78,7 +80,8 @@ def actuate(profile: Profile, velocity: FloatArray, command: FloatArray, dt: flo
                           0.0, result)
     if profile.linear_noise > 0.0 or profile.angular_noise > 0.0:
         # wheels that are told to stand still do not drift: noise only on commanded motion
-        noise = rng.normal(0.0, 1.0, size=result.shape)
+        if noise is None:
+            noise = rng.normal(0.0, 1.0, size=result.shape)
         driven = np.any(command != 0.0, axis=1, keepdims=True)
         result = result + driven * noise * np.array([profile.linear_noise,
                                                      profile.angular_noise])

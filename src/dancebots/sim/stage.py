@@ -157,8 +157,8 @@ class Stage:
                 np.column_stack([self.discs[:, 2], self.disc_heights]),
                 "geometric" if profile.drive == "geometric" else "calibrated")
         self._free_step_data: tuple[Any, ...] | None = None
-        if (compiled and self.physics is None and len(self.discs) == 0
-                and profile.linear_noise == 0.0 and profile.angular_noise == 0.0):
+        self._noisy = profile.linear_noise > 0.0 or profile.angular_noise > 0.0
+        if compiled and self.physics is None:
             # a step free of contacts in one compiled call (``sim.stage_jit``)
             obstacles = [np.asarray(o.polygon, dtype=float).reshape(-1, 2)
                          for o in arena.obstacles]
@@ -170,7 +170,8 @@ class Stage:
                 self.widths, self.reach, np.ascontiguousarray(arena.room, dtype=float),
                 np.concatenate(obstacles) if obstacles else np.zeros((0, 2)),
                 np.concatenate([[0], np.cumsum([len(o) for o in obstacles])]).astype(np.int64),
-                *self.boundaries.edges())
+                *self.boundaries.edges(), self._noisy,
+                np.array([profile.linear_noise, profile.angular_noise]))
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
         self.corners = self._footprints(self.pose)  # where the robots stand now
@@ -257,15 +258,22 @@ class Stage:
     def advance(self, now: float, command: FloatArray, issued: FloatArray) -> None:
         """Move everything by one ``dt`` from ``now``: commands (R, 2) (v, w) issued at
         ``issued`` (R,) s act under the 10 Hz rule; contacts block and are recorded."""
+        # the profile's noise, drawn once for whichever way the step goes (``actuate``)
+        noise = (self.rng.normal(0.0, 1.0, size=self.velocity.shape) if self._noisy
+                 and self.physics is None else None)
         if self._free_step_data is not None:
             from dancebots.sim.stage_jit import free_step  # imports numba
 
             proposed, corners, velocity, free = free_step(
                 self.pose, self.velocity, np.ascontiguousarray(command, dtype=float),
                 np.ascontiguousarray(issued, dtype=float), float(now),
-                float(self.command_timeout), self.limits, *self._free_step_data)
+                float(self.command_timeout), self.limits,
+                noise if noise is not None else self.velocity, self.discs,
+                *self._free_step_data)
             if free:  # no contact, none near: what the steps below give, in one call
                 self.pose, self.corners, self.velocity = proposed, corners, velocity
+                if len(self.discs):
+                    self._walk_spectators()
                 return
         dt, count = self.dt, len(self.pose)
         pose, corners_now = self.pose, self.corners
@@ -278,7 +286,7 @@ class Stage:
             # it; the engine's speeds are never exactly 0)
             moving = np.any(np.maximum(before, np.abs(velocity)) > MOVING_SPEED, axis=1)
         else:
-            velocity = actuate(self.profile, self.velocity, wanted, dt, self.rng)
+            velocity = actuate(self.profile, self.velocity, wanted, dt, self.rng, noise)
             moving = np.any(velocity != 0.0, axis=1)  # before a contact blocks it
             x, y, theta = integrate_unicycle(pose[:, 0], pose[:, 1], pose[:, 2],
                                              velocity[:, 0], velocity[:, 1], np.full(count, dt))
@@ -360,6 +368,13 @@ class Stage:
         """(P,) the people (centres (P, 2) before and after a step, disc radii (P,)) whose step
         would reach into a robot's footprint from outside: people do not walk into robots,
         so they stand instead; one who already stands in a robot walks on (out of it)."""
+        if self.compiled and len(self.pose):
+            from dancebots.sim.crowd_jit import steps_into_robots  # imports numba
+
+            result_jit: NDArray[np.bool_] = steps_into_robots(
+                np.ascontiguousarray(before, dtype=float), np.ascontiguousarray(after, dtype=float),
+                np.ascontiguousarray(radii, dtype=float), self.pose, self.lengths, self.widths)
+            return result_jit
         gap_before = _footprint_gaps(self.pose, self.lengths, self.widths, before)
         gap_after = _footprint_gaps(self.pose, self.lengths, self.widths, after)
         result: NDArray[np.bool_] = (gap_after < radii) & (gap_before >= radii)

@@ -58,19 +58,24 @@ def _inside(x: float, y: float, polygon: FloatArray) -> bool:
 @njit(cache=True)
 def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
               issued: FloatArray, now: float, timeout: float, limits: FloatArray,
+              noise: FloatArray, discs: FloatArray,
               lagging: bool, lag_factor: float, acceleration: FloatArray,
               standstill: FloatArray,
               dt: float, lengths: FloatArray, widths: FloatArray, reach: FloatArray,
               room: FloatArray, obstacles: FloatArray, obstacle_offsets: NDArray[np.int64],
               start: FloatArray, direction: FloatArray, length2: FloatArray,
+              noisy: bool, noise_scale: FloatArray,
               ) -> tuple[FloatArray, FloatArray, FloatArray, bool]:
     """One step of ``dt`` s of robots at pose (R, 3) with velocity (R, 2) under commands
     (R, 2) issued at ``issued`` (R,) s, at ``now`` s, as ``Stage.advance`` takes it without
-    noise or engine: the commands clipped to ``limits`` (R, 2) and zero when older than
+    engine: the commands clipped to ``limits`` (R, 2) and zero when older than
     ``timeout`` s (``kinematics.fresh_commands``), the velocity after ``actuate`` (with
     ``lagging``, the lag's factor 1 - exp(-dt / lag); ``acceleration`` (2,) the largest
-    change a step, m/s and rad/s; ``standstill`` (2,)), exact arcs (``geometry.integrate_unicycle``,
-    headings wrapped) and footprints (``geometry.footprint_corners``, sizes (R,)).
+    change a step, m/s and rad/s; ``standstill`` (2,); with ``noisy``, the standard normal
+    draws ``noise`` (R, 2) times ``noise_scale`` (2,) on the robots that are driven), exact
+    arcs (``geometry.integrate_unicycle``, headings wrapped) and footprints
+    (``geometry.footprint_corners``, sizes (R,)). People: discs (C, 3) x, y, radius; a
+    footprint within a micrometre of one is a contact (``collision.disc_contacts``).
 
     The boundaries: the room polygon (W, 2), the obstacles' corners (K, 2), obstacle k's
     rows ``obstacle_offsets[k]:obstacle_offsets[k + 1]``, and every edge (``Boundaries``:
@@ -102,6 +107,14 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
             if standstill[d] != 0.0 and wanted == 0.0 and abs(value) < standstill[d]:
                 value = 0.0
             moved[r, d] = value
+        if noisy:  # ``actuate``: result + driven * noise * scale, as NumPy evaluates it
+            driven = 0.0
+            for d in range(2):
+                wanted = min(max(command[r, d], -limits[r, d]), limits[r, d]) if fresh else 0.0
+                if wanted != 0.0:
+                    driven = 1.0
+            for d in range(2):
+                moved[r, d] = moved[r, d] + driven * noise[r, d] * noise_scale[d]
         v, w = moved[r, 0], moved[r, 1]
         dtheta = w * dt
         half = 0.5 * dtheta
@@ -131,6 +144,15 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
                 return proposed, corners, moved, False
     if overlapping_pairs(corners, reach).shape[0] > 0:
         return proposed, corners, moved, False
+    for r in range(count):  # ``disc_contacts`` (``collision.footprint_gaps``), a um to spare
+        c, s = math.cos(proposed[r, 2]), math.sin(proposed[r, 2])
+        half_l, half_w = 0.5 * lengths[r], 0.5 * widths[r]
+        for k in range(discs.shape[0]):
+            dx, dy = discs[k, 0] - proposed[r, 0], discs[k, 1] - proposed[r, 1]
+            ex = max(abs(c * dx + s * dy) - half_l, 0.0)
+            ey = max(abs(-s * dx + c * dy) - half_w, 0.0)
+            if not math.hypot(ex, ey) >= discs[k, 2] + 1e-6:  # (NaN: the NumPy way)
+                return proposed, corners, moved, False
     centres = np.empty((count, 2))
     for r in range(count):
         centres[r, 0] = 0.5 * (corners[r, 0, 0] + corners[r, 2, 0])
