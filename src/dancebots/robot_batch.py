@@ -125,8 +125,6 @@ class BatchBrains:
             self.mates.flags.writeable = False
         else:
             self.mates = np.zeros((1, 0, len(self.grid[0]), 2))
-        self.robot_index = np.arange(count)
-        self.robot_index_3 = np.tile(self.robot_index, 3)
         self.own_frames = np.array([b._own_frame for b in brains])
         self.frame_cos_sin = np.stack([np.cos(self.own_frames[:, 2]),
                                        np.sin(self.own_frames[:, 2])], axis=1)
@@ -182,43 +180,20 @@ class BatchBrains:
         self.events = np.zeros(count, dtype=np.int64)
         self.event_values = np.zeros(count)
 
-    def _grid_rows(self, times: FloatArray, robots: NDArray[np.int64],
-                   ) -> tuple[FloatArray, NDArray[np.bool_]]:
-        """The grid rows (N, 5) of ``robots`` (N,) at ``times`` (N,) s (``RobotBrain.
-        _grid_index``: the last row from the grid's end on), and where a time is on the grid
-        (N,)."""
-        length = self.grid.shape[1]
-        k = np.rint(times / self.period)
-        after = times >= self.grid_end
-        on = after | ((np.abs(k * self.period - times) < 1e-9) & (k >= 0) & (k < length))
-        index = np.where(after, length - 1, np.clip(k, 0, length - 1)).astype(np.int64)
-        return self.grid[robots, index], on
-
-    def references(self, show_times: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
-        """What each follower tracks (R, 5) at its show time (R,) s, and whether its slot
-        stands for good (R,): ``RobotBrain._reference``, from the grid for all robots at once
-        and from the brain where a time falls off it."""
-        count = len(show_times)
-        if self.lead <= 0.0:
-            rows, on = self._grid_rows(show_times, self.robot_index)
-            rows = rows.copy()
-        else:
-            # the pose at the show time, the speeds interpolated between the two grid ticks
-            # around the time ``lead`` s ahead: the three look-ups in one
-            steps = (show_times + self.lead) / self.period
-            first = np.floor(steps)
-            weight = steps - first
-            looked, found = self._grid_rows(
-                np.concatenate([show_times, first * self.period, (first + 1) * self.period]),
-                self.robot_index_3)
-            rows = looked[:count].copy()
-            before, after = looked[count:2 * count], looked[2 * count:]
-            rows[:, 3:] = (1.0 - weight)[:, None] * before[:, 3:] + weight[:, None] * after[:, 3:]
-            on = found[:count] & found[count:2 * count] & found[2 * count:]
-        for i in np.flatnonzero(~on).tolist():
-            exact = self.brains[i]._reference(float(show_times[i]))
-            rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
-        return rows, show_times >= self.rest_from
+    def references(self, show_times: FloatArray,
+                   ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
+        """What each follower tracks (R, 5) at its show time (R,) s, whether its slot stands
+        for good (R,) and where its mates should be (R, M, 2): ``RobotBrain._reference``,
+        from the grid for all robots at once (``robot_batch_jit.grid_lookups``) and from the
+        brain where a time falls off it."""
+        rows, on, mates = self._jit.grid_lookups(
+            self.grid, self.mates, self.period, self.grid_end, self.lead,
+            np.ascontiguousarray(show_times, dtype=np.float64))
+        if not on.all():
+            for i in np.flatnonzero(~on).tolist():
+                exact = self.brains[i]._reference(float(show_times[i]))
+                rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
+        return rows, show_times >= self.rest_from, mates
 
     def step(self, now: float, show_times: FloatArray, poses: FloatArray,
              pose_known: NDArray[np.bool_], arrived: list[PointCloud | None],
@@ -239,22 +214,20 @@ class BatchBrains:
                     self.height_steps[i] = cloud.height_step
                     stamps[i] = cloud.stamp
             self.columns = np.concatenate(self.latest) if count > 1 else self.latest[0]
-            self.offsets[1:] = np.cumsum([len(c) for c in self.latest])
+            sizes = [len(c) for c in self.latest]
+            self.offsets[1:] = np.cumsum(sizes)
             if self.rules[self._jit.PREDICTED] != 0.0:
-                self._make_room_for_tracks(int(np.diff(self.offsets).max()))
-        references, finals = self.references(show_times)
+                self._make_room_for_tracks(max(sizes))
+        references, finals, mates = self.references(show_times)
         if override is not None:
             given = ~np.isnan(override[:, 0])
             references[given] = override[given]
             finals = finals & ~given
-        steps = np.rint(show_times / self.period)
-        index = np.clip(steps, 0, self.mates.shape[2] - 1).astype(np.int64)
-        mates = self.mates[self.robot_index, :, index] if count > 1 else np.zeros((1, 0, 2))
         self._jit.brains_tick(
             now, np.ascontiguousarray(show_times, dtype=np.float64),
             np.ascontiguousarray(poses, dtype=np.float64), pose_known, arrivals, stamps,
             self.columns, self.offsets, self.height_steps, references, finals,
-            np.ascontiguousarray(mates), heard if heard is not None else np.zeros((count, 2)),
+            mates, heard if heard is not None else np.zeros((count, 2)),
             heard is not None, self.frame_cos_sin, self.own_frames, self.sizes, self.limits,
             self.mate_radius, self.gains, self.detect, self.rules, self.history,
             self.history_size, self.seen_from, self.has_seen_from, self.last_show_time,

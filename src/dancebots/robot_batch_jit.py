@@ -36,7 +36,7 @@ from dancebots.perception.fast import (
 from dancebots.perception.tracks_jit import STANDING, TRACKED, track_cloud
 
 __all__ = ["EVENT_BEEP", "EVENT_ERROR_LIDAR", "EVENT_ERROR_POSE", "EVENT_NONE",
-           "EVENT_RESUME", "EVENT_SPEECH", "brains_tick"]
+           "EVENT_RESUME", "EVENT_SPEECH", "brains_tick", "grid_lookups"]
 
 FloatArray = NDArray[np.float64]
 
@@ -382,6 +382,55 @@ def _not_near_mates(world: FloatArray, taken: FloatArray, half: float, mates: Fl
                 last = j
                 break
     return unknown
+
+
+@njit(cache=True)
+def _grid_index(show_time: float, period: float, grid_end: float,
+                length: int) -> tuple[int, bool]:
+    """``RobotBrain._grid_index`` as ``BatchBrains`` computed it with NumPy: the index of
+    ``show_time`` s on a grid of ``length`` entries ``period`` s apart, the last one from
+    ``grid_end`` on, and whether the time is on it (else the index is 0, unused)."""
+    if show_time >= grid_end:
+        return length - 1, True
+    k = np.rint(show_time / period)
+    if abs(k * period - show_time) < 1e-9 and k >= 0 and k < length:
+        return int(k), True
+    return 0, False
+
+
+@njit(cache=True)
+def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: float,
+                 lead: float, show_times: FloatArray,
+                 ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
+    """What each follower tracks on the brains' grid at its show time (R,) s: the rows
+    (R, 5) (x, y, heading, speed, angular speed; with ``lead`` > 0 s the speeds
+    interpolated between the two grid ticks around the time ``lead`` s ahead), whether the
+    row is the grid's (R,) (else the brain computes it: ``RobotBrain._reference``), and
+    where each robot's mates should be (R, M, 2) (the nearest grid tick's). grid (R, T, 5),
+    mates (R, M, T', 2), both in each robot's own frame (``BatchBrains``)."""
+    count, length = grid.shape[0], grid.shape[1]
+    rows = np.empty((count, 5))
+    on = np.empty(count, dtype=np.bool_)
+    places = np.empty((count, mates.shape[1], 2))
+    for r in range(count):
+        show_time = show_times[r]
+        k, found = _grid_index(show_time, period, grid_end, length)
+        rows[r, :] = grid[r, k, :]
+        if lead > 0.0:
+            steps = (show_time + lead) / period
+            first = np.floor(steps)
+            weight = steps - first
+            before, found_before = _grid_index(first * period, period, grid_end, length)
+            after, found_after = _grid_index((first + 1.0) * period, period, grid_end, length)
+            for d in range(3, 5):
+                rows[r, d] = (1.0 - weight) * grid[r, before, d] + weight * grid[r, after, d]
+            found = found and found_before and found_after
+        on[r] = found
+        tick = np.rint(show_time / period)  # (NumPy's clip of it; NaN: the first)
+        last = mates.shape[2] - 1
+        index = 0 if not tick > 0.0 else (last if tick >= last else int(tick))
+        places[r, :, :] = mates[r, :, index, :]
+    return rows, on, places
 
 
 @njit(cache=True, nogil=True)  # (lets a scan run on the other core: ``Stage.scan_ahead``)

@@ -380,7 +380,8 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
                                       < state.column("arrive"))
     low, high = state.column("pause_min"), state.column("pause_max")
-    pause = np.where(arrived, rng.uniform(low, high), state.pause)
+    # ``rng.uniform(low, high)`` as it computes it (the same draws), without its broadcasting
+    pause = np.where(arrived, low + (high - low) * rng.random(count), state.pause)
     was_pausing = pause > 0.0
     pause = np.maximum(pause - dt, 0.0)
     rethink = (was_pausing & (pause <= 0.0)) | (
