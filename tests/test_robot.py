@@ -276,6 +276,42 @@ def test_near_a_stranger_a_robot_turns_slowly_enough_for_its_corners() -> None:
 
 
 
+def test_a_turn_cut_for_a_stranger_slows_the_robot_along_the_same_arc(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A robot 0.3 m to the left of its place, which drives on at 0.35 m/s: the tracking
+    law steers it back on a tight arc. With a person's points 0.8 m to its left (NEAR_GAP)
+    its corners swing at CORNER_SPEED at most, and its speed drops by as much: the same
+    curvature (m^-1) as without the cap (CORNER_SPEED made huge). A cut turn alone would
+    widen the arc: a robot driving to a place 8 cm to its side circled it, turning round
+    210 deg (open-day crowd seed 88 of a reverted variant)."""
+    from dancebots import robot
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import CORNER_SPEED, NEAR_GAP, SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
+    half_diagonal = 0.5 * math.hypot(brain.sensing.length, brain.sensing.width)
+
+    def command_with_person_at(gap: float | None) -> Command:
+        columns = np.zeros((0, 4)) if gap is None else np.array(
+            [[x, 0.3 + gap, 0.0, 1.7] for x in np.linspace(-0.1, 0.1, 5)])
+        state = brain.initial_state()
+        for k in range(20, 23):  # the cloud arrives and is seen
+            place = brain.slot_at(0.1 * k).pose
+            pose = (place[0], place[1] + 0.3, place[2])
+            state, command, _ = brain.step(state, 0.1 * k, pose, PointCloud(0.1 * k, columns),
+                                           clock=0.1 * k)
+        return command
+
+    near = command_with_person_at(0.8 * NEAR_GAP)
+    monkeypatch.setattr(robot, "CORNER_SPEED", 1e9)
+    uncut = command_with_person_at(0.8 * NEAR_GAP)
+    assert uncut.linear > 0.2
+    assert abs(uncut.angular) * half_diagonal > 2.0 * CORNER_SPEED  # a tight arc
+    assert abs(near.angular) * half_diagonal == pytest.approx(CORNER_SPEED)
+    assert near.angular / near.linear == pytest.approx(uncut.angular / uncut.linear)
+
+
 def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:
     """After the plan's end nothing is late: a robot 0.5 m short of its final slot with a
     person 0.8 m beside it (NEAR_GAP) stands, held and holding the show (it asks for room);

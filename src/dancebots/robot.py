@@ -153,10 +153,11 @@ nearest first: up to a little more than a SIM robot's length (1.2 m) beside a ne
 NEAR_GAP = 1.0
 """m: with a stranger (a point that is no mate on its place: a person, a wall) this near its
 footprint, a robot of the tracking and path followers under the ``fixed`` stop rule turns
-at most so fast that its corners swing at :data:`CORNER_SPEED` about its centre (its speed
-along its way is the stop rule's; an addition: a child who runs up at 2 m/s covers this in
-the half second a robot needs to see it and stop its turn; at full turn rate a corner
-swings at 1-2 m/s: the open-day certification's contacts), and
+at most so fast that its corners swing at :data:`CORNER_SPEED` about its centre, slowing
+along the arc it was on by as much (else within the stop rule's speed; an addition: a
+child who runs up at 2 m/s covers this in the half second a robot needs to see it and stop
+its turn; at full turn rate a corner swings at 1-2 m/s: the open-day certification's
+contacts), and
 after the show (the plan's end) it does not move at all: it goes to its final slot once no
 stranger is this near, or :data:`AFTER_SHOW_WAIT` after one came near (a child running round
 a parking robot met it backing up)."""
@@ -637,7 +638,11 @@ class RobotBrain:
                         reference_speed, parked))
             if stranger_near:
                 top = CORNER_SPEED / (0.5 * math.hypot(sensing.length, sensing.width))
-                angular = min(max(angular, -top), top)  # corners swing at CORNER_SPEED at most
+                if abs(angular) > top:  # corners swing at CORNER_SPEED at most, and the
+                    # robot slows along the same arc (a cut turn alone widens it: one that
+                    # drove to a place 8 cm to its side circled it, turning round 210 deg)
+                    linear = linear * (top / abs(angular))
+                    angular = min(max(angular, -top), top)
             making_room = 0.0
             if angular != 0.0 and seen.nearest < turn_reach(
                     self.sensing.length, self.sensing.width, linear, self.sensing.detection):

@@ -647,7 +647,9 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                         rules, stop, rear, s_rear, has_strangers, reference_speed, parked))
             if stranger_near:
                 top = rules[CORNER_SPEED] / (0.5 * math.hypot(length, width))
-                angular = min(max(angular, -top), top)
+                if abs(angular) > top:  # ``RobotBrain.step``: slower along the same arc
+                    linear = linear * (top / abs(angular))
+                    angular = min(max(angular, -top), top)
             if angular != 0.0 and nearest < _turn_reach(length, width, linear, detect):
                 may_make_room = (not held and n_nearest >= _turn_reach(
                     length, width, rules[MAKE_ROOM_SPEED], detect)
