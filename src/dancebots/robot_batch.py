@@ -143,7 +143,8 @@ class BatchBrains:
             robot.CORNER_SPEED, robot.AFTER_SHOW_WAIT, robot.SLOW_TURN_LAG,
             safety.sensor_timeout, float(safety.max_lookup_failures), safety.beep_period,
             ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
-            1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half])
+            1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
+            robot.PAUSE_STILL])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
