@@ -246,6 +246,31 @@ def test_the_compiled_social_forces_are_the_numpy_ones(seed: int, count: int, ro
                                _wall_distance(state.position, walls), rtol=1e-12, atol=0)
 
 
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), people=st.integers(0, 30), robots=st.integers(0, 5))
+def test_the_compiled_steps_into_robots_are_the_numpy_ones(seed: int, people: int,
+                                                           robots: int) -> None:
+    """``crowd_jit.steps_into_robots`` picks the people of ``Stage._steps_into_robots``'s
+    NumPy rule (a step that reaches into a footprint from outside) for random people
+    stepping about random robots, one starting inside a footprint."""
+    from dancebots.sim.crowd_jit import steps_into_robots
+    from dancebots.sim.stage import _footprint_gaps
+
+    rng = np.random.default_rng(seed)
+    poses = np.column_stack([rng.uniform(1.0, 4.0, (robots, 2)),
+                             rng.uniform(-math.pi, math.pi, robots)])
+    lengths, widths = rng.uniform(0.5, 1.2, robots), rng.uniform(0.4, 0.8, robots)
+    before = rng.uniform(0.0, 5.0, (people, 2))
+    if robots and people:
+        before[0] = poses[0, :2]  # inside a footprint
+    after = before + rng.normal(0.0, 0.3, (people, 2))
+    radii = rng.uniform(0.1, 0.3, people)
+    expected = ((_footprint_gaps(poses, lengths, widths, after) < radii)
+                & (_footprint_gaps(poses, lengths, widths, before) >= radii))
+    got = steps_into_robots(before, after, radii, poses, lengths, widths)
+    assert got.tolist() == expected.tolist()
+
+
 def test_a_compiled_crowd_walks_as_the_numpy_one() -> None:
     """Ten seconds of a crowd of children stepped with the compiled forces and with NumPy's
     from the same start and seed: the same people within a millimetre."""

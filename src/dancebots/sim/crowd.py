@@ -368,8 +368,8 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     pause, pauses that end and children who change their mind pick new goals (``areas``:
     each crowd's polygon), then the social forces (:func:`social_acceleration`) move
     everyone in substeps of ``params.substep``, speeds capped at ``max_speed_factor`` times
-    the preferred speed (H&M eq. 7). ``compiled``: the forces as the numba loops of
-    ``sim.crowd_jit`` (the same to 1e-9), else as NumPy arrays."""
+    the preferred speed (H&M eq. 7). ``compiled``: the substeps in one call of
+    ``sim.crowd_jit.walk`` (its forces the same to 1e-9), else as NumPy arrays."""
     count = len(state.position)
     if count == 0:
         return state
