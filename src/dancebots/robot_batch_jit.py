@@ -53,7 +53,7 @@ CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZ
 (FORCE_RADIUS, FORCE_GAIN, APPROACH_GAIN, MATE_GAP, OVERLAP, HOLD_LAG, SLOWED, GIVE_WAY_SPEED,
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
- PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PAUSE_STILL) = range(25)
+ PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PAUSE_STILL, PREDICTED_STOP_TIME) = range(26)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -283,12 +283,13 @@ def _predicted_gaps(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
                     width: float, detect: FloatArray, mates: FloatArray,
                     heard: FloatArray, use_heard: bool, robot: int,
                     frame_cos_sin: FloatArray, own_frame: FloatArray,
-                    mate_radius: float) -> tuple[float, float, float]:
+                    mate_radius: float, stop_time: float) -> tuple[float, float, float]:
     """``RobotBrain._predicted_gaps`` on the points (N, 2) of the latest cloud in
     ``base_link`` at ``pose`` now (the tracker's kinds (N,) and velocities (N, 2), own map
     frame; none when their counts differ: tracks of an older cloud): the tracked
-    strangers' points moved on for ``age`` s, and how far (m) the nearest is ahead and
-    behind in the corridor and from the footprint (inf: none); strangers are more than
+    strangers' points moved on for ``age`` s and for ``age`` + ``stop_time`` s, and how far
+    (m) the nearest is ahead and behind in the corridor and from the footprint (inf: none);
+    strangers are more than
     ``mate_radius`` from every mate's place ``mates`` (M, 2) and, where ``use_heard``, from
     where each other robot said it is (``heard`` (R, 2) show frame, with this robot's
     frame)."""
@@ -323,18 +324,20 @@ def _predicted_gaps(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
                 break
         if near:
             continue
-        # ``predicted_points``: moved on at its velocity, in ``base_link``
+        # ``predicted_points``: moved on at its velocity, in ``base_link``, for the data's
+        # age and for that and the robot's stopping time
         vx, vy = velocity[i, 0], velocity[i, 1]
-        x = px + (vx * c + vy * s) * max(age, 0.0)
-        y = py + (vx * -s + vy * c) * max(age, 0.0)
-        if abs(y) <= 0.5 * width + detect[CORRIDOR_MARGIN]:  # ``clear_distances``
-            if x >= half_l - 1e-9:
-                front = min(front, x - half_l)
-            if x <= -half_l + 1e-9:
-                rear = min(rear, -x - half_l)
-        # ``footprint_clearance``
-        nearest = min(nearest, math.hypot(max(abs(x) - half_l, 0.0),
-                                          max(abs(y) - half_w, 0.0)))
+        for span in (max(age, 0.0), max(age + stop_time, 0.0)):
+            x = px + (vx * c + vy * s) * span
+            y = py + (vx * -s + vy * c) * span
+            if abs(y) <= 0.5 * width + detect[CORRIDOR_MARGIN]:  # ``clear_distances``
+                if x >= half_l - 1e-9:
+                    front = min(front, x - half_l)
+                if x <= -half_l + 1e-9:
+                    rear = min(rear, -x - half_l)
+            # ``footprint_clearance``
+            nearest = min(nearest, math.hypot(max(abs(x) - half_l, 0.0),
+                                              max(abs(y) - half_w, 0.0)))
     return front, rear, nearest
 
 
@@ -625,7 +628,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     point_velocity[r, :point_count[r]], point_kind[r, :point_count[r]], pose,
                     now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),
                     length, width, detect, mates_now, heard, use_heard, r,
-                    frame_cos_sin[r], own_frames[r], mate_radius[r])
+                    frame_cos_sin[r], own_frames[r], mate_radius[r], rules[PREDICTED_STOP_TIME])
             if n_nearest <= rules[OVERLAP]:
                 held = holds_show = True
                 linear = angular = 0.0
