@@ -435,6 +435,44 @@ def test_the_predicted_stop_holds_for_a_stranger_but_not_for_a_moving_mate() -> 
     assert held.holds_show
 
 
+def test_the_predicted_stop_looks_ahead_by_the_robots_stopping_time(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A stranger seen 0.3 s ago 0.35 m before R1's front, beside its corridor, running
+    across it at 1 m/s: moved on for the data's age it is still 0.15 m beside the corridor,
+    moved on for PREDICTED_STOP_TIME more it is 0.15 m inside it: R1 stops and holds the show
+    now, not a stopping time too late (without the stopping time it drives on)."""
+    from dancebots import robot
+    from dancebots.perception.tracks import TRACKED
+    from dancebots.robot import PREDICTED_STOP_TIME, BrainState, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    pose = brain.slot_at(now).pose
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    corridor = 0.5 * brain.sensing.width + brain.sensing.detection.corridor_margin
+    assert pytest.approx(0.3) == PREDICTED_STOP_TIME
+    seen = (0.5 * brain.sensing.length + 0.35, corridor + 0.45)  # base_link, 0.3 s ago
+    across = (s * 1.0, -c * 1.0)  # -y in base_link at 1 m/s, in the own map frame
+
+    def step() -> tuple[robot.Command, BrainState]:
+        state = BrainState(obstacles=np.array([[seen[0], seen[1], 0.0, 1.0]]),
+                           seen_from=pose, cloud_stamp=now - 0.3,
+                           point_velocity=np.array([across]),
+                           point_kind=np.array([TRACKED], dtype=np.int8))
+        state, command, _ = brain.step(state, now, pose, None, clock=now)
+        return command, state
+
+    command, state = step()
+    assert command.linear == 0.0
+    assert state.held
+    assert state.holds_show
+    monkeypatch.setattr(robot, "PREDICTED_STOP_TIME", 0.0)
+    command, state = step()
+    assert command.linear > 0.1
+    assert not state.held
+
+
 def test_the_default_stop_rule_is_predicted_but_fixed_for_the_thesis_follower() -> None:
     """``default_stop_rule``: the thesis's follower keeps the thesis's fixed rule (it
     reproduces the thesis as written); the project's followers predict tracked people; a
