@@ -127,18 +127,13 @@ HOLD_LAG = 0.05
 slows (the approach limit to it) or keeps from turning (the turn guard, with the stranger
 within the turn's reach) holds the formation's shared show clock, as a held robot does
 (``sync.hold``): the formation waits instead of leaving it behind."""
-PAUSE_STILL = 0.15
-"""m: while the formation's shared show clock stands (``sync.hold``) a robot of the tracking
-and path followers this near its place stands still instead of driving onto it: the drive
-to a point a few centimetres to its side turned it by up to 90 deg and back, corners
-swinging beside the people the formation waits for, and its place moves on from where it
-is when the show resumes (the tracking law closes the gap on the way)."""
 PREDICTED_STOP_TIME = 0.3
 """s: the ``predicted`` rule also moves a tracked stranger on for this beyond the data's
 age, the time a robot told to stop still moves (a tick and its drive's lag; ISO 13855's
 stopping time): a child running at 1.7 m/s at a robot driving to its final slot came within
 its corridor in the data only when the robot could no longer stop short of it (open-day
-crowd seed 668 with PAUSE_STILL)."""
+crowd seed 668 of a variant that kept robots near their places still while the show
+waited)."""
 SLOWED = 0.02
 """m/s or rad/s by which a command must be cut to count as slowed (:data:`HOLD_LAG`)."""
 GIVE_WAY_SPEED = 0.05
@@ -550,11 +545,8 @@ class RobotBrain:
                 if paused:  # the shared show clock stopped: the place stands where it is
                     reference = replace(reference, speed=0.0, angular_speed=0.0)
                 reference_speed = abs(reference.speed)
+                linear, angular = tracking_step(self.tracking, pose, reference, seen.force)
                 behind = math.hypot(reference.pose[0] - pose[0], reference.pose[1] - pose[1])
-                if paused and not reference.final and behind <= PAUSE_STILL:
-                    linear, angular = 0.0, 0.0  # near its place it waits where it is
-                else:
-                    linear, angular = tracking_step(self.tracking, pose, reference, seen.force)
             else:
                 sample = self._sample(show_time)
                 follower, (linear, angular) = thesis_follower_step(

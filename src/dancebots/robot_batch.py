@@ -144,7 +144,7 @@ class BatchBrains:
             safety.sensor_timeout, float(safety.max_lookup_failures), safety.beep_period,
             ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
-            robot.PAUSE_STILL, robot.PREDICTED_STOP_TIME])
+            robot.PREDICTED_STOP_TIME])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
