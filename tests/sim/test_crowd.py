@@ -271,6 +271,19 @@ def test_the_compiled_steps_into_robots_are_the_numpy_ones(seed: int, people: in
     assert got.tolist() == expected.tolist()
 
 
+def test_the_pauses_are_drawn_as_generator_uniform_draws_them() -> None:
+    """``crowd_step`` draws pauses as ``low + (high - low) * rng.random(n)`` (without
+    ``Generator.uniform``'s broadcasting, 4 times slower here): the same numbers, bit for bit,
+    and the generator left in the same state, so runs stay as they were."""
+    low = np.array([3.0, 0.5, 3.0, 0.5])  # the kinds' pause_min and pause_max
+    high = np.array([12.0, 5.0, 12.0, 5.0])
+    ours, numpy_s = np.random.default_rng(11), np.random.default_rng(11)
+    for _ in range(200):
+        assert (low + (high - low) * ours.random(len(low))).tobytes() == (
+            numpy_s.uniform(low, high).tobytes())
+    assert ours.random() == numpy_s.random()
+
+
 def test_a_compiled_crowd_walks_as_the_numpy_one() -> None:
     """Ten seconds of a crowd of children stepped with the compiled forces and with NumPy's
     from the same start and seed: the same people within a millimetre."""

@@ -10,9 +10,20 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["near_segments", "overlapping_pairs"]
+__all__ = ["footprint_gap", "near_segments", "overlapping_pairs"]
 
 FloatArray = NDArray[np.float64]
+
+
+@njit(cache=True)
+def footprint_gap(dx: float, dy: float, cos: float, sin: float, half_length: float,
+                  half_width: float) -> float:
+    """The distance (m) from a point ``(dx, dy)`` from a robot's centre (world axes) to its
+    footprint (heading's cos and sin, half sizes, m); 0 on or in it
+    (``collision.footprint_gaps`` for one point, the same arithmetic)."""
+    ex = max(abs(cos * dx + sin * dy) - half_length, 0.0)
+    ey = max(abs(-sin * dx + cos * dy) - half_width, 0.0)
+    return math.hypot(ex, ey)
 
 
 @njit(cache=True)

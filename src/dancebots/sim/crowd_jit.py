@@ -12,6 +12,10 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from dancebots.jit_cache import drop_stale
+from dancebots.sim import collision_jit
+from dancebots.sim.collision_jit import footprint_gap
+
 __all__ = ["social_acceleration_loops", "steps_into_robots", "walk", "wall_distances"]
 
 FloatArray = NDArray[np.float64]
@@ -186,14 +190,12 @@ def steps_into_robots(before: FloatArray, after: FloatArray, radii: FloatArray,
         for r in range(poses.shape[0]):
             c, s = math.cos(poses[r, 2]), math.sin(poses[r, 2])
             half_l, half_w = 0.5 * lengths[r], 0.5 * widths[r]
-            for k in range(2):
-                dx = (before[p, 0] if k == 0 else after[p, 0]) - poses[r, 0]
-                dy = (before[p, 1] if k == 0 else after[p, 1]) - poses[r, 1]
-                ex = max(abs(c * dx + s * dy) - half_l, 0.0)
-                ey = max(abs(-s * dx + c * dy) - half_w, 0.0)
-                if k == 0:
-                    gap_before = min(gap_before, math.hypot(ex, ey))
-                else:
-                    gap_after = min(gap_after, math.hypot(ex, ey))
+            gap_before = min(gap_before, footprint_gap(
+                before[p, 0] - poses[r, 0], before[p, 1] - poses[r, 1], c, s, half_l, half_w))
+            gap_after = min(gap_after, footprint_gap(
+                after[p, 0] - poses[r, 0], after[p, 1] - poses[r, 1], c, s, half_l, half_w))
         result[p] = gap_after < radii[p] and gap_before >= radii[p]
     return result
+
+
+drop_stale(__import__(__name__, fromlist=["_"]), (collision_jit,))  # calls footprint_gap

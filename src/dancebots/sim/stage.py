@@ -158,6 +158,7 @@ class Stage:
                 "geometric" if profile.drive == "geometric" else "calibrated")
         self._free_step_data: tuple[Any, ...] | None = None
         self._noisy = profile.linear_noise > 0.0 or profile.angular_noise > 0.0
+        self._no_noise = np.zeros((count, 2))  # the free step's draws in a quiet profile
         if compiled and self.physics is None:
             # a step free of contacts in one compiled call (``sim.stage_jit``)
             obstacles = [np.asarray(o.polygon, dtype=float).reshape(-1, 2)
@@ -268,7 +269,7 @@ class Stage:
                 self.pose, self.velocity, np.ascontiguousarray(command, dtype=float),
                 np.ascontiguousarray(issued, dtype=float), float(now),
                 float(self.command_timeout), self.limits,
-                noise if noise is not None else self.velocity, self.discs,
+                noise if noise is not None else self._no_noise, self.discs,
                 *self._free_step_data)
             if free:  # no contact, none near: what the steps below give, in one call
                 self.pose, self.corners, self.velocity = proposed, corners, velocity

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from dancebots.jit_cache import drop_stale
 from dancebots.sim import collision_jit
-from dancebots.sim.collision_jit import near_segments, overlapping_pairs
+from dancebots.sim.collision_jit import footprint_gap, near_segments, overlapping_pairs
 
 __all__ = ["free_step"]
 
@@ -99,8 +99,11 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
                 return proposed, corners, moved, False
     for r in range(count):
         fresh = (now - issued[r]) <= timeout + 1e-9
+        driven = 0.0  # (``actuate``: noise only on commanded motion)
         for d in range(2):
             wanted = min(max(command[r, d], -limits[r, d]), limits[r, d]) if fresh else 0.0
+            if wanted != 0.0:
+                driven = 1.0
             current = velocity[r, d]
             target = current + (wanted - current) * lag_factor if lagging else wanted
             value = current + min(max(target - current, -acceleration[d]), acceleration[d])
@@ -108,11 +111,6 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
                 value = 0.0
             moved[r, d] = value
         if noisy:  # ``actuate``: result + driven * noise * scale, as NumPy evaluates it
-            driven = 0.0
-            for d in range(2):
-                wanted = min(max(command[r, d], -limits[r, d]), limits[r, d]) if fresh else 0.0
-                if wanted != 0.0:
-                    driven = 1.0
             for d in range(2):
                 moved[r, d] = moved[r, d] + driven * noise[r, d] * noise_scale[d]
         v, w = moved[r, 0], moved[r, 1]
@@ -148,10 +146,9 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
         c, s = math.cos(proposed[r, 2]), math.sin(proposed[r, 2])
         half_l, half_w = 0.5 * lengths[r], 0.5 * widths[r]
         for k in range(discs.shape[0]):
-            dx, dy = discs[k, 0] - proposed[r, 0], discs[k, 1] - proposed[r, 1]
-            ex = max(abs(c * dx + s * dy) - half_l, 0.0)
-            ey = max(abs(-s * dx + c * dy) - half_w, 0.0)
-            if not math.hypot(ex, ey) >= discs[k, 2] + 1e-6:  # (NaN: the NumPy way)
+            gap = footprint_gap(discs[k, 0] - proposed[r, 0], discs[k, 1] - proposed[r, 1],
+                                c, s, half_l, half_w)
+            if not gap >= discs[k, 2] + 1e-6:  # (NaN: the NumPy way)
                 return proposed, corners, moved, False
     centres = np.empty((count, 2))
     for r in range(count):
