@@ -87,7 +87,9 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     assert cert["runs_unfinished"] == 3
     assert [r["seed"] for r in cert["per_run"]] == [4, 5, 6]
     assert ("3 of 3 shows did not finish: the formation waited for a held robot until the "
-            "run's limit (seeds 4, 5, 6)") in done.stdout
+            "run's limit, for people within 2 m of it 100 % of the time the clock stood (seeds "
+            "4, 5, 6)") in done.stdout
+    assert cert["runs_stalled"] == 0  # the bystander explains every stood tick
     # the bystander stands on R1's last leg for good: safe, but the formation waits for R1
     # until the run ends (SimConfig.max_pause)
     assert main(["run", str(examples / "thesis_7_1.dance"), "--world", world, "--profile",
@@ -133,6 +135,38 @@ def test_the_certificate_counts_the_robots_doing_apart() -> None:
     failing = certificate(job, [run(0, 1, 0, 0.0)], 1.0, 1)
     assert not failing.passed
     assert failing.to_json()["runs_with_contacts_moving"] == 1
+
+
+def test_the_certificate_says_why_shows_did_not_finish_and_fails_a_stall() -> None:
+    from dancebots.cli.certify import _failures
+
+    def run(seed: int, finished: bool, stood: float, for_people: float) -> RunSummary:
+        return RunSummary(seed, 0, 0, 0, 0.2, 10.0, 3, 0.05, 0.0, finished, 0.02, finished,
+                          (), 1.0, stood, for_people)
+
+    job = CertifyJob("show.dance", "world.toml")
+    crowded = certificate(job, [run(0, True, 20.0, 20.0), run(1, False, 150.0, 60.0),
+                                run(2, False, 100.0, 100.0)], 3.0, 2)
+    assert not crowded.passed
+    assert crowded.unfinished_for_people() == pytest.approx(160.0 / 250.0)
+    assert _failures(crowded) == (
+        "2 of 3 shows did not finish: the formation waited for a held robot until the run's "
+        "limit, for people within 2 m of it 64 % of the time the clock stood (seeds 1, 2)",
+        "in 1 of 3 runs the formation stood 3 s or more with nobody within 2 m of the robots "
+        "that held it (robots waiting for each other, for a wall, or for a failed or silent "
+        "mate; seeds 1)")
+    # a clock that stood 3 s or more with nobody near fails the certificate, finished or not
+    stalled = certificate(job, [run(0, True, 20.0, 20.0), run(1, True, 13.0, 10.0)], 3.0, 2)
+    assert not stalled.passed
+    assert stalled.runs[1].stalled
+    assert not stalled.runs[0].stalled
+    assert stalled.to_json()["runs_stalled"] == 1
+    assert stalled.to_json()["clock_stood_otherwise_s"]["max"] == 3.0
+    assert _failures(stalled) == (
+        "in 1 of 2 runs the formation stood 3 s or more with nobody within 2 m of the robots "
+        "that held it (robots waiting for each other, for a wall, or for a failed or silent "
+        "mate; seeds 1)",)
+    assert certificate(job, [run(0, True, 20.0, 17.1)], 1.0, 1).passed
 
 
 def test_sigterm_stops_certify_and_its_workers(examples: Path, data: Path,

@@ -11,11 +11,12 @@ import pytest
 
 from dancebots.check import CheckOptions
 from dancebots.loading import load_show
-from dancebots.plan.placement import places_followed
-from dancebots.report.metrics import run_metrics
-from dancebots.report.verdict import run_verdict
+from dancebots.plan.compile import compile_scenario
+from dancebots.plan.placement import place_show, places_followed
+from dancebots.report.metrics import clock_waits, run_metrics
+from dancebots.report.verdict import STALL_TOLERANCE, run_verdict
 from dancebots.robot import BrainOptions
-from dancebots.shows.formation import RunResult, SimConfig, simulate
+from dancebots.shows.formation import Fault, RunResult, SimConfig, simulate
 from dancebots.sim.kinematics import REALISTIC
 from dancebots.sim.setup import prepare_show
 
@@ -66,6 +67,43 @@ def test_every_robot_shares_one_show_time_and_it_stops_while_r1_waits() -> None:
     assert not result.holds[1:].any()  # R2 and R3 wait; only R1 holds the show
     # where the shared clock stood, the recorded places stood too (no speed)
     assert np.all(result.reference[:, 1:, 3][:, paused] == 0.0)
+
+
+def test_the_clock_stands_for_the_bystander_and_the_metrics_say_so() -> None:
+    result = _run()
+    waits = clock_waits(result)
+    # R1 waits for the bystander in its lane: every stood tick has her near the holder
+    assert 5.0 <= waits.stood <= 12.0
+    assert waits.for_people == pytest.approx(waits.stood)
+    metrics = run_metrics(result)
+    assert (metrics.clock_stood, metrics.clock_stood_for_people) == waits
+    assert metrics.clock_stood_otherwise == 0.0
+    assert metrics.to_json()["clock_stood_s"] == round(waits.stood, 4)
+
+
+def test_a_formation_that_stands_for_a_failed_robot_with_nobody_near_is_a_stall() -> None:
+    _, plan, diagnostics = compile_scenario("robots R1 R2\nrow R1,R2 0 1.2\nmove 6 0\n",
+                                            "t.dance")
+    assert plan is not None, diagnostics
+    arena, placement = prepare_show(place_show(plan, None))
+    result = simulate(plan, arena, placement, SimConfig(
+        brain=BrainOptions(follower="path"), faults=(Fault("R2", "lidar", 3.0),),
+        max_pause=10.0, settle=2.0))
+    metrics = run_metrics(result)
+    # R2's error holds the show from about 3.3 s of show time for the rest of the run;
+    # no person is in the room, so none of the stood clock is explained by people
+    assert metrics.clock_stood >= 10.0
+    assert metrics.clock_stood_for_people == 0.0
+    failures = run_verdict(metrics).failures
+    assert (f"the formation stood {metrics.clock_stood:.1f} s with nobody within 2 m of the "
+            "robots that held it (robots waiting for each other, for a wall, or for a failed "
+            "or silent mate)") in failures
+    unfinished = next(f for f in failures if f.startswith("the show did not finish"))
+    assert unfinished.endswith(f"(the clock stood {metrics.clock_stood:.1f} s, 0 % of it with "
+                               "a person within 2 m of a robot that held it)")
+    # below the tolerance, no stall line
+    short = replace(metrics, clock_stood=STALL_TOLERANCE - 0.1)
+    assert not any(f.startswith("the formation stood") for f in run_verdict(short).failures)
 
 
 def test_delayed_and_lost_hold_messages_keep_the_formation_together() -> None:

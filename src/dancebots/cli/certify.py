@@ -268,6 +268,9 @@ def _outcome(job: CertifyJob, summaries: list[RunSummary], wall: float, processe
 
 
 def _failures(cert: Certificate) -> tuple[str, ...]:
+    from dancebots.report.metrics import PERSON_NEAR
+    from dancebots.report.verdict import STALL_TOLERANCE
+
     lines = []
     if cert.contacts_moving:
         runs = [r.seed for r in cert.runs if r.contacts_moving]
@@ -279,9 +282,19 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
                      f"obstacles in {len(runs)} runs (seeds {_seeds(runs)})")
     if cert.unfinished:
         runs = [r.seed for r in cert.runs if not r.finished]
+        share = cert.unfinished_for_people()
+        why = "" if share is None else (
+            f", for people within {PERSON_NEAR:g} m of it {100.0 * share:.0f} % of the time "
+            "the clock stood")
         lines.append(f"{cert.unfinished} of {len(cert.runs)} shows did not finish: the "
-                     "formation waited for a held robot until the run's limit (seeds "
+                     f"formation waited for a held robot until the run's limit{why} (seeds "
                      f"{_seeds(runs)})")
+    if cert.stalled:
+        runs = [r.seed for r in cert.runs if r.stalled]
+        lines.append(f"in {cert.stalled} of {len(cert.runs)} runs the formation stood "
+                     f"{STALL_TOLERANCE:g} s or more with nobody within {PERSON_NEAR:g} m of the "
+                     "robots that held it (robots waiting for each other, for a wall, or for a "
+                     f"failed or silent mate; seeds {_seeds(runs)})")
     return tuple(lines)
 
 
@@ -327,6 +340,12 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
     out.print(f"held by the stop rule, robot-s per run: median {held['median']:.1f}, max "
               f"{held['max']:.1f}; rest after the planned end, s: median "
               f"{overrun['median']:.1f}, max {overrun['max']:.1f}", highlight=False)
+    stood, otherwise = data["clock_stood_s"], data["clock_stood_otherwise_s"]
+    assert isinstance(stood, dict)
+    assert isinstance(otherwise, dict)
+    out.print(f"the shared show clock stood, s per run: median {stood['median']:.1f}, max "
+              f"{stood['max']:.1f}; of it with nobody near the robots that held it: median "
+              f"{otherwise['median']:.1f}, max {otherwise['max']:.1f}", highlight=False)
     apart = data["held_place_error_m"]
     assert isinstance(apart, dict)
     if apart["max"] is not None:
@@ -339,7 +358,8 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)
     if cert.passed:
         out.print("verdict: PASSED (no moving robot touched a person, no robot touched a "
-                  "robot, wall or obstacle, every show finished)", style="bold green",
+                  "robot, wall or obstacle, every show finished, no formation stood for "
+                  "nothing)", style="bold green",
                   highlight=False)
         return
     out.print("verdict: FAILED", style="bold red", highlight=False)

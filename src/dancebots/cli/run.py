@@ -318,6 +318,10 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     if metrics.held_place_error is not None:
         out.print(f"farthest a robot was from its place while a robot was held: "
                   f"{metrics.held_place_error:.2f} m", highlight=False)
+    if metrics.clock_stood > 0.0:
+        out.print(f"the shared show clock stood {metrics.clock_stood:.1f} s, "
+                  f"{metrics.clock_stood_for_people:.1f} s of it with a person near a robot that "
+                  "held it", highlight=False)
     style = "bold red" if metrics.collisions else "green"
     out.print(f"collisions: {metrics.collisions}", style=style, highlight=False)
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)

@@ -58,7 +58,9 @@ class RunSummary:
     robot from its place while some robot was held, m (None: none was); overrun: s from the
     planned end until the last robot came to rest; finished: whether the show reached its
     end (not: the formation waited for a held robot until the run's limit); max_final_error:
-    m; clean: the run's verdict; failures: its lines; wall: s the run took.
+    m; clean: the run's verdict; failures: its lines; wall: s the run took; clock_stood: s the
+    formation's shared show clock stood during the show, clock_stood_for_people: s of it with
+    a person near a robot that held it (``report.metrics.clock_waits``).
     """
 
     seed: int
@@ -75,6 +77,20 @@ class RunSummary:
     clean: bool
     failures: tuple[str, ...]
     wall: float
+    clock_stood: float = 0.0
+    clock_stood_for_people: float = 0.0
+
+    @property
+    def clock_stood_otherwise(self) -> float:
+        """s the clock stood with nobody near the robots that held it."""
+        return max(self.clock_stood - self.clock_stood_for_people, 0.0)
+
+    @property
+    def stalled(self) -> bool:
+        """The clock stood ``report.verdict.STALL_TOLERANCE`` s or more with nobody near."""
+        from dancebots.report.verdict import STALL_TOLERANCE
+
+        return self.clock_stood_otherwise >= STALL_TOLERANCE - 1e-9
 
 
 def load_job(job: CertifyJob) -> LoadedShow:
@@ -147,15 +163,17 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         max(metrics.run_duration - metrics.show_duration, 0.0),
         metrics.final_show_time is None or metrics.final_show_time >= metrics.show_duration - 1e-6,
         metrics.max_final_error,
-        not failures, tuple(failures), wall)
+        not failures, tuple(failures), wall, metrics.clock_stood,
+        metrics.clock_stood_for_people)
 
 
 @dataclass(frozen=True, slots=True)
 class Certificate:
     """A certification's result: the job, the runs (one :class:`RunSummary` per seed, in seed
     order), the wall time (s) and how many processes ran them. ``passed``: no contact of a
-    moving robot with a person, no contact of a robot with a robot, wall or obstacle, and
-    every show finished (a show that waits for people for ever is no show) in every run."""
+    moving robot with a person, no contact of a robot with a robot, wall or obstacle, every
+    show finished (a show that waits for people for ever is no show) and no formation stood
+    for nothing (:attr:`RunSummary.stalled`) in every run."""
 
     job: CertifyJob
     runs: tuple[RunSummary, ...]
@@ -179,8 +197,20 @@ class Certificate:
         return sum(1 for r in self.runs if not r.finished)
 
     @property
+    def stalled(self) -> int:
+        return sum(1 for r in self.runs if r.stalled)
+
+    @property
     def passed(self) -> bool:
-        return self.contacts_moving == 0 and self.robot_contacts == 0 and self.unfinished == 0
+        return (self.contacts_moving == 0 and self.robot_contacts == 0 and self.unfinished == 0
+                and self.stalled == 0)
+
+    def unfinished_for_people(self) -> float | None:
+        """The share (0-1) of the time the clock stood in the unfinished runs with a person
+        near a robot that held it (None: no unfinished run with a stood clock)."""
+        stood = sum(r.clock_stood for r in self.runs if not r.finished)
+        people = sum(r.clock_stood_for_people for r in self.runs if not r.finished)
+        return people / stood if stood > 0.0 else None
 
     def gaps(self) -> np.ndarray:
         """The smallest robot-person gap of every run that had people (m)."""
@@ -206,6 +236,10 @@ class Certificate:
             "robot_contacts": self.robot_contacts,
             "runs_not_clean": sum(1 for r in self.runs if not r.clean),
             "runs_unfinished": self.unfinished,
+            "runs_stalled": self.stalled,
+            "clock_stood_s": stats(np.array([r.clock_stood for r in self.runs])),
+            "clock_stood_otherwise_s": stats(np.array([r.clock_stood_otherwise
+                                                       for r in self.runs])),
             "min_person_gap_m": stats(self.gaps()),
             "held_robot_s": stats(np.array([r.held for r in self.runs])),
             "held_place_error_m": stats(np.array([r.held_place_error for r in self.runs

@@ -36,15 +36,18 @@ __all__ = [
     "ANGULAR_DEADBAND",
     "DESIRED_SPEED_MIN",
     "FACING_AWAY_ANGLE",
+    "PERSON_NEAR",
     "REVERSE_DISTANCE_MIN",
     "REVERSE_SPEED_MIN",
     "WHEEL_TURN_MIN",
+    "ClockWaits",
     "FormationError",
     "OffFormation",
     "RobotMetrics",
     "RowMetrics",
     "RunMetrics",
     "against_desired",
+    "clock_waits",
     "formation_error",
     "heading_errors",
     "held_place_error",
@@ -79,6 +82,10 @@ the longest such way."""
 ANGULAR_DEADBAND = 0.05
 """rad/s: commanded angular speeds smaller than this are ignored when counting sign flips
 (chatter): 0.3 -> 0.01 -> -0.3 is one flip, 0.03 -> -0.03 none."""
+PERSON_NEAR = 2.0
+"""m: a person this near the footprint of a robot that holds the formation's shared show
+clock explains the wait (the obstacle detection's square, ``DetectorParams.crop_half``):
+:func:`clock_waits`."""
 FACING_AWAY_ANGLE = 90.0
 """deg: a robot whose heading is more than this away from its desired heading faces away
 from it (its back to the direction it should face)."""
@@ -184,6 +191,14 @@ class RunMetrics:
     min_person_gap: float | None = None
     held_place_error: float | None = None
     final_show_time: float | None = None
+    clock_stood: float = 0.0
+    clock_stood_for_people: float = 0.0
+
+    @property
+    def clock_stood_otherwise(self) -> float:
+        """s the shared show clock stood with no person near a robot that held it
+        (:func:`clock_waits`): the robots' or the plan's doing."""
+        return max(self.clock_stood - self.clock_stood_for_people, 0.0)
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -253,6 +268,8 @@ class RunMetrics:
             "min_person_gap_m": r3(self.min_person_gap),
             "held_place_error_m": r3(self.held_place_error),
             "final_show_time_s": r3(self.final_show_time),
+            "clock_stood_s": r3(self.clock_stood),
+            "clock_stood_for_people_s": r3(self.clock_stood_for_people),
             "max_spacing_change_m": r3(self.max_spacing_change),
             "rms_slot_error_m": r3(self.rms_slot_error),
             "max_slot_error_m": r3(self.max_slot_error),
@@ -355,6 +372,7 @@ def run_metrics(result: RunResult) -> RunMetrics:
                                       result.wheel_rates[i, during])
                      if result.wheel_rates is not None else None)
         for i, name in enumerate(result.robots))
+    waits = clock_waits(result)
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
         float(result.times[-1]), robots, tuple(_rows(result)), len(result.collisions),
@@ -374,7 +392,53 @@ def run_metrics(result: RunResult) -> RunMetrics:
             result.spectator_radii),
         held_place_error=held_place_error(
             result, stopped | (result.holds if result.holds is not None else stopped), during),
-        final_show_time=float(result.show_time[:, -1].min()) if len(result.times) else None)
+        final_show_time=float(result.show_time[:, -1].min()) if len(result.times) else None,
+        clock_stood=waits.stood, clock_stood_for_people=waits.for_people)
+
+
+class ClockWaits(NamedTuple):
+    """How long (s) the formation's shared show clock stood during the show (``stood``) and,
+    of that, with a person within :data:`PERSON_NEAR` of a robot that held it
+    (``for_people``: a wait the people explain; the rest is the robots' or the plan's)."""
+
+    stood: float
+    for_people: float
+
+
+def clock_waits(result: RunResult, near: float = PERSON_NEAR) -> ClockWaits:
+    """The run's :class:`ClockWaits`. The clock stands at a tick where the formation's show
+    time (the earliest robot's, ``RunResult.show_time``) is in [0, the plan's duration) and
+    has not advanced since the tick before. A robot holds it at that tick when
+    ``RunResult.holds`` says so at that tick or at the ticks a hold message takes to reach
+    the others (one tick plus ``SimConfig.hold_delay``): mates resume a tick after the
+    holder. Each stood tick counts its sample period. 0 s for both without a shared clock."""
+    times = result.times
+    if len(times) < 2 or result.holds is None:
+        return ClockWaits(0.0, 0.0)
+    period = float(np.median(np.diff(times)))
+    clock = result.show_time.min(axis=0)  # (T,)
+    stood = np.zeros(len(times), dtype=bool)
+    stood[1:] = (np.diff(clock) <= 0.0) & (clock[1:] >= 0.0) & (
+        clock[1:] < result.plan.duration - 1e-9)
+    if not stood.any():
+        return ClockWaits(0.0, 0.0)
+    lag = 1 + math.ceil(result.config.hold_delay / period - 1e-9)
+    holding = result.holds.copy()  # (R, T): held at the tick or within the message's lag
+    for shift in range(1, lag + 1):
+        holding[:, shift:] |= result.holds[:, :-shift]
+    explained = np.zeros(len(times), dtype=bool)
+    people = result.spectators  # (C, T, 2)
+    if people.shape[0]:
+        ticks = np.flatnonzero(stood)
+        for r, robot_type in enumerate(result.placement.types):
+            mine = ticks[holding[r, ticks]]
+            if not len(mine):
+                continue
+            gaps = footprint_gaps(people[:, mine], result.poses[r, mine][None],
+                                  robot_type.length, robot_type.width)  # (C, n)
+            gaps = gaps - result.spectator_radii[:, None]  # (NaN: not in the room)
+            explained[mine] |= (np.where(np.isnan(gaps), np.inf, gaps) < near).any(axis=0)
+    return ClockWaits(float(stood.sum()) * period, float((stood & explained).sum()) * period)
 
 
 def held_place_error(result: RunResult, stopped: BoolArray, during: BoolArray,

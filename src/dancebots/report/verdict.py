@@ -4,8 +4,10 @@ A show runs clean when no robot touched another robot, a wall, an obstacle or a 
 robot went into its error state, every robot ends near its final slot (a formation show
 that ends out of formation did not look like one), no robot drives against the direction its
 slot moves for more than a small part of the time (a robot that turned round and reverses),
-every robot ends facing about the way its final slot faces, and no robot leaves its formation
-on the way (further from its place than the formation is deep plus its own length: a robot
+every robot ends facing about the way its final slot faces, the formation's shared show clock
+does not stand for long with nobody near the robots that hold it (robots waiting for each other,
+for a wall, for a lost or failed mate: ``report.metrics.clock_waits``), and no robot leaves its
+formation on the way (further from its place than the formation is deep plus its own length: a robot
 left standing behind a corner, ``report.metrics.off_formation``). Pure functions of the metrics;
 the shells turn a verdict into their exit status (0 clean, 1 not).
 """
@@ -21,7 +23,7 @@ if TYPE_CHECKING:
     from dancebots.report.queue_metrics import QueueMetrics
 
 __all__ = ["FINAL_HEADING_TOLERANCE", "FINAL_SLOT_TOLERANCE", "OFF_FORMATION_TOLERANCE",
-           "REVERSE_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
+           "REVERSE_TOLERANCE", "STALL_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
 
 FINAL_SLOT_TOLERANCE = 0.5
 """m: a robot that ends further than this from its final slot fails the show (about a robot's
@@ -38,6 +40,12 @@ OFF_FORMATION_TOLERANCE = 1.0
 """s: a robot outside its formation's block (``RobotMetrics.off_formation_time``) this long in
 one go fails the show: a moment is a robot swinging wide, a second is one left behind (the
 findings of check's simulation pass report the same stretches)."""
+
+STALL_TOLERANCE = 3.0
+"""s: the formation's shared show clock standing this long or longer, over the show, with no
+person within ``report.metrics.PERSON_NEAR`` of a robot that held it fails the show: waiting
+for people is the stop rule's work, waiting for nothing near is a stall (the bundled examples
+and the certified crowds have 0 s of it)."""
 
 _KINDS = {"robot": ("collision between robots", "collisions between robots"),
           "spectator": ("contact with a person", "contacts with people"),
@@ -74,9 +82,12 @@ def _contacts(events: Sequence[dict[str, object]]) -> list[str]:
 def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERANCE,
                 reverse_tolerance: float = REVERSE_TOLERANCE,
                 heading_tolerance: float = FINAL_HEADING_TOLERANCE,
-                off_formation_tolerance: float = OFF_FORMATION_TOLERANCE) -> Verdict:
+                off_formation_tolerance: float = OFF_FORMATION_TOLERANCE,
+                stall_tolerance: float = STALL_TOLERANCE) -> Verdict:
     """The verdict on a formation show; final_tolerance in m, reverse_tolerance a fraction,
-    heading_tolerance in deg, off_formation_tolerance in s."""
+    heading_tolerance in deg, off_formation_tolerance and stall_tolerance in s."""
+    from dancebots.report.metrics import PERSON_NEAR
+
     failures = _contacts(metrics.collision_events)
     for robot in metrics.robots:
         if robot.error is not None:
@@ -96,7 +107,11 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
             metrics.final_show_time < metrics.show_duration - 1e-6):
         failures.append(f"the show did not finish: the formation waited for a held robot until "
                         f"the run ended at show time {metrics.final_show_time:.1f} s of "
-                        f"{metrics.show_duration:.1f} s")
+                        f"{metrics.show_duration:.1f} s{_waits_text(metrics)}")
+    if metrics.clock_stood_otherwise >= stall_tolerance - 1e-9:
+        failures.append(f"the formation stood {metrics.clock_stood_otherwise:.1f} s with nobody "
+                        f"within {PERSON_NEAR:g} m of the robots that held it (robots waiting "
+                        f"for each other, for a wall, or for a failed or silent mate)")
     outside = [r for r in metrics.robots
                if r.off_formation_time >= off_formation_tolerance - 1e-9]
     if outside:
@@ -129,3 +144,15 @@ def queue_verdict(metrics: QueueMetrics) -> Verdict:
         failures.append(f"the queue is broken: {' '.join(broken)} no longer follow"
                         + ("s" if len(broken) == 1 else "") + " the one in front")
     return Verdict(tuple(failures))
+
+
+def _waits_text(metrics: RunMetrics) -> str:
+    """How long the shared clock stood and how much of it people explain, for the line of a
+    show that did not finish ("" without a stood clock)."""
+    from dancebots.report.metrics import PERSON_NEAR
+
+    if metrics.clock_stood <= 0.0:
+        return ""
+    share = 100.0 * metrics.clock_stood_for_people / metrics.clock_stood
+    return (f" (the clock stood {metrics.clock_stood:.1f} s, {share:.0f} % of it with a person "
+            f"within {PERSON_NEAR:g} m of a robot that held it)")
