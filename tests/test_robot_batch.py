@@ -92,6 +92,21 @@ def test_batch_runs_a_show_among_a_crowd_as_the_brains_do(config: SimConfig) -> 
     assert any(e.kind == "speech" for e in batched.events)
 
 
+def test_batch_runs_the_paced_clock_as_the_brains_do() -> None:
+    """The ``paced`` hold strategy: robots slowed and left behind by people say a pace, every
+    clock runs at the smallest, and each place follows at its clock's rate (open-day crowd,
+    realistic profile; a seed where paces below 1 and stops both happen)."""
+    data = ROOT / "src" / "dancebots" / "data"
+    reference, batched = both(data / "open_day.dance", data / "open_day_crowd.toml",
+                              replace(PATH, profile=REALISTIC, seed=2, hold="paced"))
+    assert_same_run(reference, batched)
+    clock = batched.show_time.min(axis=0)
+    steps = np.diff(clock)
+    during = clock[1:] < batched.plan.duration
+    # the clock ran slow (neither stood nor ran at the full 0.1 s a tick) for a while
+    assert np.count_nonzero(during & (steps > 1e-6) & (steps < 0.1 - 1e-6)) >= 20
+
+
 @pytest.mark.parametrize(("world", "seed"), [("open_day_crowd.toml", 41),
                                              ("open_day_runners.toml", 9)])
 def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(

@@ -171,6 +171,22 @@ a parking robot met it backing up)."""
 CORNER_SPEED = 0.25
 """m/s: the fastest a robot's corners swing about its centre as it turns with a stranger
 within :data:`NEAR_GAP` (ISO 10218-1's reduced speed for working beside people, 250 mm/s)."""
+PACE_MARGIN = 0.9
+"""Under the ``paced`` hold strategy (``sync.hold``) a robot that a stranger slows and leaves
+behind its place says it can follow this share of what it drives of the plan's speeds (room
+for it to catch up): :func:`_pace_left`."""
+
+
+def _pace_left(linear: float, angular: float, speed: float, angular_speed: float) -> float:
+    """The pace (0-1) a robot slowed to ``linear`` m/s and ``angular`` rad/s can follow of a
+    plan that asks ``speed`` and ``angular_speed`` there at the full pace: the smaller share
+    of the two, times :data:`PACE_MARGIN` (1 where the plan asks nothing of it)."""
+    share = 1.0
+    if speed != 0.0:
+        share = min(share, abs(linear) / abs(speed))
+    if angular_speed != 0.0:
+        share = min(share, abs(angular) / abs(angular_speed))
+    return PACE_MARGIN * share
 AFTER_SHOW_WAIT = 10.0
 """s: the longest a robot waits after the show for strangers within :data:`NEAR_GAP` to
 leave before it goes to its final slot anyway (with the corner cap and the stop flags): a
@@ -259,6 +275,7 @@ class BrainState:
     waiting: bool = False
     strangers_seen: tuple[float, np.ndarray] | None = None
     closing: tuple[float, np.ndarray, np.ndarray] | None = None
+    pace: float = 1.0
 
     @property
     def holding_the_show(self) -> bool:
@@ -298,7 +315,8 @@ class RobotBrain:
 
     def __init__(self, plan: Plan, robot: str, params: FollowerParams,
                  grid_period: float = 0.1, sensing: SensingConfig | None = None,
-                 follower: Follower = "thesis", feedforward_lead: float = 0.0) -> None:
+                 follower: Follower = "thesis", feedforward_lead: float = 0.0,
+                 paced: bool = False) -> None:
         self.sensing = sensing or SensingConfig(lidar=False)
         if self.sensing.detector not in DETECTORS:
             raise ValueError(f"unknown detector {self.sensing.detector!r}; choose from "
@@ -314,6 +332,7 @@ class RobotBrain:
         self.params = params
         self.follower = follower
         self.feedforward_lead = feedforward_lead
+        self.paced = paced and follower != "thesis"
         self.tracking = TrackingParams(max_linear=params.max_linear,
                                        max_angular=params.max_angular)
         slot = plan.desired_poses(robot, np.zeros(1))[0]
@@ -476,7 +495,7 @@ class RobotBrain:
     def step(self, state: BrainState, show_time: float,
              pose: tuple[float, float, float] | None, cloud: PointCloud | None = None,
              clock: float | None = None, mates_heard: np.ndarray | None = None,
-             ) -> tuple[BrainState, Command, tuple[Event, ...]]:
+             rate: float = 1.0) -> tuple[BrainState, Command, tuple[Event, ...]]:
         """One control tick: show time in s (negative before the start), pose (x, y, theta)
         in the robot's own map frame or None (a failed look-up), the cloud that arrived, and
         the robot's clock (s, the time base of the clouds' stamps; None: the show time, as
@@ -487,7 +506,11 @@ class RobotBrain:
 
         A show time that did not advance since the last tick (the formation's shared clock
         paused: ``sync.hold``) stands the reference still: the robot stops on its place
-        instead of driving on with the speeds the plan has there."""
+        instead of driving on with the speeds the plan has there. A paced brain
+        (``BrainOptions.paced``) follows its place at the clock's ``rate`` (the show time's
+        advance over the clock's since the last tick, 0-1) and says the pace it can follow
+        (``BrainState.pace``: where ``together`` would hold the show for being slowed and
+        left behind, the share of the plan's speeds it drives, :func:`_pace_left`)."""
         now = show_time if clock is None else clock
         sensing = self.sensing
         if mates_heard is not None and len(mates_heard) and not np.isfinite(mates_heard).all():
@@ -524,6 +547,8 @@ class RobotBrain:
                     strangers_seen, closing, obstacles, height_step, taken_at, pose,
                     show_time, cloud.stamp, mates_heard)
         command = STOP
+        pace = 1.0
+        full_speed = full_angular = 0.0
         held = holds_show = waiting = False
         near_since: float | None = None  # after the show: since when a stranger is near
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
@@ -542,8 +567,12 @@ class RobotBrain:
             if self.follower != "thesis":
                 follower = state.follower
                 reference = self._reference(show_time)
+                full_speed, full_angular = reference.speed, reference.angular_speed
                 if paused:  # the shared show clock stopped: the place stands where it is
                     reference = replace(reference, speed=0.0, angular_speed=0.0)
+                elif self.paced and rate < 1.0:  # the clock runs slow: so does the place
+                    reference = replace(reference, speed=reference.speed * rate,
+                                        angular_speed=reference.angular_speed * rate)
                 reference_speed = abs(reference.speed)
                 linear, angular = tracking_step(self.tracking, pose, reference, seen.force)
                 behind = math.hypot(reference.pose[0] - pose[0], reference.pose[1] - pose[1])
@@ -679,6 +708,9 @@ class RobotBrain:
                     (stranger_near and behind > SLOW_TURN_LAG) or near.nearest < turn_reach(
                         sensing.length, sensing.width, linear, sensing.detection))
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
+                if self.paced and holds_show:  # slows the clock to what it drives instead
+                    pace = _pace_left(linear, angular, full_speed, full_angular)
+                    holds_show = pace <= 0.0
             command = Command(linear, angular)
         else:
             follower = state.follower
@@ -695,8 +727,10 @@ class RobotBrain:
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
-                               closing=closing)
+                               closing=closing, pace=pace)
         return new_state, command, events
+
+
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
                     seen_from: tuple[float, float, float], pose: tuple[float, float, float],
@@ -1127,7 +1161,9 @@ class BrainOptions:
     path followers lead their feedforward speeds (None: the simulator's profile's; 0 on ROS
     unless ``~actuator_lag`` says); compiled: the perception as numba-compiled loops, else
     the NumPy reference (``SensingConfig.compiled``); stop_rule: :data:`STOP_RULES` (None:
-    :func:`default_stop_rule` of the follower).
+    :func:`default_stop_rule` of the follower); paced: the formation's shared clock runs at
+    paces (``sync.hold``'s ``paced`` strategy): the brain says the pace it can follow
+    (``BrainState.pace``) and follows its place at the clock's rate.
     """
 
     follower: Follower = "thesis"
@@ -1138,6 +1174,7 @@ class BrainOptions:
     actuator_lag: float | None = None
     compiled: bool = True
     stop_rule: StopRule | None = None
+    paced: bool = False
 
 
 def brain_for(plan: Plan, robot: str, robot_type: RobotType,
@@ -1153,4 +1190,5 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
             detector=options.detector, force_radius=options.force_radius,
             compiled=options.compiled,
             stop_rule=default_stop_rule(options.follower, options.stop_rule)),
-        follower=options.follower, feedforward_lead=options.actuator_lag or 0.0)
+        follower=options.follower, feedforward_lead=options.actuator_lag or 0.0,
+        paced=options.paced)

@@ -50,7 +50,7 @@ def batch_supported(brains: list[RobotBrain]) -> bool:
         and b.sensing.safety == first.sensing.safety
         and b.sensing.force_radius == first.sensing.force_radius
         and b.sensing.approach_gain == first.sensing.approach_gain
-        and b.feedforward_lead == first.feedforward_lead
+        and b.feedforward_lead == first.feedforward_lead and b.paced == first.paced
         and np.array_equal(_gains(b), gains) and (b._mates is not None or len(brains) == 1)
         for b in brains)
 
@@ -60,7 +60,8 @@ class BatchTick:
     """What the formation decided at a tick, per robot (R,): commands (R, 2) (v m/s, w
     rad/s); status codes of ``shows.formation.STATUS`` (0 ok, 1 stopped, 2 error);
     holding (``BrainState.holding_the_show``), asking (``BrainState.asks_for_room``),
-    waiting (``BrainState.waiting``); events: (robot index, event) in robot order."""
+    waiting (``BrainState.waiting``); events: (robot index, event) in robot order; pace
+    (``BrainState.pace``)."""
 
     commands: FloatArray
     status: NDArray[np.int8]
@@ -68,6 +69,7 @@ class BatchTick:
     asking: NDArray[np.bool_]
     waiting: NDArray[np.bool_]
     events: tuple[tuple[int, Event], ...]
+    pace: FloatArray
 
 
 def _gains(brain: RobotBrain) -> FloatArray:
@@ -144,7 +146,7 @@ class BatchBrains:
             safety.sensor_timeout, float(safety.max_lookup_failures), safety.beep_period,
             ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
-            robot.PREDICTED_STOP_TIME])
+            robot.PREDICTED_STOP_TIME, 1.0 if first.paced else 0.0, robot.PACE_MARGIN])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
@@ -180,6 +182,8 @@ class BatchBrains:
         self.flags = np.zeros((count, 4), dtype=bool)
         self.events = np.zeros(count, dtype=np.int64)
         self.event_values = np.zeros(count)
+        self.paces = np.ones(count)
+        self.no_rates = np.ones(count)
 
     def references(self, show_times: FloatArray,
                    ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
@@ -198,13 +202,15 @@ class BatchBrains:
 
     def step(self, now: float, show_times: FloatArray, poses: FloatArray,
              pose_known: NDArray[np.bool_], arrived: list[PointCloud | None],
-             heard: FloatArray | None, override: FloatArray | None = None) -> BatchTick:
+             heard: FloatArray | None, override: FloatArray | None = None,
+             rates: FloatArray | None = None) -> BatchTick:
         """One tick of every robot (``RobotBrain.step`` with ``clock=now``): show times (R,)
         s; poses (R, 3) in each robot's own map frame where ``pose_known`` (R,); the clouds
         that arrived (None: none); ``heard`` (R, 2) where each robot last said it stands
         (show frame, NaN: nothing heard; None: no shared clock, ``mates_heard`` None);
         ``override`` (R, 5): references to track instead of the plan's where its row is not
-        NaN (own frame; the ``shared-pose`` formation control), never final."""
+        NaN (own frame; the ``shared-pose`` formation control), never final; ``rates`` (R,):
+        the clock's rate of each since its last tick (paced brains; None: 1)."""
         count = len(self.brains)
         arrivals = np.array([cloud is not None for cloud in arrived], dtype=bool)
         stamps = np.zeros(count)
@@ -236,14 +242,17 @@ class BatchBrains:
             self.commands, self.flags, self.events, self.event_values, self.track_params,
             self.track_states, self.track_covariances, self.track_hits, self.track_misses,
             self.track_count, self.track_stamp, self.cloud_stamp, self.point_velocity,
-            self.point_kind, self.point_count)
+            self.point_kind, self.point_count,
+            self.no_rates if rates is None else np.ascontiguousarray(rates, dtype=np.float64),
+            self.paces)
         error = self.safety[:, 0] != 0.0
         stopped = self.flags[:, 3]
         holds_show = self.flags[:, 1]
         status = np.where(error, 2, np.where(stopped, 1, 0)).astype(np.int8)
         return BatchTick(self.commands.copy(), status, holds_show | error,
                          holds_show & stopped & ~error, self.flags[:, 2].copy(),
-                         tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist()))
+                         tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist()),
+                         self.paces.copy())
 
     def _make_room_for_tracks(self, points: int) -> None:
         """Grow the tracker's arrays so that a cloud of up to ``points`` columns fits: every

@@ -53,7 +53,8 @@ CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZ
 (FORCE_RADIUS, FORCE_GAIN, APPROACH_GAIN, MATE_GAP, OVERLAP, HOLD_LAG, SLOWED, GIVE_WAY_SPEED,
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
- PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME) = range(25)
+ PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
+ PACE_MARGIN) = range(27)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -456,7 +457,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 track_hits: NDArray[np.int64], track_misses: NDArray[np.int64],
                 track_count: NDArray[np.int64], track_stamp: FloatArray,
                 cloud_stamp: FloatArray, point_velocity: FloatArray,
-                point_kind: NDArray[np.int8], point_count: NDArray[np.int64]) -> None:
+                point_kind: NDArray[np.int8], point_count: NDArray[np.int64],
+                rates: FloatArray, paces: FloatArray) -> None:
     """One control tick of every robot (``RobotBrain.step``), in place.
 
     Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
@@ -484,12 +486,16 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     the tracked velocity (R, P, 2) and kind (R, P) of the first point_count (R,) points of
     the latest tracked cloud (-1: none yet). The caller makes K hold every track plus one per
     point of the clouds that arrive, and P one per point.
+    The ``paced`` hold strategy (rules[PACED]): each robot's clock ran at rates (R,) (0-1)
+    since its last tick; out: paces (R,), the share of the plan's speeds each can follow
+    (``robot._pace_left``; 1 without it).
     """
     count = poses.shape[0]
     capacity = history.shape[1]
     stop = detect[STOP_DISTANCE]
     lidar = rules[LIDAR] != 0.0
     predicted = rules[PREDICTED] != 0.0
+    paced = rules[PACED] != 0.0
     ssm_detect = detect.copy()  # what the tracker watches: the SSM square
     ssm_detect[CROP_HALF] = rules[SSM_REACH]
     for r in range(count):
@@ -550,6 +556,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             track_count[r], track_stamp[r] = k, stamps[r]
             point_count[r] = n
         linear, angular = 0.0, 0.0
+        pace = 1.0
         held = holds_show = waiting = False
         near_time = math.nan
         room = 0.0
@@ -571,8 +578,11 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     has_strangers = True
                     s_front, s_rear, s_nearest, _fx, fy = strangers
             speed, angular_speed = references[r, 3], references[r, 4]
+            full_speed, full_angular = speed, angular_speed
             if paused:
                 speed, angular_speed = 0.0, 0.0
+            elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
+                speed, angular_speed = speed * rates[r], angular_speed * rates[r]
             reference_speed = abs(speed)
             linear, angular = _tracking(
                 gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
@@ -674,6 +684,14 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     or n_nearest < _turn_reach(length, width, linear, detect))
                 holds_show = (abs(linear) < abs(wanted_linear) - rules[SLOWED]
                               and by_stranger) or turn_cut
+                if paced and holds_show:  # ``robot._pace_left``
+                    share = 1.0
+                    if full_speed != 0.0:
+                        share = min(share, abs(linear) / abs(full_speed))
+                    if full_angular != 0.0:
+                        share = min(share, abs(angular) / abs(full_angular))
+                    pace = rules[PACE_MARGIN] * share
+                    holds_show = pace <= 0.0
         # ``safety.monitor.safety_step``
         events[r], event_values[r] = EVENT_NONE, 0.0
         may_move = False
@@ -711,6 +729,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         last_show_time[r] = show_time
         flags[r, 0], flags[r, 1], flags[r, 2] = held, holds_show, waiting
         flags[r, 3] = not math.isnan(safety[r, 3])
+        paces[r] = pace
 
 
 drop_stale(sys.modules[__name__], (fast, tracks_jit))  # its kernels call perception.fast's

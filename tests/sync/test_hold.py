@@ -8,6 +8,7 @@ import math
 import random
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -147,6 +148,22 @@ def test_hearing_messages_together_is_hearing_them_one_by_one() -> None:
     assert together.heard["R3"].show_time == 0.6
 
 
+def test_a_slowed_robot_paces_every_robots_show_time() -> None:
+    roles = ("R1", "R2")
+    clocks = [new_clock(r, roles, 0.0) for r in roles]
+    clocks[0] = clock_receive(clocks[0], HoldMessage("R2", 0.0, 0.0, False))
+    # R1 can follow half the plan's speed: both clocks run at half the time
+    r1 = clock_tick(clocks[0], 0.1, False, pace=0.5)
+    r2 = clock_receive(clocks[1], HoldMessage("R1", 0.0, 0.0, False, None, 0.5))
+    r2 = clock_tick(r2, 0.1, False)
+    assert r1.show_time == pytest.approx(0.05)
+    assert r2.show_time == pytest.approx(0.05)
+    # a mate at pace 0.5 is extrapolated at its pace: the other never runs ahead of it
+    ahead = clock_receive(clocks[1], HoldMessage("R1", 0.0, 0.0, False, None, 0.5))
+    ahead = clock_tick(ahead, 0.4, False, pace=1.0)
+    assert ahead.show_time == pytest.approx(0.2)
+
+
 @settings(max_examples=60, deadline=None)
 @given(count=st.integers(1, 5), seed=st.integers(0, 2**32 - 1),
        delay_ticks=st.integers(0, 12), loss=st.sampled_from([0.0, 0.2, 0.6, 0.95]),
@@ -154,7 +171,8 @@ def test_hearing_messages_together_is_hearing_them_one_by_one() -> None:
 def test_the_formations_clocks_are_every_robots_clock_at_once(
         count: int, seed: int, delay_ticks: int, loss: float, hostile: float) -> None:
     """The simulator's vectorised clocks give every robot exactly the show time (and the mates'
-    positions) its own :class:`ShowClock` gets from the same messages: random holds, delays
+    positions) its own :class:`ShowClock` gets from the same messages: random holds and
+    paces (the ``paced`` strategy), delays
     (up to beyond the heartbeat timeout, each tick's its own, so that later messages
     overtake earlier ones), losses, unknown positions and hostile stamps and show times
     (ignored where not finite)."""
@@ -170,8 +188,10 @@ def test_the_formations_clocks_are_every_robots_clock_at_once(
             together = formation_receive(together, *batch)
         in_flight = [m for m in in_flight if m[0] > k]
         holds = rng.random(count) < 0.15
-        clocks = [clock_tick(clock, now, bool(h)) for clock, h in zip(clocks, holds, strict=True)]
-        together = formation_tick(together, now, holds)
+        paces = np.where(rng.random(count) < 0.3, rng.uniform(0.0, 1.0, count), 1.0)
+        clocks = [clock_tick(clock, now, bool(h), pace=float(p))
+                  for clock, h, p in zip(clocks, holds, paces, strict=True)]
+        together = formation_tick(together, now, holds, pace=paces)
         assert together.show_time.tolist() == [clock.show_time for clock in clocks]
         for i, clock in enumerate(clocks):
             said = ~np.isnan(together.position).all(axis=1)
@@ -188,8 +208,9 @@ def test_the_formations_clocks_are_every_robots_clock_at_once(
         position[rng.random(count) < 0.3] = np.nan  # a robot that does not know where it is
         messages = [HoldMessage(r, float(stamps[i]), float(show[i]), bool(holds[i]),
                                 None if np.isnan(position[i, 0]) else
-                                (float(position[i, 0]), float(position[i, 1])))
+                                (float(position[i, 0]), float(position[i, 1])),
+                                float(paces[i]))
                     for i, r in enumerate(roles) if sent[i]]
         # each tick's messages take their own delay: later ones may overtake them
         in_flight.append((k + 1 + int(rng.integers(0, delay_ticks + 1)), messages,
-                          (sent, stamps, show, holds.copy(), position)))
+                          (sent, stamps, show, holds.copy(), position, paces.copy())))

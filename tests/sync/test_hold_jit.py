@@ -17,6 +17,7 @@ from dancebots.sync.hold import (
     formation_tick,
 )
 
+PACES = st.sampled_from([1.0, 0.0, 0.5, 0.25, 0.9, 1e-300])
 TIMES = st.sampled_from([0.0, -0.0, 0.1, 0.35, 1.0, 2.5, math.nan, math.inf, -math.inf,
                          1e-300, 3.0, -1.0])
 
@@ -27,31 +28,36 @@ def test_the_compiled_clocks_step_is_receive_then_tick(count: int,
                                                         data: st.DataObject) -> None:
     """Random clocks (nothing heard yet, old, holding, ahead or behind), a batch of messages
     or none (lost ones, stamps and show times that are not numbers, signed zeros) and the
-    robots' own holds: the six arrays equal, bit for bit."""
+    robots' own holds and paces: the seven arrays equal, bit for bit."""
     from dancebots.sync.hold_jit import receive_and_tick
 
     def floats(n: int) -> np.ndarray:
         return np.array(data.draw(st.lists(TIMES, min_size=n, max_size=n)), dtype=float)
+
+    def paces(n: int) -> np.ndarray:
+        return np.array(data.draw(st.lists(PACES, min_size=n, max_size=n)), dtype=float)
 
     def flags(n: int) -> np.ndarray:
         return np.array(data.draw(st.lists(st.booleans(), min_size=n, max_size=n)),
                         dtype=bool)
 
     clocks = FormationClocks(floats(count), floats(count), floats(count), floats(count),
-                             flags(count), floats(2 * count).reshape(count, 2))
+                             flags(count), floats(2 * count).reshape(count, 2), paces(count))
     message = data.draw(st.booleans())
     batch = (flags(count), floats(count), floats(count), flags(count),
-             floats(2 * count).reshape(count, 2))
+             floats(2 * count).reshape(count, 2), paces(count))
     now = data.draw(st.sampled_from([0.0, -0.0, 0.1, 1.3, 5.0]))
     holding = flags(count)
+    own_pace = paces(count)
     with np.errstate(invalid="ignore"):  # (inf - inf in the reference: no number, as here)
         expected = formation_tick(formation_receive(clocks, *batch) if message else clocks,
-                                  now, holding)
+                                  now, holding, pace=own_pace)
     got = receive_and_tick(clocks.show_time, clocks.updated, clocks.stamp,
-                           clocks.sent_show_time, clocks.holds, clocks.position, message,
-                           *batch, now, holding, HoldParams().heartbeat_timeout, ADVANCE_MIN)
+                           clocks.sent_show_time, clocks.holds, clocks.position, clocks.pace,
+                           message, *batch, now, holding, own_pace,
+                           HoldParams().heartbeat_timeout, ADVANCE_MIN)
     for name, value in zip(("show_time", "updated", "stamp", "sent_show_time", "holds",
-                            "position"), got, strict=True):
+                            "position", "pace"), got, strict=True):
         assert value.tobytes() == getattr(expected, name).tobytes(), name
 
 
@@ -61,13 +67,14 @@ def test_a_tie_of_signed_zeros_is_numpys() -> None:
     from dancebots.sync.hold_jit import receive_and_tick
 
     clocks = FormationClocks(np.array([-1.0, 0.0]), np.array([-1.0, 0.0]), np.zeros(2),
-                             np.array([0.0, -0.0]), np.zeros(2, dtype=bool), np.zeros((2, 2)))
+                             np.array([0.0, -0.0]), np.zeros(2, dtype=bool), np.zeros((2, 2)),
+                             np.ones(2))
     batch = (np.zeros(2, dtype=bool), np.zeros(2), np.zeros(2), np.zeros(2, dtype=bool),
-             np.zeros((2, 2)))
+             np.zeros((2, 2)), np.ones(2))
     expected = formation_tick(clocks, -0.0, np.zeros(2, dtype=bool))
     got = receive_and_tick(clocks.show_time, clocks.updated, clocks.stamp,
-                           clocks.sent_show_time, clocks.holds, clocks.position, False, *batch,
-                           -0.0, np.zeros(2, dtype=bool), HoldParams().heartbeat_timeout,
-                           ADVANCE_MIN)
+                           clocks.sent_show_time, clocks.holds, clocks.position, clocks.pace,
+                           False, *batch, -0.0, np.zeros(2, dtype=bool), np.ones(2),
+                           HoldParams().heartbeat_timeout, ADVANCE_MIN)
     assert got[0].tobytes() == expected.show_time.tobytes()
     assert str(expected.show_time[0]) == "0.0"

@@ -590,7 +590,7 @@ def add_stop_rule_argument(parser: argparse.ArgumentParser) -> None:
                         "when new, comes within 0.25 m of it (docs/safety.md)")
 
 
-HOLDS = ("together", "alone")
+HOLDS = ("together", "alone", "paced")
 """``sync.hold.HOLD_STRATEGIES`` (the CLI imports only the standard library at start-up)."""
 
 
@@ -603,7 +603,9 @@ def add_hold_argument(parser: argparse.ArgumentParser) -> None:
                         "resume together (a shared show clock); alone (the default with "
                         "--follower thesis, whose robots know no mates' places): each "
                         "robot's leader runs on from the start whatever the others do "
-                        "(thesis 4.2)")
+                        "(thesis 4.2); paced: together, and a robot a person slows (its turn "
+                        "or its approach) says how much of the plan's speed it can follow, "
+                        "so the formation slows together instead of stopping and starting")
 
 
 def add_follower_argument(parser: argparse.ArgumentParser) -> None:

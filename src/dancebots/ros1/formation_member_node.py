@@ -9,8 +9,9 @@ default, "tracking" or "thesis"; docs/control.md) and ``~timing`` ("feasible", t
 or "thesis"; the same on every robot: it sets the plan's timing); ``~actuator_lag`` (s,
 default 0: the time constant with which the robot's speeds follow its commands; the
 tracking and path followers lead their feedforward by it); ``~lidar`` (default true:
-read ``obstacles`` and stop for them); ``~hold`` ("together", the default, or "alone", the
-default with the thesis follower: whether the formation shares one show clock, below);
+read ``obstacles`` and stop for them); ``~hold`` ("together", the default, "paced", or
+"alone", the default with the thesis follower: whether the formation shares one show clock,
+below);
 ``~stop_rule`` ("predicted", the default, "fixed", the default with the thesis follower,
 "closing" or "ssm": when the robot stops for what it sees; docs/safety.md); ``~max_speed``
 and ``~max_angular_speed`` (default: the robot type of this host, thesis ch. 3);
@@ -34,13 +35,14 @@ that RViz shows every robot's virtual leader.
 
 The formation waits together (``~hold`` together, ``sync.hold``): from the agreed start every
 formation_member publishes a hold message on ``/hold`` at 10 Hz (std_msgs/String,
-``hold ROLE STAMP SHOW_TIME HOLDS X Y``: its clock, its show time, whether it holds the show,
-where it stands in the show frame) and keeps the shared show clock from the others': its
-show time stops while any robot holds the show or has not been heard from for 1 s (a robot
-that is lost, or whose link is cut, stops the show: safe, not the other way round), and all
-resume together. With ``alone`` (thesis 4.2) its show time is the time since the start.
-Bad /hold texts are logged at most every 5 s and ignored; ``~sync_delay``/``~sync_loss`` act
-on /hold too.
+``hold ROLE STAMP SHOW_TIME HOLDS X Y [pace P]``: its clock, its show time, whether it holds
+the show, where it stands in the show frame and, with ``paced``, the share of the plan's
+speeds it can follow, at which every show time then runs) and keeps the shared show clock
+from the others': its show time stops while any robot holds the show or has not been heard
+from for 1 s (a robot that is lost, or whose link is cut, stops the show: safe, not the
+other way round), and all resume together. With ``alone`` (thesis 4.2) its show time is
+the time since the start. Bad /hold texts are logged at most every 5 s and ignored;
+``~sync_delay``/``~sync_loss`` act on /hold too.
 
 Faults: a malformed cloud on ``obstacles`` counts as a scan that did not arrive (after 0.3 s
 without a readable one the robot stops for good, thesis 5.1), and is logged at most every
@@ -155,7 +157,8 @@ def main() -> None:
         stop_rule = default_stop_rule(follower, str(rospy.get_param("~stop_rule", "")))
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks both
             follower=follower, lidar=use_lidar, stop_rule=stop_rule,
-            actuator_lag=float(rospy.get_param("~actuator_lag", 0.0))))
+            actuator_lag=float(rospy.get_param("~actuator_lag", 0.0)),
+            paced=hold == "paced"))
         # the show every robot must run alike: its files and what changes the motion (each
         # robot's own size and speed limits may differ: they come from its host)
         show = show_digests(scenario, world_file, {
@@ -172,7 +175,7 @@ def main() -> None:
         detector = _launch_detector(names)
         life.take_signals()  # roslaunch's process class installed handlers of its own
     try:
-        _run(life, log, role, names, agreement, brain, use_lidar, hold == "together",
+        _run(life, log, role, names, agreement, brain, use_lidar, hold != "alone",
              clock_offset)
     finally:
         if detector is not None:
@@ -273,6 +276,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
 
     state: BrainState = brain.initial_state()
     clock: ShowClock | None = None
+    rate = 1.0  # how fast the shared clock ran since the last tick (``~hold`` paced)
     waiting: tuple[float, bool] | None = None
     command = Twist()
     status = "waiting"
@@ -317,7 +321,10 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     before = clock
                     clock = clock_tick(clock_receive(
                         before or new_clock(role, brain.plan.robots, now - elapsed),
-                        *received), now, state.holding_the_show)
+                        *received), now, state.holding_the_show, pace=state.pace)
+                    if before is not None and now > before.updated:  # (paced brains)
+                        rate = min(max((clock.show_time - before.show_time)
+                                       / (now - before.updated), 0.0), 1.0)
                     shown = clock.show_time
                     mates_heard = np.array(heard_positions(clock), dtype=float).reshape(-1, 2)
                     waiting = _report_wait(log, role, clock, before, waiting, now)
@@ -330,12 +337,12 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     transform_message(stamp, vl_map, leader_frame,
                                       (leader.x, leader.y, leader.theta))])
                 state, cmd, happened = brain.step(state, shown, pose, cloud, clock=elapsed,
-                                                  mates_heard=mates_heard)
+                                                  mates_heard=mates_heard, rate=rate)
                 command.linear.x, command.angular.z = cmd.linear, cmd.angular
                 if together:  # (from the agreement on: at the start every mate is heard)
                     hold_out.publish(String(format_hold(HoldMessage(
                         role, now, max(shown, 0.0), state.holding_the_show,
-                        None if pose is None else brain.show_position(pose)))))
+                        None if pose is None else brain.show_position(pose), state.pace))))
                 for event in happened:
                     events_out.publish(String(f"{event.kind}: {event.text}"))
                     if event.kind == "speech":

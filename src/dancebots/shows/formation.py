@@ -98,8 +98,10 @@ class SimConfig:
         0.75 s: faster for a short show).
     hold: ``together``: the formation shares one show clock that stops while any robot is
         held by something that is not a mate on its place (``sync.hold``), so the others wait
-        on their places; ``alone`` (thesis 4.2): each robot's show time is the time since the
-        start; None (the default): together, alone for the thesis follower (the thesis's
+        on their places; ``paced``: together, and a robot a stranger slows says the pace it
+        can follow, at which every show time advances (the formation slows together);
+        ``alone`` (thesis 4.2): each robot's show time is the time since the start; None
+        (the default): together, alone for the thesis follower (the thesis's
         system as written: its follower knows no mates' places, so a mate would hold the
         show). hold_delay (s, below the 1 s heartbeat timeout) and hold_loss (probability,
         below 1) act on the robots' hold messages, passed in-process (the kernel here has no
@@ -181,7 +183,8 @@ class RunResult:
     robot's show time then (the plan's time it follows: ``times`` unless the formation's
     shared clock paused, ``SimConfig.hold``); holds (R, T): whether each robot held the
     show then (held by a stranger, or slowed and left behind by one: ``BrainState.
-    holding_the_show``; recorded with either ``SimConfig.hold``). Per robot r and tick k,
+    holding_the_show``, or under ``paced`` said a pace below 1; recorded with every
+    ``SimConfig.hold``). Per robot r and tick k,
     in the world frame:
     poses (R, T, 3);
     velocities (R, T, 2) actual (v, w); commands (R, T, 2) commanded (v, w); desired (R, T, 3)
@@ -286,7 +289,8 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
     options = replace(config.brain, lidar=config.lidar is not None,
                       actuator_lag=config.profile.lag if config.brain.actuator_lag is None
                       else config.brain.actuator_lag,
-                      compiled=config.brain.compiled and config.compiled)
+                      compiled=config.brain.compiled and config.compiled,
+                      paced=config.brain.paced or hold_strategy(config) == "paced")
     lidar = None if config.lidar is None else replace(
         config.lidar, compiled=config.lidar.compiled and config.compiled)
     brains = [brain_for(plan, robot, kind, options)
@@ -322,7 +326,10 @@ class _Crew:
         faults = config.faults
         self.brains, self.robots, self.stage = brains, robots, stage
         self.states: list[BrainState] = [brain.initial_state() for brain in brains]
-        self.together = hold_strategy(config) == "together"
+        self.together = hold_strategy(config) in ("together", "paced")
+        self.paced = hold_strategy(config) == "paced"
+        self.pacing = np.ones(count)  # each robot's pace at its last tick (1: not paced)
+        self.rates = np.ones(count)  # each robot's clock's rate since its last tick
         self.clocks = formation_clocks(count, 0.0)
         # messages sent but not yet heard: (due time, per robot: sent (not lost), stamp, show
         # time, holds, position), in the order sent
@@ -330,7 +337,7 @@ class _Crew:
         self.compiled_clocks = config.compiled
         self.hold_params = HoldParams()
         self.no_message = (np.zeros(count, dtype=bool), np.zeros(count), np.zeros(count),
-                           np.zeros(count, dtype=bool), np.zeros((count, 2)))
+                           np.zeros(count, dtype=bool), np.zeros((count, 2)), np.ones(count))
         # each robot's frame of the show: where it tells its mates it stands
         self.show_frames = np.array([[b.slot0.x, b.slot0.y, b.slot0.theta] for b in brains])
         self.delay, self.loss = config.hold_delay, config.hold_loss
@@ -366,6 +373,7 @@ class _Crew:
             self.show_times[:] = now
             return
         clocks = self.clocks
+        before, since = clocks.show_time, clocks.updated
         due = [batch for at, batch in self.in_flight if at <= now + 1e-9]
         self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
         if self.compiled_clocks:  # the same in one compiled call (``sync.hold_jit``)
@@ -373,17 +381,21 @@ class _Crew:
 
             for batch in due[:-1]:
                 clocks = formation_receive(clocks, *batch)
-            sent, stamp, shown, holds, position = due[-1] if due else self.no_message
+            sent, stamp, shown, holds, position, pace = due[-1] if due else self.no_message
             self.clocks = FormationClocks(*receive_and_tick(
                 clocks.show_time, clocks.updated, clocks.stamp, clocks.sent_show_time,
-                clocks.holds, clocks.position, bool(due), sent, stamp, shown, holds,
-                position, float(now), self.holding, self.hold_params.heartbeat_timeout,
-                ADVANCE_MIN))
+                clocks.holds, clocks.position, clocks.pace, bool(due), sent, stamp, shown,
+                holds, position, pace, float(now), self.holding, self.pacing,
+                self.hold_params.heartbeat_timeout, ADVANCE_MIN))
         else:
             for batch in due:
                 clocks = formation_receive(clocks, *batch)
-            self.clocks = formation_tick(clocks, now, self.holding)  # each one's last tick
+            self.clocks = formation_tick(clocks, now, self.holding,  # each one's last tick
+                                         pace=self.pacing)
         self.show_times[:] = self.clocks.show_time
+        if self.paced:  # how fast each clock ran since its last tick
+            elapsed = np.maximum(now - since, 1e-9)
+            self.rates[:] = np.clip((self.clocks.show_time - before) / elapsed, 0.0, 1.0)
 
     def _mates_heard(self) -> list[np.ndarray | None]:
         """Per robot, (K, 2) where its mates said they stand (show frame), from the latest
@@ -411,7 +423,7 @@ class _Crew:
         position = np.where(known[:, None], compose_points(self.show_frames, own), np.nan)
         self.in_flight.append((now + self.delay, (
             ~lost, np.full(count, now), self.show_times.copy(), self.holding.copy(),
-            position)))
+            position, self.pacing.copy())))
 
     def step(self, now: float) -> Tick:
         stage = self.stage
@@ -436,7 +448,8 @@ class _Crew:
         record = {"poses": stage.pose, "velocities": stage.velocity,
                   "commands": self.command, "status": self.status,
                   "spectators": stage.discs[:, :2], "show_times": self.show_times,
-                  "holds": self.holding}
+                  # (paced: a robot that slows the clock holds it in part)
+                  "holds": self.holding | (self.pacing < 1.0) if self.paced else self.holding}
         if stage.physics is not None:  # the yaw rate the wheels would give: the slip
             record["wheel_rates"] = stage.physics.wheel_rates()
         return Tick(self.command, record, float(self.show_times.min()),
@@ -448,12 +461,14 @@ class _Crew:
         """Every brain's tick in one compiled pass (``robot_batch.BatchBrains``)."""
         assert self.batch is not None
         tick = self.batch.step(now, show_times, own, known, arrived,
-                               self.clocks.position if self.together else None, override)
+                               self.clocks.position if self.together else None, override,
+                               self.rates if self.paced else None)
         self.command[:] = tick.commands
         self.status[:] = tick.status
         self.holding[:] = tick.holding
         self.asking[:] = tick.asking
         self.waiting[:] = tick.waiting
+        self.pacing[:] = tick.pace
         self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                            for i, e in tick.events)
 
@@ -468,12 +483,14 @@ class _Crew:
             seen = (own_poses[i][0], own_poses[i][1], own_poses[i][2]) if known[i] else None
             states[i], cmd, happened = brain.step(states[i], float(show_times[i]), seen,
                                                   arrived[i], clock=now,
-                                                  mates_heard=heard[i])
+                                                  mates_heard=heard[i],
+                                                  rate=float(self.rates[i]))
             self.command[i] = (cmd.linear, cmd.angular)
             self.status[i] = STATUS.index(states[i].status)
             self.holding[i] = states[i].holding_the_show
             self.asking[i] = states[i].asks_for_room
             self.waiting[i] = states[i].waiting
+            self.pacing[i] = states[i].pace
             if happened:
                 self.events.extend(RobotEvent(round(now, 6), self.robots[i], e.kind, e.text)
                                    for e in happened)

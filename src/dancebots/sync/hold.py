@@ -14,7 +14,11 @@ clock only while
   counts as a hold: a lost robot stops the show; the show never runs on without it);
 
 and never beyond any mate's show time as extrapolated from its latest message (that show time
-plus the time since it was sent, unless that mate holds the show), nor backwards. So every
+plus the time since it was sent at the mate's pace, unless that mate holds the show), nor
+backwards. Under the ``paced`` strategy a robot that a stranger slows (the corner cap, the
+approach limit) says so with a pace below 1 (the share of the plan's speed it can follow), and
+every show time advances at the smallest pace said: the formation slows together instead of
+stopping and starting at every other tick; under ``together`` every pace is 1. So every
 robot's show time stops when one is held and all resume together. A mate that waits without
 holding is extrapolated as if it ran, so where a holder's messages are lost a robot may run
 ahead of the waiting mates, by at most the heartbeat timeout (then the holder's silence holds
@@ -38,10 +42,11 @@ __all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "FormationClocks", "HoldMessage", "
            "HoldStrategy", "ShowClock", "clock_receive", "clock_tick", "formation_clocks",
            "formation_receive", "formation_tick", "heard_positions", "new_clock"]
 
-HoldStrategy = Literal["together", "alone"]
+HoldStrategy = Literal["together", "alone", "paced"]
 HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
 """``together`` (the default, an addition): the shared show clock of this module; ``alone``
-(thesis 4.2): every robot's show time is its clock since the start, whatever the others do."""
+(thesis 4.2): every robot's show time is its clock since the start, whatever the others do;
+``paced`` (an addition): ``together`` with paces (module docstring)."""
 
 
 ADVANCE_MIN = 1e-9
@@ -53,13 +58,15 @@ class HoldMessage:
     """What a robot tells the formation at every tick: its ``role``, its clock when sending
     (``stamp``, s), its ``show_time`` then (s), whether it ``holds`` the show, and where it
     stands in the show frame (``position``, m; None: unknown), so that its mates do not take
-    it for a person where it is off its place."""
+    it for a person where it is off its place; ``pace``: the share (0-1] of the plan's speed
+    it can follow (the ``paced`` strategy; 1 otherwise)."""
 
     role: str
     stamp: float
     show_time: float
     holds: bool
     position: tuple[float, float] | None = None
+    pace: float = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,14 +118,16 @@ def clock_receive(clock: ShowClock, *messages: HoldMessage) -> ShowClock:
 
 
 def clock_tick(clock: ShowClock, now: float, holds: bool,
-               params: HoldParams = HoldParams()) -> ShowClock:
+               params: HoldParams = HoldParams(), pace: float = 1.0) -> ShowClock:
     """``clock`` at its clock ``now`` (s): its show time advanced by the time since its last
-    tick unless it ``holds`` the show itself, a mate's latest message holds it or a mate was
-    not heard from for ``heartbeat_timeout``; never beyond a mate's extrapolated show time,
-    never backwards (module docstring)."""
+    tick times the smallest pace (its own ``pace`` and its mates' latest) unless it ``holds``
+    the show itself, a mate's latest message holds it or a mate was not heard from for
+    ``heartbeat_timeout``; never beyond a mate's extrapolated show time, never backwards
+    (module docstring)."""
     elapsed = max(now - clock.updated, 0.0)
     waiting = holds
     ceiling = math.inf
+    rate = pace
     for mate in clock.mates:
         message = clock.heard.get(mate)
         if message is None or now - message.stamp > params.heartbeat_timeout:
@@ -126,11 +135,13 @@ def clock_tick(clock: ShowClock, now: float, holds: bool,
             continue
         if message.holds:
             waiting = True
+        rate = min(rate, message.pace)
         ceiling = min(ceiling, message.show_time + (
-            0.0 if message.holds else max(now - message.stamp, 0.0)))
+            0.0 if message.holds else message.pace * max(now - message.stamp, 0.0)))
     show_time = clock.show_time
-    if not waiting and min(show_time + elapsed, ceiling) > show_time + ADVANCE_MIN:
-        show_time = min(show_time + elapsed, ceiling)
+    ahead = show_time + elapsed * rate
+    if not waiting and min(ahead, ceiling) > show_time + ADVANCE_MIN:
+        show_time = min(ahead, ceiling)
     return ShowClock(clock.role, clock.mates, show_time, now, clock.heard)
 
 
@@ -146,7 +157,8 @@ class FormationClocks:
     same messages (the simulator's in-process network: a message reaches every robot or,
     lost, none): per robot r, ``show_time`` (R,) and ``updated`` (R,) s; per sender s, the
     latest message heard from it, ``stamp`` (R,) s (NaN: none yet), ``sent_show_time``
-    (R,) s, ``holds`` (R,) and ``position`` (R, 2) m, show frame (NaN: not said). Robot r
+    (R,) s, ``holds`` (R,), ``position`` (R, 2) m, show frame (NaN: not said) and ``pace``
+    (R,) (1 until heard). Robot r
     ignores its own messages. The same show times as a :class:`ShowClock` per robot fed the
     same messages (tested), in O(R) array operations per tick instead of O(R^2) calls."""
 
@@ -156,6 +168,7 @@ class FormationClocks:
     sent_show_time: NDArray[np.float64]
     holds: NDArray[np.bool_]
     position: NDArray[np.float64]
+    pace: NDArray[np.float64]
 
 
 def formation_clocks(count: int, start: float) -> FormationClocks:
@@ -163,15 +176,16 @@ def formation_clocks(count: int, start: float) -> FormationClocks:
     ``start`` s, show time 0, nothing heard: :func:`new_clock` for each)."""
     return FormationClocks(np.zeros(count), np.full(count, float(start)),
                            np.full(count, np.nan), np.zeros(count), np.zeros(count, dtype=bool),
-                           np.full((count, 2), np.nan))
+                           np.full((count, 2), np.nan), np.ones(count))
 
 
 def formation_receive(clocks: FormationClocks, sent: NDArray[np.bool_],
                       stamp: NDArray[np.float64], show_time: NDArray[np.float64],
                       holds: NDArray[np.bool_], position: NDArray[np.float64],
-                      ) -> FormationClocks:
+                      pace: NDArray[np.float64] | None = None) -> FormationClocks:
     """``clocks`` after every robot hears one message from each sender where ``sent`` (R,):
-    stamp, show time, holds (R,) and position (R, 2) (NaN: unknown) per sender. As
+    stamp, show time, holds (R,), position (R, 2) (NaN: unknown) and pace (R,) (None: 1)
+    per sender. As
     :func:`clock_receive`: messages with a non-finite stamp or show time, and those not
     newer than the latest heard from their sender, are ignored."""
     new = (sent & np.isfinite(stamp) & np.isfinite(show_time)
@@ -182,20 +196,23 @@ def formation_receive(clocks: FormationClocks, sent: NDArray[np.bool_],
                            np.where(new, stamp, clocks.stamp),
                            np.where(new, show_time, clocks.sent_show_time),
                            np.where(new, holds, clocks.holds),
-                           np.where(new[:, None], position, clocks.position))
+                           np.where(new[:, None], position, clocks.position),
+                           clocks.pace if pace is None else np.where(new, pace, clocks.pace))
 
 
 def formation_tick(clocks: FormationClocks, now: float, holds: NDArray[np.bool_],
-                   params: HoldParams = HoldParams()) -> FormationClocks:
+                   params: HoldParams = HoldParams(),
+                   pace: NDArray[np.float64] | None = None) -> FormationClocks:
     """Every robot's clock at ``now`` (s), each robot holding the show or not (``holds``
-    (R,)): :func:`clock_tick` of each, from the latest messages of its mates."""
+    (R,)) at its own ``pace`` (R,) (None: 1): :func:`clock_tick` of each, from the latest
+    messages of its mates."""
     count = len(clocks.show_time)
     age = now - clocks.stamp
     heard = ~np.isnan(clocks.stamp) & ~(age > params.heartbeat_timeout)
     bad = ~heard | clocks.holds  # a mate that makes the others wait
     # where a heard mate's show time stands now: the show time it sent, run on unless it holds
     reach = np.where(heard, clocks.sent_show_time + np.where(
-        clocks.holds, 0.0, np.maximum(age, 0.0)), math.inf)
+        clocks.holds, 0.0, clocks.pace * np.maximum(age, 0.0)), math.inf)
     others_bad = (np.count_nonzero(bad) - bad) > 0  # any mate but itself
     # the smallest reach of the others: the smallest of all unless that is its own
     order = np.argsort(reach, kind="stable")
@@ -205,8 +222,19 @@ def formation_tick(clocks: FormationClocks, now: float, holds: NDArray[np.bool_]
     else:
         ceiling[:] = math.inf
     waiting = holds | others_bad
+    # the smallest pace of the others heard (the same way: its own left out), and its own
+    paces = np.where(heard, clocks.pace, 1.0)
+    slow = np.argsort(paces, kind="stable")
+    rate = np.full(count, paces[slow[0]] if count else 1.0)
+    if count > 1:
+        rate[slow[0]] = paces[slow[1]]
+    else:
+        rate[:] = 1.0
+    if pace is not None:
+        rate = np.minimum(rate, pace)
     elapsed = np.maximum(now - clocks.updated, 0.0)
-    ahead = np.minimum(clocks.show_time + elapsed, ceiling)
+    ahead = np.minimum(clocks.show_time + elapsed * rate, ceiling)
     runs = ~waiting & (ahead > clocks.show_time + ADVANCE_MIN)
     return FormationClocks(np.where(runs, ahead, clocks.show_time), np.full(count, now),
-                           clocks.stamp, clocks.sent_show_time, clocks.holds, clocks.position)
+                           clocks.stamp, clocks.sent_show_time, clocks.holds, clocks.position,
+                           clocks.pace)

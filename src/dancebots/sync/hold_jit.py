@@ -22,21 +22,23 @@ FloatArray = NDArray[np.float64]
 @njit(cache=True)
 def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArray,
                      sent_show_time: FloatArray, holds: NDArray[np.bool_],
-                     position: FloatArray, message: bool, sent: NDArray[np.bool_],
-                     message_stamp: FloatArray, message_show_time: FloatArray,
-                     message_holds: NDArray[np.bool_], message_position: FloatArray,
-                     now: float, holding: NDArray[np.bool_], heartbeat_timeout: float,
-                     advance_min: float) -> tuple[FloatArray, FloatArray, FloatArray,
-                                                  FloatArray, NDArray[np.bool_], FloatArray]:
-    """The clocks (``FormationClocks``' six arrays: show_time, updated, stamp,
-    sent_show_time, holds (R,), position (R, 2)) after, where ``message``, one batch of
-    messages is heard (sent, stamp, show time, holds (R,), positions (R, 2) of each sender:
-    ``formation_receive``), then ticked at ``now`` s with each robot's own hold ``holding``
-    (R,) (``formation_tick``). Returns the six new arrays; the inputs are left as they
-    were."""
+                     position: FloatArray, pace: FloatArray, message: bool,
+                     sent: NDArray[np.bool_], message_stamp: FloatArray,
+                     message_show_time: FloatArray, message_holds: NDArray[np.bool_],
+                     message_position: FloatArray, message_pace: FloatArray, now: float,
+                     holding: NDArray[np.bool_], own_pace: FloatArray,
+                     heartbeat_timeout: float, advance_min: float,
+                     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray,
+                                NDArray[np.bool_], FloatArray, FloatArray]:
+    """The clocks (``FormationClocks``' seven arrays: show_time, updated, stamp,
+    sent_show_time, holds (R,), position (R, 2), pace (R,)) after, where ``message``, one
+    batch of messages is heard (sent, stamp, show time, holds (R,), positions (R, 2), paces
+    (R,) of each sender: ``formation_receive``), then ticked at ``now`` s with each robot's
+    own hold ``holding`` (R,) and pace ``own_pace`` (R,) (``formation_tick``). Returns the
+    seven new arrays; the inputs are left as they were."""
     count = show_time.shape[0]
     stamp, sent_show_time = stamp.copy(), sent_show_time.copy()
-    holds, position = holds.copy(), position.copy()
+    holds, position, pace = holds.copy(), position.copy(), pace.copy()
     for r in range(count if message else 0):
         new = (sent[r] and math.isfinite(message_stamp[r])
                and math.isfinite(message_show_time[r])
@@ -47,7 +49,9 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
             holds[r] = message_holds[r]
             position[r, 0] = message_position[r, 0]
             position[r, 1] = message_position[r, 1]
+            pace[r] = message_pace[r]
     reach = np.empty(count)
+    paces = np.empty(count)
     bad_count = 0
     bad = np.empty(count, dtype=np.bool_)
     for r in range(count):
@@ -56,8 +60,9 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
         bad[r] = (not heard) or holds[r]
         if bad[r]:
             bad_count += 1
-        reach[r] = (sent_show_time[r] + (0.0 if holds[r] else _maximum(age, 0.0)) if heard
-                    else math.inf)
+        reach[r] = (sent_show_time[r] + (0.0 if holds[r] else pace[r] * _maximum(age, 0.0))
+                    if heard else math.inf)
+        paces[r] = pace[r] if heard else 1.0
     # the two smallest reaches as a stable sort orders them (NaN last)
     first, second = -1, -1
     for r in range(count):
@@ -65,16 +70,24 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
             second, first = first, r
         elif second < 0 or _before(reach[r], reach[second]):
             second = r
+    slow, slower = -1, -1  # the two smallest paces, the same way
+    for r in range(count):
+        if slow < 0 or _before(paces[r], paces[slow]):
+            slower, slow = slow, r
+        elif slower < 0 or _before(paces[r], paces[slower]):
+            slower = r
     new_show_time = np.empty(count)
     for r in range(count):
         ceiling = (reach[second] if r == first else reach[first]) if count > 1 else math.inf
         others_bad = (bad_count - (1 if bad[r] else 0)) > 0
         waiting = holding[r] or others_bad
+        rate = (paces[slower] if r == slow else paces[slow]) if count > 1 else 1.0
+        rate = _minimum(rate, own_pace[r])
         elapsed = _maximum(now - updated[r], 0.0)
-        ahead = _minimum(show_time[r] + elapsed, ceiling)
+        ahead = _minimum(show_time[r] + elapsed * rate, ceiling)
         runs = not waiting and ahead > show_time[r] + advance_min
         new_show_time[r] = ahead if runs else show_time[r]
-    return new_show_time, np.full(count, now), stamp, sent_show_time, holds, position
+    return new_show_time, np.full(count, now), stamp, sent_show_time, holds, position, pace
 
 
 @njit(cache=True)

@@ -138,22 +138,23 @@ def format_message(message: EchoMessage | StartProposal | ShowMessage) -> str:
 
 
 class HoldMessageError(ValueError):
-    """A /hold message that is not ``hold ROLE STAMP SHOW_TIME HOLDS [X Y]``; ``text`` is what
-    was received, ``reason`` why it is refused."""
+    """A /hold message that is not ``hold ROLE STAMP SHOW_TIME HOLDS [X Y] [pace P]``;
+    ``text`` is what was received, ``reason`` why it is refused."""
 
     def __init__(self, text: str, reason: str) -> None:
         super().__init__(f"bad /hold message {_shown(text)}: {reason}; expected 'hold ROLE "
-                         "STAMP SHOW_TIME HOLDS [X Y]' (HOLDS 0 or 1)")
+                         "STAMP SHOW_TIME HOLDS [X Y] [pace P]' (HOLDS 0 or 1, P from 0 to 1)")
         self.text = text
         self.reason = reason
 
 
 def parse_hold(text: str) -> HoldMessage:
     """The :class:`~dancebots.sync.hold.HoldMessage` a /hold text carries (the formation's
-    shared show clock, ``sync.hold``): ``hold ROLE STAMP SHOW_TIME HOLDS [X Y]``, the sender's
-    role, its clock when sending and its show time (s), whether it holds the show (0 or 1)
-    and where it stands in the show frame (m; absent: unknown). Raises
-    :class:`HoldMessageError`, and nothing else, for any other text."""
+    shared show clock, ``sync.hold``): ``hold ROLE STAMP SHOW_TIME HOLDS [X Y] [pace P]``,
+    the sender's role, its clock when sending and its show time (s), whether it holds the
+    show (0 or 1), where it stands in the show frame (m; absent: unknown) and the pace it can
+    follow (0-1, the ``paced`` strategy; absent: 1). Raises :class:`HoldMessageError`, and
+    nothing else, for any other text."""
     if not isinstance(text, str):
         raise HoldMessageError(repr(text), f"a {type(text).__name__} is not text")
     words = text.split()
@@ -161,6 +162,13 @@ def parse_hold(text: str) -> HoldMessage:
         raise HoldMessageError(text, "it does not start with 'hold'" if words
                                else "it is empty")
     rest = words[1:]
+    pace = 1.0
+    if len(rest) >= 2 and rest[-2] == "pace":
+        pace = _finite_numbers(rest[-1:], lambda why: HoldMessageError(text, why), "a number",
+                               "a finite number")[0]
+        if not 0.0 <= pace <= 1.0:
+            raise HoldMessageError(text, f"the pace must be from 0 to 1, not {_shown(rest[-1])}")
+        rest = rest[:-2]
     if len(rest) not in (4, 6):
         raise HoldMessageError(text, f"'hold' takes 4 or 6 words, not {len(rest)}")
     if not is_role(rest[0]):
@@ -173,7 +181,7 @@ def parse_hold(text: str) -> HoldMessage:
                               "a finite number")
     stamp, show_time, *position = numbers
     return HoldMessage(rest[0], stamp, show_time, rest[3] == "1",
-                       (position[0], position[1]) if position else None)
+                       (position[0], position[1]) if position else None, pace)
 
 
 def _finite_numbers(words: Sequence[str], error: Callable[[str], ValueError], kind: str,
@@ -197,10 +205,14 @@ def format_hold(message: HoldMessage) -> str:
     numbers = (message.stamp, message.show_time, *(message.position or ()))
     if not all(math.isfinite(n) for n in numbers):
         raise ValueError(f"a hold message's times and position must be finite: {message}")
+    if not 0.0 <= message.pace <= 1.0:
+        raise ValueError(f"a hold message's pace must be from 0 to 1: {message}")
     text = (f"hold {message.role} {message.stamp!r} {message.show_time!r} "
             f"{int(message.holds)}")
     if message.position is not None:
         text += f" {message.position[0]!r} {message.position[1]!r}"
+    if message.pace != 1.0:  # (the ``together`` strategy's messages stay as they were)
+        text += f" pace {message.pace!r}"
     return text
 
 
