@@ -1,8 +1,8 @@
 """Shows among people (issue 13): the figures of its targets, measured.
 
 Run: ``.venv/bin/python benchmarks/eval_people.py [--runs N] [--skip-speedup]
-[--stop-rule predicted|fixed|closing|ssm]`` (the certification's stop rule; default
-predicted, the project's default)
+[--stop-rule predicted|fixed|closing|ssm] [--hold together|paced]`` (the certification's
+stop rule, default predicted, and hold strategy, default together: the project's defaults)
 
 Prints:
 1. ``dancebots certify`` of the bundled open-day show among a random crowd
@@ -30,10 +30,11 @@ import tempfile
 from pathlib import Path
 
 
-def certify(runs: int, jobs: int, out: Path, stop_rule: str) -> dict[str, object]:
+def certify(runs: int, jobs: int, out: Path, stop_rule: str,
+            hold: str = "together") -> dict[str, object]:
     done = subprocess.run([sys.executable, "-m", "dancebots.cli", "certify", "--runs",
                            str(runs), "--jobs", str(jobs), "--out", str(out), "--json",
-                           "--stop-rule", stop_rule],
+                           "--stop-rule", stop_rule, "--hold", hold],
                           capture_output=True, text=True, check=False)
     if done.returncode not in (0, 1):
         raise SystemExit(f"certify failed ({done.returncode}):\n{done.stderr[-2000:]}")
@@ -62,9 +63,10 @@ def main() -> None:
     parser.add_argument("--skip-speedup", action="store_true")
     parser.add_argument("--stop-rule", choices=("predicted", "fixed", "closing", "ssm"),
                         default="predicted")
+    parser.add_argument("--hold", choices=("together", "paced"), default="together")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
-        two = certify(args.runs, 2, Path(scratch) / "two", args.stop_rule)
+        two = certify(args.runs, 2, Path(scratch) / "two", args.stop_rule, args.hold)
         gap, held, apart = two["min_person_gap_m"], two["held_robot_s"], two[
             "held_place_error_m"]
         assert isinstance(gap, dict)
@@ -72,7 +74,7 @@ def main() -> None:
         assert isinstance(apart, dict)
         wall2 = float(two["wall_s"])  # type: ignore[arg-type]
         print(f"certify, bundled open-day show among a crowd, realistic, {args.runs} seeds, "
-              f"stop rule {args.stop_rule}, 2 processes:")
+              f"stop rule {args.stop_rule}, hold {args.hold}, 2 processes:")
         print(f"  contacts of a moving robot with a person: {two['contacts_moving']} "
               f"(runs with one: {two['runs_with_contacts_moving']}); with a robot standing "
               f"still: {two['contacts_standing']}; robots with robots/walls: "
@@ -87,7 +89,7 @@ def main() -> None:
         print(f"  wall {wall2:.1f} s: {60 * args.runs / wall2:.1f} runs/min; 1,000 runs "
               f"projected {1000 * wall2 / args.runs / 60:.1f} min (target < 10)")
         if not args.skip_speedup:
-            one = certify(args.runs, 1, Path(scratch) / "one", args.stop_rule)
+            one = certify(args.runs, 1, Path(scratch) / "one", args.stop_rule, args.hold)
             wall1 = float(one["wall_s"])  # type: ignore[arg-type]
             same = _without_walls(one) == _without_walls(two)
             print(f"  1 process: {wall1:.1f} s; speed-up of 2 processes {wall1 / wall2:.2f}x; "

@@ -175,6 +175,10 @@ PACE_MARGIN = 0.9
 """Under the ``paced`` hold strategy (``sync.hold``) a robot that a stranger slows and leaves
 behind its place says it can follow this share of what it drives of the plan's speeds (room
 for it to catch up): :func:`_pace_left`."""
+PACE_MIN = 0.2
+"""A robot that drives less than this share of the plan's speeds holds the show instead of
+pacing it (a crawl looks like a stop to the audience, and a robot creeping towards its stop
+distance on its approach limit would let the clock creep on while it stands)."""
 
 
 def _pace_left(linear: float, angular: float, speed: float, angular_speed: float) -> float:
@@ -710,7 +714,9 @@ class RobotBrain:
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
                 if self.paced and holds_show:  # slows the clock to what it drives instead
                     pace = _pace_left(linear, angular, full_speed, full_angular)
-                    holds_show = pace <= 0.0
+                    holds_show = pace < PACE_MIN * PACE_MARGIN
+                    if holds_show:
+                        pace = 1.0  # (it holds the show: no pace to say)
             command = Command(linear, angular)
         else:
             follower = state.follower

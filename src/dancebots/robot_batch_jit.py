@@ -54,7 +54,7 @@ CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZ
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
- PACE_MARGIN) = range(27)
+ PACE_MARGIN, PACE_MIN) = range(28)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -691,7 +691,9 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     if full_angular != 0.0:
                         share = min(share, abs(angular) / abs(full_angular))
                     pace = rules[PACE_MARGIN] * share
-                    holds_show = pace <= 0.0
+                    holds_show = pace < rules[PACE_MIN] * rules[PACE_MARGIN]
+                    if holds_show:
+                        pace = 1.0
         # ``safety.monitor.safety_step``
         events[r], event_values[r] = EVENT_NONE, 0.0
         may_move = False
