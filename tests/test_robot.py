@@ -133,6 +133,34 @@ def test_a_mate_on_its_place_does_not_push_the_robot_but_a_stranger_does(followe
     assert force_on_r1("thesis", -0.9)[1] > 0.0
 
 
+def test_a_paced_brain_interpolates_its_place_between_the_grid_ticks() -> None:
+    """A paced clock runs off the 10 Hz grid: the place between two ticks is their linear
+    interpolation (headings unwrapped), on the grid the grid's row. It stays within the
+    place's own step over that tick of the exact plan (2.5 cm where the inner place loops
+    back round the spot turn within one tick, the grid stepping 3.2 cm there), and mostly
+    within a millimetre."""
+    from dancebots.robot import BrainOptions, brain_for
+    from dancebots.world import DEFAULT_ROBOT_TYPE
+
+    plan = plan_of(PLAN_TEXT)
+    paced = brain_for(plan, "R1", DEFAULT_ROBOT_TYPE,
+                      BrainOptions(follower="path", lidar=False, paced=True))
+    exact = brain_for(plan, "R1", DEFAULT_ROBOT_TYPE, BrainOptions(follower="path", lidar=False))
+    errors = []
+    for tick in range(int(plan.duration * 10) - 1):
+        now = tick * 0.1 + 0.037
+        got, want = paced.slot_at(now), exact.slot_at(now)
+        before, after = paced.slot_at(tick * 0.1), paced.slot_at((tick + 1) * 0.1)
+        assert got.pose[0] == pytest.approx(0.63 * before.pose[0] + 0.37 * after.pose[0])
+        assert got.speed == pytest.approx(0.63 * before.speed + 0.37 * after.speed)
+        error = math.hypot(got.pose[0] - want.pose[0], got.pose[1] - want.pose[1])
+        step = math.hypot(after.pose[0] - before.pose[0], after.pose[1] - before.pose[1])
+        assert error <= step + 1e-3
+        errors.append(error)
+        assert paced.slot_at(tick * 0.1) == exact.slot_at(tick * 0.1)
+    assert np.median(errors) < 1e-3
+
+
 def test_the_tracking_followers_lead_their_feedforward_by_the_actuator_lag() -> None:
     """A robot whose speeds follow its commands with a first-order lag of 0.25 s: its
     reference keeps the pose of now and takes the speeds of 0.25 s later (interpolated

@@ -433,7 +433,8 @@ class RobotBrain:
         """The slot's reference at ``show_time`` s in the robot's own frame, for the tracking
         follower: from the 10 Hz grid; off it, its pose and speed computed exactly from the
         plan, folded to continue the grid's heading and with the grid's angular speed over
-        that step (``fold_reference``)."""
+        that step (``fold_reference``); for a paced brain (``BrainOptions.paced``), whose
+        clock runs off the grid, interpolated linearly between the grid's two ticks."""
         grid = self._slot_grid
         assert grid is not None, "slot_at serves the tracking follower"
         k = self._grid_index(show_time, len(grid))
@@ -441,6 +442,20 @@ class RobotBrain:
             if self._slot_list is None:
                 self._slot_list = grid.tolist()
             x, y, heading, speed, angular_speed = self._slot_list[k]
+            return SlotReference((x, y, wrap_angle(heading)), speed, angular_speed,
+                                 show_time >= self.rest_from)
+        if self.paced and 0.0 <= show_time < self.grid_end and len(grid) >= 2:
+            # a paced clock is mostly off the grid: between its two ticks, linearly (the
+            # place moves at most a few cm a tick; the exact plan costs a millisecond)
+            if self._slot_list is None:
+                self._slot_list = grid.tolist()
+            k = min(math.floor(show_time / self.grid_period), len(grid) - 2)
+            start = k * self.grid_period  # (the grid's last step ends at grid_end)
+            span = min((k + 1) * self.grid_period, self.grid_end) - start
+            weight = min(max((show_time - start) / span, 0.0), 1.0) if span > 0.0 else 0.0
+            a, b = self._slot_list[k], self._slot_list[k + 1]
+            x, y, heading, speed, angular_speed = (
+                (1.0 - weight) * p + weight * q for p, q in zip(a, b, strict=True))
             return SlotReference((x, y, wrap_angle(heading)), speed, angular_speed,
                                  show_time >= self.rest_from)
         before = grid[min(max(int(show_time / self.grid_period), 0), len(grid) - 1)]

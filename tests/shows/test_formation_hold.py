@@ -56,6 +56,23 @@ def test_the_formation_waits_for_a_robot_a_bystander_holds(profile: str) -> None
     assert together.run_duration > alone.show_duration + 5.0
 
 
+@pytest.mark.parametrize("profile", ["ideal", "realistic"])
+def test_a_paced_formation_waits_for_the_bystander_as_closely(profile: str) -> None:
+    """``--hold paced``: R1, slowed and left behind on its way to the bystander, paces the
+    clock while it drives a fifth of the plan's speed or more, and holds it below that (no
+    creeping clock while it stands at its stop distance): the formation keeps as close to
+    its places as ``together`` (9.7 / 9.3 cm) and waits for the bystander."""
+    extra = {"profile": REALISTIC} if profile == "realistic" else {}
+    result = _run(hold="paced", **extra)
+    metrics = run_metrics(result)
+    assert metrics.held_place_error is not None
+    assert metrics.held_place_error <= 0.09
+    assert run_verdict(metrics).clean
+    assert metrics.clock_stood >= 5.0  # R1 held until the bystander walks off
+    assert metrics.clock_stood_for_people == pytest.approx(metrics.clock_stood)
+    assert metrics.max_final_error <= 0.05
+
+
 def test_every_robot_shares_one_show_time_and_it_stops_while_r1_waits() -> None:
     result = _run()
     show = result.show_time
