@@ -598,14 +598,15 @@ def add_hold_argument(parser: argparse.ArgumentParser) -> None:
     """--hold: whether the formation waits for a robot held by a person
     (``SimConfig.hold``)."""
     parser.add_argument("--hold", choices=HOLDS, default=None,
-                        help="together (default): when a robot is held (or slowed and left "
-                        "behind) by a person, every robot's virtual leader waits, and all "
-                        "resume together (a shared show clock); alone (the default with "
+                        help="paced (default): when a robot is held by a person, every "
+                        "robot's virtual leader waits, and all resume together (a shared "
+                        "show clock); a robot a person slows and leaves behind says how much "
+                        "of the plan's speed it drives, and every leader runs at that pace "
+                        "(the formation slows together instead of stopping and starting); "
+                        "together: such a robot holds the show too; alone (the default with "
                         "--follower thesis, whose robots know no mates' places): each "
                         "robot's leader runs on from the start whatever the others do "
-                        "(thesis 4.2); paced: together, and a robot a person slows (its turn "
-                        "or its approach) says how much of the plan's speed it can follow, "
-                        "so the formation slows together instead of stopping and starting")
+                        "(thesis 4.2)")
 
 
 def add_follower_argument(parser: argparse.ArgumentParser) -> None:

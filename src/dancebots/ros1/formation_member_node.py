@@ -9,7 +9,7 @@ default, "tracking" or "thesis"; docs/control.md) and ``~timing`` ("feasible", t
 or "thesis"; the same on every robot: it sets the plan's timing); ``~actuator_lag`` (s,
 default 0: the time constant with which the robot's speeds follow its commands; the
 tracking and path followers lead their feedforward by it); ``~lidar`` (default true:
-read ``obstacles`` and stop for them); ``~hold`` ("together", the default, "paced", or
+read ``obstacles`` and stop for them); ``~hold`` ("paced", the default, "together", or
 "alone", the default with the thesis follower: whether the formation shares one show clock,
 below);
 ``~stop_rule`` ("predicted", the default, "fixed", the default with the thesis follower,
@@ -33,8 +33,8 @@ agreed start, with each command, the thesis's virtual-leader frames on TF (ch. 4
 ``virtual_leader`` (the leader it follows at its show time), each prefixed like the others, so
 that RViz shows every robot's virtual leader.
 
-The formation waits together (``~hold`` together, ``sync.hold``): from the agreed start every
-formation_member publishes a hold message on ``/hold`` at 10 Hz (std_msgs/String,
+The formation waits together (``~hold`` paced or together, ``sync.hold``): from the agreed
+start every formation_member publishes a hold message on ``/hold`` at 10 Hz (std_msgs/String,
 ``hold ROLE STAMP SHOW_TIME HOLDS X Y [pace P]``: its clock, its show time, whether it holds
 the show, where it stands in the show frame and, with ``paced``, the share of the plan's
 speeds it can follow, at which every show time then runs) and keeps the shared show clock
@@ -151,7 +151,7 @@ def main() -> None:
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
         follower = cast(Follower, str(rospy.get_param("~follower", "path")))
         hold = str(rospy.get_param("~hold", "")) or (
-            "alone" if follower == "thesis" else "together")
+            "alone" if follower == "thesis" else "paced")
         if hold not in HOLD_STRATEGIES:
             raise ValueError(f"unknown ~hold {hold!r}; choose from {', '.join(HOLD_STRATEGIES)}")
         stop_rule = default_stop_rule(follower, str(rospy.get_param("~stop_rule", "")))
@@ -325,6 +325,7 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     if before is not None and now > before.updated:  # (paced brains)
                         rate = min(max((clock.show_time - before.show_time)
                                        / (now - before.updated), 0.0), 1.0)
+                        rate = 1.0 if rate >= 1.0 - 1e-9 else rate  # (rounding)
                     shown = clock.show_time
                     mates_heard = np.array(heard_positions(clock), dtype=float).reshape(-1, 2)
                     waiting = _report_wait(log, role, clock, before, waiting, now)

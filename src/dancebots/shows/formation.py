@@ -101,7 +101,7 @@ class SimConfig:
         on their places; ``paced``: together, and a robot a stranger slows says the pace it
         can follow, at which every show time advances (the formation slows together);
         ``alone`` (thesis 4.2): each robot's show time is the time since the start; None
-        (the default): together, alone for the thesis follower (the thesis's
+        (the default): paced, alone for the thesis follower (the thesis's
         system as written: its follower knows no mates' places, so a mate would hold the
         show). hold_delay (s, below the 1 s heartbeat timeout) and hold_loss (probability,
         below 1) act on the robots' hold messages, passed in-process (the kernel here has no
@@ -270,11 +270,11 @@ class RunResult:
 
 
 def hold_strategy(config: SimConfig) -> HoldStrategy:
-    """The hold strategy a configuration runs (``SimConfig.hold``; None: together, alone for
-    the thesis follower)."""
+    """The hold strategy a configuration runs (``SimConfig.hold``; None: paced, alone for the
+    thesis follower)."""
     if config.hold is not None:
         return config.hold
-    return "alone" if config.brain.follower == "thesis" else "together"
+    return "alone" if config.brain.follower == "thesis" else "paced"
 
 
 def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
@@ -394,8 +394,12 @@ class _Crew:
                                          pace=self.pacing)
         self.show_times[:] = self.clocks.show_time
         if self.paced:  # how fast each clock ran since its last tick
-            elapsed = np.maximum(now - since, 1e-9)
-            self.rates[:] = np.clip((self.clocks.show_time - before) / elapsed, 0.0, 1.0)
+            elapsed = now - since
+            rates = (self.clocks.show_time - before) / np.maximum(elapsed, 1e-9)
+            # (a full tick's advance over the tick rounds to 1 - 1e-16: that is the full pace;
+            # no time since the last tick, at the start: no rate to tell)
+            self.rates[:] = np.where((rates >= 1.0 - 1e-9) | (elapsed <= 0.0), 1.0,
+                                     np.clip(rates, 0.0, 1.0))
 
     def _mates_heard(self) -> list[np.ndarray | None]:
         """Per robot, (K, 2) where its mates said they stand (show frame), from the latest

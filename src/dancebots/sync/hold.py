@@ -44,9 +44,10 @@ __all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "FormationClocks", "HoldMessage", "
 
 HoldStrategy = Literal["together", "alone", "paced"]
 HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
-"""``together`` (the default, an addition): the shared show clock of this module; ``alone``
-(thesis 4.2): every robot's show time is its clock since the start, whatever the others do;
-``paced`` (an addition): ``together`` with paces (module docstring)."""
+"""``together`` (an addition): the shared show clock of this module; ``alone`` (thesis 4.2):
+every robot's show time is its clock since the start, whatever the others do; ``paced`` (an
+addition, the default of the tracking and path followers): ``together`` with paces (module
+docstring; docs/safety.md has both certified)."""
 
 
 ADVANCE_MIN = 1e-9
