@@ -7,7 +7,8 @@ Kanayama's law on the rigid slot's motion; ``path``, the default: the same law o
 on the leader's path) and each timing (``thesis``; ``feasible``, the default: the leader
 slows where a slot or place would move faster than 0.8 vmax), in the ideal and realistic profiles,
 with and without LIDAR (the thesis follower with the thesis's independent leaders, ``--hold
-alone``; the others with the formation waiting together, the default), and prints per run:
+alone``; the others with the formation's shared clock, ``paced``, the default), and prints
+per run:
 
 * ``head°``: the largest heading error against the slot's heading, deg (180: turned round);
 * ``rev%``: the share of the time a slot moves that a robot drives against it (at least

@@ -1,8 +1,9 @@
 """Shows among people (issue 13): the figures of its targets, measured.
 
 Run: ``.venv/bin/python benchmarks/eval_people.py [--runs N] [--skip-speedup]
-[--stop-rule predicted|fixed|closing|ssm] [--hold together|paced]`` (the certification's
-stop rule, default predicted, and hold strategy, default together: the project's defaults)
+[--stop-rule predicted|fixed|closing|ssm] [--hold paced|together|alone]`` (the
+certification's stop rule, default predicted, and hold strategy, default paced: the project's
+defaults)
 
 Prints:
 1. ``dancebots certify`` of the bundled open-day show among a random crowd
@@ -63,7 +64,7 @@ def main() -> None:
     parser.add_argument("--skip-speedup", action="store_true")
     parser.add_argument("--stop-rule", choices=("predicted", "fixed", "closing", "ssm"),
                         default="predicted")
-    parser.add_argument("--hold", choices=("together", "paced"), default="together")
+    parser.add_argument("--hold", choices=("paced", "together", "alone"), default="paced")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
         two = certify(args.runs, 2, Path(scratch) / "two", args.stop_rule, args.hold)

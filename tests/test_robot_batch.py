@@ -66,8 +66,9 @@ FIXED = SimConfig(brain=BrainOptions(follower="path", stop_rule="fixed"))  # the
     ("thesis_7_2", replace(PATH, profile=REALISTIC, brain=BrainOptions(follower="tracking"))),
     # stops, speech and beeps (robots in each other's way), each robot's own show clock
     ("thesis_6_3", replace(PATH, hold="alone")),
-    # hold messages late and lost
+    # hold messages late and lost, the default paced clock and the together one
     ("square_path", replace(PATH, hold_delay=0.3, hold_loss=0.2, seed=3)),
+    ("square_path", replace(PATH, hold="together", hold_delay=0.3, hold_loss=0.2, seed=3)),
     # the thesis's fixed stop rule batched too
     ("thesis_7_4", FIXED),
     ("thesis_6_3", replace(FIXED, hold="alone")),
@@ -80,11 +81,13 @@ def test_batch_runs_the_examples_as_the_brains_do(examples: Path, name: str,
         assert {e.kind for e in batched.events} >= {"speech", "beep", "resume"}
 
 
-@pytest.mark.parametrize("config", [PATH, FIXED], ids=["predicted", "fixed"])
+@pytest.mark.parametrize("config", [PATH, replace(FIXED, hold="together")],
+                         ids=["predicted-paced", "fixed-together"])
 def test_batch_runs_a_show_among_a_crowd_as_the_brains_do(config: SimConfig) -> None:
     """The open day among a random crowd, realistic profile: people hold robots, are told to
     make room, walk into their way (the strangers' rules, the mates heard where they are),
-    with the default and with the thesis's stop rule."""
+    with the default stop rule and hold strategy and with the thesis's stop rule and the
+    ``together`` clock."""
     data = ROOT / "src" / "dancebots" / "data"
     reference, batched = both(data / "open_day.dance", data / "open_day_crowd.toml",
                               replace(config, profile=REALISTIC, seed=5))

@@ -181,16 +181,23 @@ pacing it (a crawl looks like a stop to the audience, and a robot creeping towar
 distance on its approach limit would let the clock creep on while it stands)."""
 
 
-def _pace_left(linear: float, angular: float, speed: float, angular_speed: float) -> float:
-    """The pace (0-1) a robot slowed to ``linear`` m/s and ``angular`` rad/s can follow of a
-    plan that asks ``speed`` and ``angular_speed`` there at the full pace: the smaller share
-    of the two, times :data:`PACE_MARGIN` (1 where the plan asks nothing of it)."""
+def _pace_left(linear: float, angular: float, speed: float, angular_speed: float,
+               wanted_linear: float, wanted_angular: float) -> float:
+    """The pace (0 to :data:`PACE_MARGIN`) a robot slowed to ``linear`` m/s and ``angular``
+    rad/s can follow of a plan that asks ``speed`` and ``angular_speed`` there at the full
+    pace: the smaller share of the two, times :data:`PACE_MARGIN`. Where the plan asks no
+    speed (a place that stands) the share is of what its follower wanted (``wanted_linear``,
+    ``wanted_angular``: a robot kept from closing on a standing place drives nothing of it),
+    1 where neither asks any."""
     share = 1.0
-    if speed != 0.0:
-        share = min(share, abs(linear) / abs(speed))
-    if angular_speed != 0.0:
-        share = min(share, abs(angular) / abs(angular_speed))
+    for got, planned, wanted in ((linear, speed, wanted_linear),
+                                 (angular, angular_speed, wanted_angular)):
+        asked = planned if planned != 0.0 else wanted
+        if asked != 0.0:
+            share = min(share, abs(got) / abs(asked))
     return PACE_MARGIN * share
+
+
 AFTER_SHOW_WAIT = 10.0
 """s: the longest a robot waits after the show for strangers within :data:`NEAR_GAP` to
 leave before it goes to its final slot anyway (with the corner cap and the stop flags): a
@@ -728,7 +735,7 @@ class RobotBrain:
                         sensing.length, sensing.width, linear, sensing.detection))
                 holds_show = (abs(linear) < abs(wanted[0]) - SLOWED and by_stranger) or turn_cut
                 if self.paced and holds_show:  # slows the clock to what it drives instead
-                    pace = _pace_left(linear, angular, full_speed, full_angular)
+                    pace = _pace_left(linear, angular, full_speed, full_angular, *wanted)
                     holds_show = pace < PACE_MIN * PACE_MARGIN
                     if holds_show:
                         pace = 1.0  # (it holds the show: no pace to say)
@@ -750,8 +757,6 @@ class RobotBrain:
                                waiting=waiting, strangers_seen=strangers_seen,
                                closing=closing, pace=pace)
         return new_state, command, events
-
-
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
                     seen_from: tuple[float, float, float], pose: tuple[float, float, float],
@@ -1184,7 +1189,8 @@ class BrainOptions:
     the NumPy reference (``SensingConfig.compiled``); stop_rule: :data:`STOP_RULES` (None:
     :func:`default_stop_rule` of the follower); paced: the formation's shared clock runs at
     paces (``sync.hold``'s ``paced`` strategy): the brain says the pace it can follow
-    (``BrainState.pace``) and follows its place at the clock's rate.
+    (``BrainState.pace``) and follows its place at the clock's rate (the simulator sets it
+    from ``SimConfig.hold``, the ROS node from ``~hold``).
     """
 
     follower: Follower = "thesis"

@@ -686,10 +686,12 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                               and by_stranger) or turn_cut
                 if paced and holds_show:  # ``robot._pace_left``
                     share = 1.0
-                    if full_speed != 0.0:
-                        share = min(share, abs(linear) / abs(full_speed))
-                    if full_angular != 0.0:
-                        share = min(share, abs(angular) / abs(full_angular))
+                    asked = full_speed if full_speed != 0.0 else wanted_linear
+                    if asked != 0.0:
+                        share = min(share, abs(linear) / abs(asked))
+                    asked = full_angular if full_angular != 0.0 else wanted_angular
+                    if asked != 0.0:
+                        share = min(share, abs(angular) / abs(asked))
                     pace = rules[PACE_MARGIN] * share
                     holds_show = pace < rules[PACE_MIN] * rules[PACE_MARGIN]
                     if holds_show:

@@ -86,7 +86,7 @@ def test_show_across_network_namespaces(tmp_path: Path, pull_cable: bool) -> Non
         assert late.any()
         assert np.all(record.commands[r1, late] == 0.0)
         assert np.any(record.commands[r1, record.times < pulled_at] != 0.0)
-        # the formation's shared show clock (the default --hold together): R2 no longer
+        # the formation's shared show clock (the default --hold paced): R2 no longer
         # hears R1, so after the 1 s heartbeat timeout the show stops; R2 settles on its
         # place where the show stopped (its heading corrected, at most a few cm) and waits
         stood = record.times > pulled_at + 1.5

@@ -137,8 +137,8 @@ def test_a_robot_whose_nodes_are_killed_stops_and_the_others_wait_or_finish(
         roscore: Master, tmp_path: Path, hold: str) -> None:
     """R1's nodes are killed 10 s into the show (a crash: no goodbye). Its orphaned robot is
     at zero command within 0.3 s (the 10 Hz rule at the bridge). With ``--hold alone``
-    (thesis 4.2) R2 finishes its part of the show; with ``together`` (the default) and
-    ``paced`` R2 no longer hears R1's hold messages, so after the 1 s heartbeat timeout its
+    (thesis 4.2) R2 finishes its part of the show; with ``together`` and ``paced``
+    (the default) R2 no longer hears R1's hold messages, so after the 1 s heartbeat timeout its
     show clock stops and it stands where it is: a lost robot stops the show."""
     duration = plan_of(SCENARIO_7_1).duration
     show = RosShow(roscore, tmp_path)

@@ -40,7 +40,7 @@ def _run(**config: object) -> RunResult:
 @pytest.mark.parametrize("profile", ["ideal", "realistic"])
 def test_the_formation_waits_for_a_robot_a_bystander_holds(profile: str) -> None:
     extra = {"profile": REALISTIC} if profile == "realistic" else {}
-    together = run_metrics(_run(**extra))
+    together = run_metrics(_run(hold="together", **extra))
     alone = run_metrics(_run(hold="alone", **extra))
     # while R1 waits for the bystander, every robot stays within 10 cm of its place ...
     assert together.held_place_error is not None

@@ -13,8 +13,8 @@ from dancebots.sync import messages
 from dancebots.sync.hold import HoldMessage
 from dancebots.sync.messages import HoldMessageError, format_hold, parse_hold
 
-EXPECTED = ("; expected 'hold ROLE STAMP SHOW_TIME HOLDS [X Y] [pace P]' (HOLDS 0 or 1, P "
-            "from 0 to 1)")
+EXPECTED = ("; expected 'hold ROLE STAMP SHOW_TIME HOLDS [X Y] [pace P]' (HOLDS 0 or 1, "
+            "0 < P <= 1)")
 
 
 def test_a_hold_message_with_and_without_a_position() -> None:
@@ -45,8 +45,10 @@ def test_a_paced_hold_message_says_its_pace() -> None:
     ("hold R1 1 -inf 0", "'-inf' is not a finite number"),
     ("hold R1 1e400 2 1", "'1e400' is not a finite number"),
     ("hold R1 1 2 1 0x10 3", "'0x10' is not a number"),
-    ("hold R1 1 2 0 pace 1.5", "the pace must be from 0 to 1, not '1.5'"),
-    ("hold R1 1 2 0 pace -0.1", "the pace must be from 0 to 1, not '-0.1'"),
+    ("hold R1 1 2 0 pace 1.5", "the pace must be above 0 and at most 1, not '1.5'"),
+    ("hold R1 1 2 0 pace -0.1", "the pace must be above 0 and at most 1, not '-0.1'"),
+    ("hold R1 1 2 0 pace 0", "the pace must be above 0 and at most 1, not '0'"),
+    ("hold R1 1 2 0 pace -0", "the pace must be above 0 and at most 1, not '-0'"),
     ("hold R1 1 2 0 pace nan", "'nan' is not a finite number"),
     ("hold R1 1 2 0 pace", "'hold' takes 4 or 6 words, not 5"),
     ("hold R1 1 2 pace 0.5", "'hold' takes 4 or 6 words, not 3"),
@@ -61,8 +63,9 @@ def test_bad_hold_messages_say_what_is_wrong(text: str, reason: str) -> None:
 def test_a_message_that_cannot_be_sent_is_refused() -> None:
     with pytest.raises(ValueError, match="must be finite"):
         format_hold(HoldMessage("R1", math.nan, 1.0, False))
-    with pytest.raises(ValueError, match="pace must be from 0 to 1"):
-        format_hold(HoldMessage("R1", 1.0, 1.0, False, None, 2.0))
+    for pace in (2.0, 0.0):
+        with pytest.raises(ValueError, match="pace must be above 0 and at most 1"):
+            format_hold(HoldMessage("R1", 1.0, 1.0, False, None, pace))
 
 
 WORDS = ["hold", "pace", "0.5", "R1", "R2", "_a.b-c", "1R", "", "é", "\x00", "1732.25",
@@ -102,7 +105,8 @@ finite = st.floats(allow_nan=False, allow_infinity=False)
 
 @settings(max_examples=200, deadline=None)
 @given(st.from_regex(r"[A-Za-z_][A-Za-z0-9_.-]{0,10}", fullmatch=True), finite, finite,
-       st.booleans(), st.none() | st.tuples(finite, finite), st.floats(0.0, 1.0))
+       st.booleans(), st.none() | st.tuples(finite, finite),
+       st.floats(0.0, 1.0, exclude_min=True))
 def test_every_finite_message_round_trips(role: str, stamp: float, show_time: float,
                                           holds: bool, position: tuple[float, float] | None,
                                           pace: float) -> None:

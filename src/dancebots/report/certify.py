@@ -83,7 +83,9 @@ class RunSummary:
     @property
     def clock_stood_otherwise(self) -> float:
         """s the clock stood with nobody near the robots that held it."""
-        return max(self.clock_stood - self.clock_stood_for_people, 0.0)
+        from dancebots.report.metrics import ClockWaits
+
+        return ClockWaits(self.clock_stood, self.clock_stood_for_people).otherwise
 
     @property
     def stalled(self) -> bool:

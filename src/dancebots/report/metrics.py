@@ -198,7 +198,7 @@ class RunMetrics:
     def clock_stood_otherwise(self) -> float:
         """s the shared show clock stood with no person near a robot that held it
         (:func:`clock_waits`): the robots' or the plan's doing."""
-        return max(self.clock_stood - self.clock_stood_for_people, 0.0)
+        return ClockWaits(self.clock_stood, self.clock_stood_for_people).otherwise
 
     @property
     def max_spacing_change(self) -> float | None:
@@ -403,6 +403,11 @@ class ClockWaits(NamedTuple):
 
     stood: float
     for_people: float
+
+    @property
+    def otherwise(self) -> float:
+        """s the clock stood with nobody near a robot that held it."""
+        return max(self.stood - self.for_people, 0.0)
 
 
 def clock_waits(result: RunResult, near: float = PERSON_NEAR) -> ClockWaits:

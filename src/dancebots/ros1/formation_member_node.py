@@ -112,6 +112,7 @@ from dancebots.sync.hold import (
     HOLD_STRATEGIES,
     HoldMessage,
     ShowClock,
+    clock_rate,
     clock_receive,
     clock_tick,
     heard_positions,
@@ -322,10 +323,8 @@ def _run(life: NodeLife, log: QueuedLog, role: str, names: RobotNames,
                     clock = clock_tick(clock_receive(
                         before or new_clock(role, brain.plan.robots, now - elapsed),
                         *received), now, state.holding_the_show, pace=state.pace)
-                    if before is not None and now > before.updated:  # (paced brains)
-                        rate = min(max((clock.show_time - before.show_time)
-                                       / (now - before.updated), 0.0), 1.0)
-                        rate = 1.0 if rate >= 1.0 - 1e-9 else rate  # (rounding)
+                    rate = 1.0 if before is None else clock_rate(  # (paced brains)
+                        clock.show_time - before.show_time, now - before.updated)
                     shown = clock.show_time
                     mates_heard = np.array(heard_positions(clock), dtype=float).reshape(-1, 2)
                     waiting = _report_wait(log, role, clock, before, waiting, now)

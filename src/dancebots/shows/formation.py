@@ -38,6 +38,7 @@ from dancebots.sync.hold import (
     FormationClocks,
     HoldParams,
     HoldStrategy,
+    clock_rate,
     formation_clocks,
     formation_receive,
     formation_tick,
@@ -290,7 +291,7 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                       actuator_lag=config.profile.lag if config.brain.actuator_lag is None
                       else config.brain.actuator_lag,
                       compiled=config.brain.compiled and config.compiled,
-                      paced=config.brain.paced or hold_strategy(config) == "paced")
+                      paced=hold_strategy(config) == "paced")  # (the clock's, not the brain's)
     lidar = None if config.lidar is None else replace(
         config.lidar, compiled=config.lidar.compiled and config.compiled)
     brains = [brain_for(plan, robot, kind, options)
@@ -316,7 +317,8 @@ class _Crew:
     """The formation's decisions at a control tick: each robot's brain steps with the cloud
     that reaches it and its pose in its own map frame (withheld from the start of an injected
     fault) at its show time; the events the robots voiced or reported accumulate in
-    ``events``. With ``hold`` = together every robot keeps the formation's shared show clock
+    ``events``. With ``hold`` = together or paced every robot keeps the formation's shared
+    show clock
     (``sync.hold``) from the hold messages of the others, which reach it ``hold_delay`` s
     after they were sent unless lost (``hold_loss``, drawn from a generator of its own)."""
 
@@ -332,7 +334,7 @@ class _Crew:
         self.rates = np.ones(count)  # each robot's clock's rate since its last tick
         self.clocks = formation_clocks(count, 0.0)
         # messages sent but not yet heard: (due time, per robot: sent (not lost), stamp, show
-        # time, holds, position), in the order sent
+        # time, holds, position, pace), in the order sent
         self.in_flight: list[tuple[float, tuple[np.ndarray, ...]]] = []
         self.compiled_clocks = config.compiled
         self.hold_params = HoldParams()
@@ -394,12 +396,7 @@ class _Crew:
                                          pace=self.pacing)
         self.show_times[:] = self.clocks.show_time
         if self.paced:  # how fast each clock ran since its last tick
-            elapsed = now - since
-            rates = (self.clocks.show_time - before) / np.maximum(elapsed, 1e-9)
-            # (a full tick's advance over the tick rounds to 1 - 1e-16: that is the full pace;
-            # no time since the last tick, at the start: no rate to tell)
-            self.rates[:] = np.where((rates >= 1.0 - 1e-9) | (elapsed <= 0.0), 1.0,
-                                     np.clip(rates, 0.0, 1.0))
+            self.rates[:] = clock_rate(self.clocks.show_time - before, now - since)
 
     def _mates_heard(self) -> list[np.ndarray | None]:
         """Per robot, (K, 2) where its mates said they stand (show frame), from the latest

@@ -33,16 +33,18 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Literal, get_args
+from typing import Literal, TypeVar, get_args
 
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "FormationClocks", "HoldMessage", "HoldParams",
-           "HoldStrategy", "ShowClock", "clock_receive", "clock_tick", "formation_clocks",
-           "formation_receive", "formation_tick", "heard_positions", "new_clock"]
+           "HoldStrategy", "ShowClock", "clock_rate", "clock_receive", "clock_tick",
+           "formation_clocks", "formation_receive", "formation_tick", "heard_positions",
+           "new_clock"]
 
 HoldStrategy = Literal["together", "alone", "paced"]
+ArrayOrFloat = TypeVar("ArrayOrFloat", float, NDArray[np.float64])
 HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
 """``together`` (an addition): the shared show clock of this module; ``alone`` (thesis 4.2):
 every robot's show time is its clock since the start, whatever the others do; ``paced`` (an
@@ -60,7 +62,8 @@ class HoldMessage:
     (``stamp``, s), its ``show_time`` then (s), whether it ``holds`` the show, and where it
     stands in the show frame (``position``, m; None: unknown), so that its mates do not take
     it for a person where it is off its place; ``pace``: the share (0-1] of the plan's speed
-    it can follow (the ``paced`` strategy; 1 otherwise)."""
+    it can follow (the ``paced`` strategy, at least ``robot.PACE_MIN`` times its margin: a
+    robot that can follow less holds the show; 1 otherwise)."""
 
     role: str
     stamp: float
@@ -144,6 +147,18 @@ def clock_tick(clock: ShowClock, now: float, holds: bool,
     if not waiting and min(ahead, ceiling) > show_time + ADVANCE_MIN:
         show_time = min(ahead, ceiling)
     return ShowClock(clock.role, clock.mates, show_time, now, clock.heard)
+
+
+def clock_rate(advance: ArrayOrFloat, elapsed: ArrayOrFloat) -> ArrayOrFloat:
+    """How fast a show clock ran (0-1) that advanced ``advance`` s of show time over
+    ``elapsed`` s of its own clock (floats or arrays alike): what a paced brain follows its
+    place at. A full tick's advance (its ratio rounds to 1 - 1e-16) and no time elapsed (the
+    first tick) are 1 exactly, so that an unpaced show runs as without paces."""
+    ratio = np.asarray(advance, dtype=float) / np.maximum(np.asarray(elapsed, dtype=float),
+                                                          1e-9)
+    rate = np.where((ratio >= 1.0 - 1e-9) | (np.asarray(elapsed) <= 0.0), 1.0,
+                    np.clip(ratio, 0.0, 1.0))
+    return float(rate) if rate.ndim == 0 else rate  # type: ignore[return-value]
 
 
 def heard_positions(clock: ShowClock) -> tuple[tuple[float, float], ...]:

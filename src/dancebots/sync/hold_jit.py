@@ -63,19 +63,8 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
         reach[r] = (sent_show_time[r] + (0.0 if holds[r] else pace[r] * _maximum(age, 0.0))
                     if heard else math.inf)
         paces[r] = pace[r] if heard else 1.0
-    # the two smallest reaches as a stable sort orders them (NaN last)
-    first, second = -1, -1
-    for r in range(count):
-        if first < 0 or _before(reach[r], reach[first]):
-            second, first = first, r
-        elif second < 0 or _before(reach[r], reach[second]):
-            second = r
-    slow, slower = -1, -1  # the two smallest paces, the same way
-    for r in range(count):
-        if slow < 0 or _before(paces[r], paces[slow]):
-            slower, slow = slow, r
-        elif slower < 0 or _before(paces[r], paces[slower]):
-            slower = r
+    first, second = _two_smallest(reach)
+    slow, slower = _two_smallest(paces)
     new_show_time = np.empty(count)
     for r in range(count):
         ceiling = (reach[second] if r == first else reach[first]) if count > 1 else math.inf
@@ -88,6 +77,19 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
         runs = not waiting and ahead > show_time[r] + advance_min
         new_show_time[r] = ahead if runs else show_time[r]
     return new_show_time, np.full(count, now), stamp, sent_show_time, holds, position, pace
+
+
+@njit(cache=True)
+def _two_smallest(values: FloatArray) -> tuple[int, int]:
+    """The indices of the two smallest values (R,) as a stable sort orders them (NaN last;
+    -1 where there are fewer)."""
+    first, second = -1, -1
+    for r in range(values.shape[0]):
+        if first < 0 or _before(values[r], values[first]):
+            second, first = first, r
+        elif second < 0 or _before(values[r], values[second]):
+            second = r
+    return first, second
 
 
 @njit(cache=True)

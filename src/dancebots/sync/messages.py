@@ -143,7 +143,7 @@ class HoldMessageError(ValueError):
 
     def __init__(self, text: str, reason: str) -> None:
         super().__init__(f"bad /hold message {_shown(text)}: {reason}; expected 'hold ROLE "
-                         "STAMP SHOW_TIME HOLDS [X Y] [pace P]' (HOLDS 0 or 1, P from 0 to 1)")
+                         "STAMP SHOW_TIME HOLDS [X Y] [pace P]' (HOLDS 0 or 1, 0 < P <= 1)")
         self.text = text
         self.reason = reason
 
@@ -153,8 +153,8 @@ def parse_hold(text: str) -> HoldMessage:
     shared show clock, ``sync.hold``): ``hold ROLE STAMP SHOW_TIME HOLDS [X Y] [pace P]``,
     the sender's role, its clock when sending and its show time (s), whether it holds the
     show (0 or 1), where it stands in the show frame (m; absent: unknown) and the pace it can
-    follow (0-1, the ``paced`` strategy; absent: 1). Raises :class:`HoldMessageError`, and
-    nothing else, for any other text."""
+    follow (above 0 and at most 1, the ``paced`` strategy; absent: 1). Raises
+    :class:`HoldMessageError`, and nothing else, for any other text."""
     if not isinstance(text, str):
         raise HoldMessageError(repr(text), f"a {type(text).__name__} is not text")
     words = text.split()
@@ -166,8 +166,9 @@ def parse_hold(text: str) -> HoldMessage:
     if len(rest) >= 2 and rest[-2] == "pace":
         pace = _finite_numbers(rest[-1:], lambda why: HoldMessageError(text, why), "a number",
                                "a finite number")[0]
-        if not 0.0 <= pace <= 1.0:
-            raise HoldMessageError(text, f"the pace must be from 0 to 1, not {_shown(rest[-1])}")
+        if not 0.0 < pace <= 1.0:  # (a robot that drives nothing holds the show: HOLDS)
+            raise HoldMessageError(text, f"the pace must be above 0 and at most 1, not "
+                                   f"{_shown(rest[-1])}")
         rest = rest[:-2]
     if len(rest) not in (4, 6):
         raise HoldMessageError(text, f"'hold' takes 4 or 6 words, not {len(rest)}")
@@ -205,8 +206,8 @@ def format_hold(message: HoldMessage) -> str:
     numbers = (message.stamp, message.show_time, *(message.position or ()))
     if not all(math.isfinite(n) for n in numbers):
         raise ValueError(f"a hold message's times and position must be finite: {message}")
-    if not 0.0 <= message.pace <= 1.0:
-        raise ValueError(f"a hold message's pace must be from 0 to 1: {message}")
+    if not 0.0 < message.pace <= 1.0:
+        raise ValueError(f"a hold message's pace must be above 0 and at most 1: {message}")
     text = (f"hold {message.role} {message.stamp!r} {message.show_time!r} "
             f"{int(message.holds)}")
     if message.position is not None:
