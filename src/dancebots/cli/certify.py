@@ -269,7 +269,7 @@ def _outcome(job: CertifyJob, summaries: list[RunSummary], wall: float, processe
 
 def _failures(cert: Certificate) -> tuple[str, ...]:
     from dancebots.report.metrics import PERSON_NEAR
-    from dancebots.report.verdict import STALL_TOLERANCE
+    from dancebots.report.verdict import STALL_CAUSES, STALL_TOLERANCE
 
     lines = []
     if cert.contacts_moving:
@@ -293,8 +293,7 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
         runs = [r.seed for r in cert.runs if r.stalled]
         lines.append(f"in {cert.stalled} of {len(cert.runs)} runs the formation stood "
                      f"{STALL_TOLERANCE:g} s or more with nobody within {PERSON_NEAR:g} m of the "
-                     "robots that held it (robots waiting for each other, for a wall, or for a "
-                     f"failed or silent mate; seeds {_seeds(runs)})")
+                     f"robots that held it ({STALL_CAUSES}; seeds {_seeds(runs)})")
     return tuple(lines)
 
 

@@ -23,7 +23,8 @@ if TYPE_CHECKING:
     from dancebots.report.queue_metrics import QueueMetrics
 
 __all__ = ["FINAL_HEADING_TOLERANCE", "FINAL_SLOT_TOLERANCE", "OFF_FORMATION_TOLERANCE",
-           "REVERSE_TOLERANCE", "STALL_TOLERANCE", "Verdict", "queue_verdict", "run_verdict"]
+           "REVERSE_TOLERANCE", "STALL_CAUSES", "STALL_TOLERANCE", "Verdict", "queue_verdict",
+           "run_verdict"]
 
 FINAL_SLOT_TOLERANCE = 0.5
 """m: a robot that ends further than this from its final slot fails the show (about a robot's
@@ -46,6 +47,9 @@ STALL_TOLERANCE = 3.0
 person within ``report.metrics.PERSON_NEAR`` of a robot that held it fails the show: waiting
 for people is the stop rule's work, waiting for nothing near is a stall (the bundled examples
 have 0 s of it, the certified crowds at most 0.1 s a run)."""
+
+STALL_CAUSES = "robots waiting for each other, for a wall, or for a failed or silent mate"
+"""What stands a formation's clock with nobody near (the stall lines of run and certify)."""
 
 _KINDS = {"robot": ("collision between robots", "collisions between robots"),
           "spectator": ("contact with a person", "contacts with people"),
@@ -110,8 +114,7 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
                         f"{metrics.show_duration:.1f} s{_waits_text(metrics)}")
     if metrics.clock_stood_otherwise >= stall_tolerance - 1e-9:
         failures.append(f"the formation stood {metrics.clock_stood_otherwise:.1f} s with nobody "
-                        f"within {PERSON_NEAR:g} m of the robots that held it (robots waiting "
-                        f"for each other, for a wall, or for a failed or silent mate)")
+                        f"within {PERSON_NEAR:g} m of the robots that held it ({STALL_CAUSES})")
     outside = [r for r in metrics.robots
                if r.off_formation_time >= off_formation_tolerance - 1e-9]
     if outside:
