@@ -340,6 +340,40 @@ def test_a_turn_cut_for_a_stranger_slows_the_robot_along_the_same_arc(
     assert near.angular / near.linear == pytest.approx(uncut.angular / uncut.linear)
 
 
+def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> None:
+    """The formation's shared clock stands (the show time does not advance from one tick to
+    the next): a robot 8 cm to the side of its place waits where it is (PAUSE_STILL)
+    instead of turning to drive onto it; 0.3 m away it drives back; with the clock running
+    the same 8 cm are steered out on the way; and the robot that held or paced the show at
+    its last tick keeps closing on its place (else the clock creeps on without it: the row
+    bystander's R1 fell 18 cm behind)."""
+    from dataclasses import replace
+
+    from dancebots.robot import PAUSE_STILL, SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(lidar=False),
+                       follower="path")
+
+    def command_at(side: float, paused: bool, holds_show: bool = False,
+                   pace: float = 1.0) -> Command:
+        place = brain.slot_at(2.0).pose
+        pose = (place[0], place[1] + side, place[2])
+        state = brain.initial_state()
+        state, _, _ = brain.step(state, 2.0 if paused else 1.9, pose)
+        state = replace(state, holds_show=holds_show, pace=pace)
+        return brain.step(state, 2.0, pose)[1]
+
+    assert PAUSE_STILL > 0.08
+    assert command_at(0.08, paused=True) == Command(0.0, 0.0)
+    assert command_at(0.3, paused=True) != Command(0.0, 0.0)
+    running = command_at(0.08, paused=False)
+    assert running.linear > 0.2
+    assert running.angular < 0.0  # back towards its place, on the right
+    assert command_at(0.08, paused=True, holds_show=True) != Command(0.0, 0.0)
+    assert command_at(0.08, paused=True, pace=0.5) != Command(0.0, 0.0)
+
+
 def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:
     """After the plan's end nothing is late: a robot 0.5 m short of its final slot with a
     person 0.8 m beside it (NEAR_GAP) stands, held and holding the show (it asks for room);

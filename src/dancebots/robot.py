@@ -127,6 +127,14 @@ HOLD_LAG = 0.05
 slows (the approach limit to it) or keeps from turning (the turn guard, with the stranger
 within the turn's reach) holds the formation's shared show clock, as a held robot does
 (``sync.hold``): the formation waits instead of leaving it behind."""
+PAUSE_STILL = 0.15
+"""m: while the formation's shared show clock stands (``sync.hold``) a robot of the tracking
+and path followers this near its place stands still instead of driving onto it, unless it
+held or paced the show itself at its last tick (the robot the formation waits for keeps
+closing on its place, or the clock would creep on without it): the drive to a point a few
+centimetres to its side turned it by up to 90 deg and back, corners swinging beside the
+people the formation waits for, and its place moves on from where it is when the show
+resumes (the tracking law closes the gap on the way)."""
 PREDICTED_STOP_TIME = 0.3
 """s: the ``predicted`` rule also moves a tracked stranger on for this beyond the data's
 age, the time a robot told to stop still moves (a tick and its drive's lag; ISO 13855's
@@ -600,8 +608,13 @@ class RobotBrain:
                     reference = replace(reference, speed=reference.speed * rate,
                                         angular_speed=reference.angular_speed * rate)
                 reference_speed = abs(reference.speed)
-                linear, angular = tracking_step(self.tracking, pose, reference, seen.force)
                 behind = math.hypot(reference.pose[0] - pose[0], reference.pose[1] - pose[1])
+                if (paused and not reference.final and behind <= PAUSE_STILL
+                        and not state.holds_show and state.pace >= 1.0):
+                    linear, angular = 0.0, 0.0  # near its place it waits where it is
+                else:
+                    linear, angular = tracking_step(self.tracking, pose, reference,
+                                                    seen.force)
             else:
                 sample = self._sample(show_time)
                 follower, (linear, angular) = thesis_follower_step(

@@ -54,7 +54,7 @@ CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZ
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
- PACE_MARGIN, PACE_MIN) = range(28)
+ PACE_MARGIN, PACE_MIN, PAUSE_STILL) = range(29)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -584,11 +584,15 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
                 speed, angular_speed = speed * rates[r], angular_speed * rates[r]
             reference_speed = abs(speed)
-            linear, angular = _tracking(
-                gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
-                references[r, 0], references[r, 1], references[r, 2], speed, angular_speed,
-                finals[r], fy)
             behind = math.hypot(references[r, 0] - pose[0], references[r, 1] - pose[1])
+            if (paused and not finals[r] and behind <= rules[PAUSE_STILL]
+                    and not flags[r, 1] and paces[r] >= 1.0):  # (its last tick's)
+                linear, angular = 0.0, 0.0  # near its place it waits where it is
+            else:
+                linear, angular = _tracking(
+                    gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
+                    references[r, 0], references[r, 1], references[r, 2], speed,
+                    angular_speed, finals[r], fy)
             wanted_linear, wanted_angular = linear, angular
             seen_front, seen_rear = front < stop, rear < stop
             # ``near``: the strangers' perception, else everything's
