@@ -345,6 +345,13 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
     out.print(f"the shared show clock stood, s per run: median {stood['median']:.1f}, max "
               f"{stood['max']:.1f}; of it with nobody near the robots that held it: median "
               f"{otherwise['median']:.1f}, max {otherwise['max']:.1f}", highlight=False)
+    flips, reverse = data["angular_sign_flips"], data["reverse_fraction"]
+    assert isinstance(flips, dict)
+    assert isinstance(reverse, dict)
+    out.print(f"how the robots looked: turn-rate sign flips per run median "
+              f"{flips['median']:.0f}, max {flips['max']:.0f}; driving against the slot's "
+              f"direction, share of the moving ticks: median {reverse['median']:.1%}, max "
+              f"{reverse['max']:.1%}", highlight=False)
     apart = data["held_place_error_m"]
     assert isinstance(apart, dict)
     if apart["max"] is not None:

@@ -60,7 +60,10 @@ class RunSummary:
     end (not: the formation waited for a held robot until the run's limit); max_final_error:
     m; clean: the run's verdict; failures: its lines; wall: s the run took; clock_stood: s the
     formation's shared show clock stood during the show, clock_stood_for_people: s of it with
-    a person near a robot that held it (``report.metrics.clock_waits``).
+    a person near a robot that held it (``report.metrics.clock_waits``); how the robots
+    looked: angular_sign_flips, the sign changes of their commanded turn rates (chatter),
+    summed over the robots, and reverse_fraction, the share of the ticks in which some
+    robot's slot moves that a robot drove against it (``report.metrics.RunMetrics``).
     """
 
     seed: int
@@ -79,6 +82,8 @@ class RunSummary:
     wall: float
     clock_stood: float = 0.0
     clock_stood_for_people: float = 0.0
+    angular_sign_flips: int = 0
+    reverse_fraction: float = 0.0
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -166,7 +171,7 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.final_show_time is None or metrics.final_show_time >= metrics.show_duration - 1e-6,
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
-        metrics.clock_stood_for_people)
+        metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction)
 
 
 @dataclass(frozen=True, slots=True)
@@ -247,6 +252,9 @@ class Certificate:
             "held_place_error_m": stats(np.array([r.held_place_error for r in self.runs
                                                   if r.held_place_error is not None])),
             "overrun_s": stats(np.array([r.overrun for r in self.runs])),
+            "angular_sign_flips": stats(np.array([r.angular_sign_flips for r in self.runs],
+                                                 dtype=float)),
+            "reverse_fraction": stats(np.array([r.reverse_fraction for r in self.runs])),
             "wall_s": round(self.wall, 2),
             "processes": self.processes,
             "per_run": [{**asdict(r), "failures": list(r.failures),
