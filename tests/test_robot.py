@@ -344,27 +344,37 @@ def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> No
     """The formation's shared clock stands (the show time does not advance from one tick to
     the next): a robot 8 cm to the side of its place waits where it is (PAUSE_STILL)
     instead of turning to drive onto it; 0.3 m away it drives back; with the clock running
-    the same 8 cm are steered out on the way; and the robot that held or paced the show at
+    the same 8 cm are steered out on the way; the robot that held or paced the show at
     its last tick keeps closing on its place (else the clock creeps on without it: the row
-    bystander's R1 fell 18 cm behind)."""
+    bystander's R1 fell 18 cm behind); and a clock that stood less than PAUSE_STILL_AFTER
+    stops nobody (robots stopped and went at every one-tick hold)."""
     from dataclasses import replace
 
-    from dancebots.robot import PAUSE_STILL, SensingConfig
+    from dancebots.robot import PAUSE_STILL, PAUSE_STILL_AFTER, SensingConfig
 
     plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
     brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(lidar=False),
                        follower="path")
 
     def command_at(side: float, paused: bool, holds_show: bool = False,
-                   pace: float = 1.0) -> Command:
+                   pace: float = 1.0, stood: float = 1.0) -> Command:
+        """The command at show time 2.0 s after a tick at 1.9 s, or, paused, with the show
+        time standing at 2.0 s since the robot's clock read ``1.0 - stood`` s (its clock at
+        this tick: 1.0 s)."""
         place = brain.slot_at(2.0).pose
         pose = (place[0], place[1] + side, place[2])
         state = brain.initial_state()
-        state, _, _ = brain.step(state, 2.0 if paused else 1.9, pose)
+        if paused:
+            state, _, _ = brain.step(state, 1.9, pose, clock=0.8 - stood)
+            state, _, _ = brain.step(state, 2.0, pose, clock=0.9 - stood)
+            state, _, _ = brain.step(state, 2.0, pose, clock=1.0 - stood)  # it stands
+        else:
+            state, _, _ = brain.step(state, 1.9, pose, clock=0.9)
         state = replace(state, holds_show=holds_show, pace=pace)
-        return brain.step(state, 2.0, pose)[1]
+        return brain.step(state, 2.0, pose, clock=1.0)[1]
 
     assert PAUSE_STILL > 0.08
+    assert PAUSE_STILL_AFTER < 1.0
     assert command_at(0.08, paused=True) == Command(0.0, 0.0)
     assert command_at(0.3, paused=True) != Command(0.0, 0.0)
     running = command_at(0.08, paused=False)
@@ -372,6 +382,11 @@ def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> No
     assert running.angular < 0.0  # back towards its place, on the right
     assert command_at(0.08, paused=True, holds_show=True) != Command(0.0, 0.0)
     assert command_at(0.08, paused=True, pace=0.5) != Command(0.0, 0.0)
+    # a clock that stood a tick or two is no wait yet: the robot keeps closing on its place
+    brief = command_at(0.08, paused=True, stood=PAUSE_STILL_AFTER - 0.2)
+    assert brief != Command(0.0, 0.0)
+    assert brief == command_at(0.08, paused=True, stood=PAUSE_STILL_AFTER - 0.2,
+                               holds_show=True)
 
 
 def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:

@@ -128,13 +128,18 @@ slows (the approach limit to it) or keeps from turning (the turn guard, with the
 within the turn's reach) holds the formation's shared show clock, as a held robot does
 (``sync.hold``): the formation waits instead of leaving it behind."""
 PAUSE_STILL = 0.15
-"""m: while the formation's shared show clock stands (``sync.hold``) a robot of the tracking
-and path followers this near its place stands still instead of driving onto it, unless it
-held or paced the show itself at its last tick (the robot the formation waits for keeps
-closing on its place, or the clock would creep on without it): the drive to a point a few
-centimetres to its side turned it by up to 90 deg and back, corners swinging beside the
-people the formation waits for, and its place moves on from where it is when the show
-resumes (the tracking law closes the gap on the way)."""
+"""m: once the formation's shared show clock has stood :data:`PAUSE_STILL_AFTER`
+(``sync.hold``), a robot of the tracking and path followers this near its place stands still
+instead of driving onto it, unless it held or paced the show itself at its last tick (the
+robot the formation waits for keeps closing on its place, or the clock would creep on
+without it): the drive to a point a few centimetres to its side turned it by up to 90 deg
+and back, corners swinging beside the people the formation waits for, and its place moves
+on from where it is when the show resumes (the tracking law closes the gap on the way)."""
+PAUSE_STILL_AFTER = 0.3
+"""s the shared show clock must have stood before :data:`PAUSE_STILL` acts: a clock that
+stands a tick or two and runs on (a hold let go at once) would otherwise stop robots that
+drive on their places at every such tick, stop and go at 5 Hz (open-day crowd seeds 0-4:
+556 stop-go ticks against 211 without the rule)."""
 PREDICTED_STOP_TIME = 0.3
 """s: the ``predicted`` rule also moves a tracked stranger on for this beyond the data's
 age, the time a robot told to stop still moves (a tick and its drive's lag; ISO 13855's
@@ -274,7 +279,8 @@ class BrainState:
     the strangers' points (N, 2) in the own map frame of the latest cloud it could use
     (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
     gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
-    before (S,) m/s)."""
+    before (S,) m/s); since when (its clock, s) the show time has not advanced
+    (``paused_since``, None while it runs)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -295,6 +301,7 @@ class BrainState:
     strangers_seen: tuple[float, np.ndarray] | None = None
     closing: tuple[float, np.ndarray, np.ndarray] | None = None
     pace: float = 1.0
+    paused_since: float | None = None
 
     @property
     def holding_the_show(self) -> bool:
@@ -587,6 +594,9 @@ class RobotBrain:
         near_since: float | None = None  # after the show: since when a stranger is near
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
         paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
+        paused_since = (now if state.paused_since is None else state.paused_since) if paused \
+            else None
+        stood_for = 0.0 if paused_since is None else now - paused_since  # s the clock stood
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
             strangers: Perception | None = None  # the points that are no mate on its place
@@ -610,6 +620,7 @@ class RobotBrain:
                 reference_speed = abs(reference.speed)
                 behind = math.hypot(reference.pose[0] - pose[0], reference.pose[1] - pose[1])
                 if (paused and not reference.final and behind <= PAUSE_STILL
+                        and stood_for >= PAUSE_STILL_AFTER - 1e-9
                         and not state.holds_show and state.pace >= 1.0):
                     linear, angular = 0.0, 0.0  # near its place it waits where it is
                 else:
@@ -768,7 +779,7 @@ class RobotBrain:
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
-                               closing=closing, pace=pace)
+                               closing=closing, pace=pace, paused_since=paused_since)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

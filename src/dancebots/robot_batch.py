@@ -147,7 +147,7 @@ class BatchBrains:
             ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
             robot.PREDICTED_STOP_TIME, 1.0 if first.paced else 0.0, robot.PACE_MARGIN,
-            robot.PACE_MIN, robot.PAUSE_STILL])
+            robot.PACE_MIN, robot.PAUSE_STILL, robot.PAUSE_STILL_AFTER])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
@@ -184,6 +184,7 @@ class BatchBrains:
         self.events = np.zeros(count, dtype=np.int64)
         self.event_values = np.zeros(count)
         self.paces = np.ones(count)
+        self.paused_since = np.full(count, np.nan)
         self.no_rates = np.ones(count)
 
     def references(self, show_times: FloatArray,
@@ -245,7 +246,7 @@ class BatchBrains:
             self.track_count, self.track_stamp, self.cloud_stamp, self.point_velocity,
             self.point_kind, self.point_count,
             self.no_rates if rates is None else np.ascontiguousarray(rates, dtype=np.float64),
-            self.paces)
+            self.paces, self.paused_since)
         error = self.safety[:, 0] != 0.0
         stopped = self.flags[:, 3]
         holds_show = self.flags[:, 1]

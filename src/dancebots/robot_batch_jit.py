@@ -54,7 +54,7 @@ CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZ
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
- PACE_MARGIN, PACE_MIN, PAUSE_STILL) = range(29)
+ PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER) = range(30)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -458,7 +458,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 track_count: NDArray[np.int64], track_stamp: FloatArray,
                 cloud_stamp: FloatArray, point_velocity: FloatArray,
                 point_kind: NDArray[np.int8], point_count: NDArray[np.int64],
-                rates: FloatArray, paces: FloatArray) -> None:
+                rates: FloatArray, paces: FloatArray, paused_since: FloatArray) -> None:
     """One control tick of every robot (``RobotBrain.step``), in place.
 
     Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
@@ -489,6 +489,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     The ``paced`` hold strategy (rules[PACED]): each robot's clock ran at rates (R,) (0-1)
     since its last tick; out: paces (R,), the share of the plan's speeds each can follow
     (``robot._pace_left``; 1 without it).
+    State, updated: paused_since (R,) each robot's clock when its show time stopped
+    advancing (NaN: it advances).
     """
     count = poses.shape[0]
     capacity = history.shape[1]
@@ -562,6 +564,11 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         room = 0.0
         paused = (not math.isnan(last_show_time[r])
                   and show_time <= last_show_time[r] + rules[ADVANCE_MIN])
+        if not paused:
+            paused_since[r] = math.nan
+        elif math.isnan(paused_since[r]):
+            paused_since[r] = now
+        stood_for = 0.0 if math.isnan(paused_since[r]) else now - paused_since[r]
         if known and show_time >= 0.0:
             view = seen_from[r] if has_seen_from[r] else pose
             mates_now = mates[r]
@@ -586,6 +593,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             reference_speed = abs(speed)
             behind = math.hypot(references[r, 0] - pose[0], references[r, 1] - pose[1])
             if (paused and not finals[r] and behind <= rules[PAUSE_STILL]
+                    and stood_for >= rules[PAUSE_STILL_AFTER] - 1e-9
                     and not flags[r, 1] and paces[r] >= 1.0):  # (its last tick's)
                 linear, angular = 0.0, 0.0  # near its place it waits where it is
             else:
