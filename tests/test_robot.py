@@ -389,6 +389,32 @@ def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> No
                                holds_show=True)
 
 
+def test_a_robot_holds_the_standing_show_while_a_person_blocks_its_way_on() -> None:
+    """A person stands 0.3 m ahead of a robot on its place: it is held and holds the show.
+    While the show stands its place stands, and the robot, on it, would drive nowhere; the
+    hold is judged on the motion the show would ask, so it keeps holding (before, it let go
+    at the next tick, the show went on, and it held again: the formation stopped and went,
+    and the robot said its stop sentence, at 5 Hz). With the person gone it lets go."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path")
+    ahead = 0.5 * brain.sensing.length + 0.3
+    person = np.array([[ahead, y, 0.0, 1.7] for y in np.linspace(-0.1, 0.1, 5)])
+    place = brain.slot_at(2.0).pose
+    state = brain.initial_state()
+    holding = []
+    for now, show_time, columns in ((1.9, 1.9, person), (2.0, 2.0, person),
+                                    (2.1, 2.0, person), (2.2, 2.0, person),
+                                    (2.3, 2.0, np.zeros((0, 4)))):
+        state, command, _ = brain.step(state, show_time, place, PointCloud(now, columns),
+                                       clock=now)
+        holding.append((state.held, state.holds_show, command.linear == 0.0))
+    assert holding[:4] == [(True, True, True)] * 4
+    assert holding[4][:2] == (False, False)
+
+
 def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:
     """After the plan's end nothing is late: a robot 0.5 m short of its final slot with a
     person 0.8 m beside it (NEAR_GAP) stands, held and holding the show (it asks for room);

@@ -586,6 +586,13 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     s_front, s_rear, s_nearest, _fx, fy = strangers
             speed, angular_speed = references[r, 3], references[r, 4]
             full_speed, full_angular = speed, angular_speed
+            going = paused and not finals[r]  # what the show would ask (``RobotBrain.step``)
+            go_linear, go_angular = 0.0, 0.0
+            if going:
+                go_linear, go_angular = _tracking(
+                    gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
+                    references[r, 0], references[r, 1], references[r, 2], speed,
+                    angular_speed, finals[r], fy)
             if paused:
                 speed, angular_speed = 0.0, 0.0
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
@@ -602,6 +609,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     references[r, 0], references[r, 1], references[r, 2], speed,
                     angular_speed, finals[r], fy)
             wanted_linear, wanted_angular = linear, angular
+            if not going:
+                go_linear, go_angular = linear, angular
             seen_front, seen_rear = front < stop, rear < stop
             # ``near``: the strangers' perception, else everything's
             n_front = s_front if has_strangers else front
@@ -640,7 +649,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 near_time = now if math.isnan(near_since[r]) else near_since[r]
             # ``predicted``: where the tracked strangers will be by now
             p_front, p_rear, p_nearest = math.inf, math.inf, math.inf
-            if (predicted and (linear != 0.0 or angular != 0.0) and point_count[r] >= 0
+            if (predicted and (go_linear != 0.0 or go_angular != 0.0) and point_count[r] >= 0
                     and _any_tracked(point_kind[r, :point_count[r]])):
                 p_front, p_rear, p_nearest = _predicted_gaps(
                     _points_now(cloud, height_step, ssm_detect, view, pose),
@@ -655,13 +664,17 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                   and (linear != 0.0 or angular != 0.0)):
                 held = holds_show = waiting = True
                 linear = angular = 0.0
-            elif predicted and linear != 0.0 and (p_front if linear > 0 else p_rear) < stop:
+            elif (predicted and go_linear != 0.0
+                  and (p_front if go_linear > 0 else p_rear) < stop):
                 # a tracked person will be in the corridor by now (``_predicted_gaps``)
                 held = holds_show = True
                 linear = 0.0
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
                 held = True
                 holds_show = (near_front and linear > 0) or (near_rear and linear < 0)
+                linear = 0.0
+            elif going and ((near_front and go_linear > 0) or (near_rear and go_linear < 0)):
+                held = holds_show = True  # a stranger in the way the show would go on
                 linear = 0.0
             elif rules[APPROACH_GAIN] > 0:
                 if linear > 0:

@@ -336,9 +336,12 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
         out.print(f"smallest robot-person gap per run, m: min {gap['min']:.3f}, 1 % "
                   f"{gap['p1']:.3f}, 5 % {gap['p5']:.3f}, median {gap['median']:.3f}",
                   highlight=False)
+    stops = data["stops"]
+    assert isinstance(stops, dict)
     out.print(f"held by the stop rule, robot-s per run: median {held['median']:.1f}, max "
-              f"{held['max']:.1f}; rest after the planned end, s: median "
-              f"{overrun['median']:.1f}, max {overrun['max']:.1f}", highlight=False)
+              f"{held['max']:.1f}, in stops (each with its stop sentence): median "
+              f"{stops['median']:.0f}, max {stops['max']:.0f}; rest after the planned end, "
+              f"s: median {overrun['median']:.1f}, max {overrun['max']:.1f}", highlight=False)
     stood, otherwise = data["clock_stood_s"], data["clock_stood_otherwise_s"]
     assert isinstance(stood, dict)
     assert isinstance(otherwise, dict)

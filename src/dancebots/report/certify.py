@@ -249,6 +249,7 @@ class Certificate:
                                                        for r in self.runs])),
             "min_person_gap_m": stats(self.gaps()),
             "held_robot_s": stats(np.array([r.held for r in self.runs])),
+            "stops": stats(np.array([r.stops for r in self.runs], dtype=float)),
             "held_place_error_m": stats(np.array([r.held_place_error for r in self.runs
                                                   if r.held_place_error is not None])),
             "overrun_s": stats(np.array([r.overrun for r in self.runs])),
