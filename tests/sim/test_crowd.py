@@ -333,3 +333,43 @@ def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None
     unknown = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]),
                        np.array([[0.0, 0.0], [math.nan, 0.0]]), np.array([0.6, 0.6]), 0.2)
     assert unknown.tolist() == pytest.approx([1.0, 0.0])
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_child_asked_for_room_squeezes_out_of_a_standing_formation(
+        compiled: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A child stands in the middle of four standing robots whose corners point at it
+    (centres 1.7 m apart), and they ask for room. It walks out between two of them, keeping
+    LEAVING_RANGE of its robot range from them on the way (it is marked leaving); with the
+    whole range the four robots' pushes hold it in the middle (the trap that kept a standing
+    formation waiting until the run's end)."""
+    from dancebots.sim import crowd
+
+    half = 0.85
+    corners = (math.pi / 4, 3 * math.pi / 4, -3 * math.pi / 4, -math.pi / 4)
+    robots = np.array([[5 - half, 5 - half, corners[0]], [5 + half, 5 - half, corners[1]],
+                       [5 + half, 5 + half, corners[2]], [5 - half, 5 + half, corners[3]]])
+    lengths, widths = np.full(4, 0.99), np.full(4, 0.67)
+    area = np.array([[1.0, 1.0], [9.0, 1.0], [9.0, 9.0], [1.0, 9.0]])
+
+    def walked(share: float) -> tuple[float, bool]:
+        monkeypatch.setattr(crowd, "LEAVING_RANGE", share)
+        child = Crowd("kids", 1, area, "child", 1.0, 0.0, 0.18, 1.2, 3, 1)  # type: ignore[arg-type]
+        rng = np.random.default_rng(1)
+        state = crowd_start([child], robots, 0.5 * np.hypot(lengths, widths), None, WALLS,
+                            rng)
+        state = dataclasses.replace(state, position=np.array([[5.0, 5.0]]),
+                                    goal=np.array([[5.0, 5.0]]), velocity=np.zeros((1, 2)),
+                                    pause=np.array([100.0]))
+        was_leaving = False
+        for _ in range(300):
+            state = crowd_step(state, 0.1, [area], WALLS, robots, lengths, widths, rng,
+                               speaking=np.ones(4, dtype=bool), compiled=compiled)
+            was_leaving |= bool(state.leaving is not None and state.leaving[0])
+        return float(np.hypot(*(state.position[0] - 5.0))), was_leaving
+
+    out, leaving = walked(crowd.LEAVING_RANGE)
+    assert leaving
+    assert out > 2.0  # beyond the robots' far corners
+    trapped, _ = walked(1.0)
+    assert trapped < 0.3
