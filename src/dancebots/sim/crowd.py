@@ -39,9 +39,8 @@ from numpy.typing import NDArray
 
 from dancebots.world.model import Crowd, Obstacle
 
-__all__ = ["KIND_BEHAVIOUR", "LEAVING_RANGE", "CrowdState", "KindBehaviour",
-           "SocialForceParams", "crowd_start", "crowd_step", "social_acceleration",
-           "wall_rings", "wall_segments"]
+__all__ = ["KIND_BEHAVIOUR", "CrowdState", "KindBehaviour", "SocialForceParams",
+           "crowd_start", "crowd_step", "social_acceleration", "wall_rings", "wall_segments"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -101,15 +100,6 @@ HEARING = 2.0
 """m from a speaking robot's footprint (about) within which people hear it."""
 ROOM_MADE = (1.5, 3.0)
 """m: how far a person who heeds a speaking robot walks away (``_make_room``)."""
-LEAVING_RANGE = 0.3
-"""The share of its kind's robot range (H&M's R for robots) that a person keeps from the
-robots while it walks out of the formation (from inside the convex hull of the robots'
-centres) because a robot asked for room: a real child walks out between two robots 0.6 m
-apart; with the whole range the four robots' pushes held a simulated child in the middle of
-a standing 2 x 2 formation, and the formation waited for it until the run's end (open-day
-crowd seeds 138, 205, 833, 880 and 959 once the formation waited properly). People outside
-the formation keep the whole range: the share for everyone who heeds let people brush past
-robots that moved again (docs/safety.md, "Crowds")."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -117,9 +107,7 @@ class CrowdState:
     """P pedestrians: position (P, 2) and velocity (P, 2) in the world frame (m, m/s), goal
     (P, 2), pause (P,) s left to stand at the goal (0 while walking), preferred speed (P,)
     m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
-    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,); leaving (P,):
-    walking out of the formation because a robot asked for room (:func:`_make_room`), until
-    it reaches that goal or picks another (None: nobody)."""
+    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
 
     position: FloatArray
     velocity: FloatArray
@@ -131,20 +119,10 @@ class CrowdState:
     crowd: IntArray
     behaviour: FloatArray
     names: tuple[str, ...]
-    leaving: NDArray[np.bool_] | None = None
 
     def column(self, field: str) -> FloatArray:
         """One :class:`KindBehaviour` field (P,) of every pedestrian."""
         return self.behaviour[:, _BEHAVIOUR_FIELDS.index(field)]
-
-    def robot_ranges(self) -> FloatArray:
-        """The range (P,) m of the robots' repulsion (H&M eq. 6's R) for each pedestrian:
-        its kind's, times :data:`LEAVING_RANGE` while it walks out of the formation."""
-        ranges = self.column("robot_range")
-        if self.leaving is None or not self.leaving.any():
-            return ranges
-        result: FloatArray = np.where(self.leaving, LEAVING_RANGE * ranges, ranges)
-        return result
 
 
 def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray:
@@ -259,7 +237,7 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
     if len(robot_poses):
         accel += _border_force(
             _from_footprints(position, robot_poses, robot_lengths, robot_widths),
-            params.border_strength, state.robot_ranges()[:, None])
+            params.border_strength, state.column("robot_range")[:, None])
     return accel
 
 
@@ -413,10 +391,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         goal = goal.copy()
         which = np.flatnonzero(rethink)
         goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng)
-    leaving = state.leaving  # out of the formation: until at that goal or off to another
-    if leaving is not None and leaving.any():
-        leaving = leaving & ~arrived & ~rethink
-    moving = replace(state, goal=goal, pause=pause, leaving=leaving)
+    moving = replace(state, goal=goal, pause=pause)
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
     if compiled:  # the substeps in one call, the same operations (``crowd_jit.walk``)
@@ -424,7 +399,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
 
         position, velocity = crowd_jit.walk(
             moving.position, moving.velocity, moving.goal, moving.pause <= 0.0,
-            moving.preferred, moving.robot_ranges(), moving.radius, walls,
+            moving.preferred, moving.column("robot_range"), moving.radius, walls,
             rings if rings is not None else np.arange(len(walls)), robot_poses,
             robot_lengths, robot_widths, params.relaxation, params.pedestrian_strength,
             params.pedestrian_range, params.border_strength, params.border_range,
@@ -473,9 +448,6 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     if not heeds.any():
         return state
     goal, pause = state.goal.copy(), state.pause.copy()
-    leaving = (np.zeros(len(goal), dtype=bool) if state.leaving is None
-               else state.leaving.copy())
-    leaving[heeds] = _inside_formation(robots[:, :2], state.position[heeds])
     for a in np.flatnonzero(heeds).tolist():
         away = offsets[a, nearest[a]]
         direction = _way_out(state.position[a], away, robots[:, :2], robot_reach,
@@ -484,23 +456,7 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
         goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
                            rng, goal[a])
         pause[a] = 0.0
-    return replace(state, goal=goal, pause=pause, leaving=leaving)
-
-
-def _inside_formation(centres: FloatArray, points: FloatArray) -> NDArray[np.bool_]:
-    """Which points (N, 2) lie inside the convex hull of the robots' centres (R, 2) (none
-    for fewer than three robots, or robots in a line or not known)."""
-    from scipy.spatial import Delaunay, QhullError
-
-    known = centres[np.isfinite(centres).all(axis=1)]
-    if len(known) < 3 or len(points) == 0:
-        return np.zeros(len(points), dtype=bool)
-    try:
-        hull = Delaunay(known)
-    except QhullError:  # (in a line: no inside)
-        return np.zeros(len(points), dtype=bool)
-    result: NDArray[np.bool_] = hull.find_simplex(points) >= 0
-    return result
+    return replace(state, goal=goal, pause=pause)
 
 
 WAYS_OUT = 16
