@@ -95,14 +95,36 @@ def test_batch_runs_a_show_among_a_crowd_as_the_brains_do(config: SimConfig) -> 
     assert any(e.kind == "speech" for e in batched.events)
 
 
-def test_batch_runs_the_paced_clock_as_the_brains_do() -> None:
+def test_batch_runs_the_paced_clock_as_the_brains_do(monkeypatch: pytest.MonkeyPatch) -> None:
     """The ``paced`` hold strategy: robots slowed and left behind by people say a pace, every
     clock runs at the smallest, and each place follows at its clock's rate (open-day crowd,
-    realistic profile; a seed where paces below 1 and stops both happen)."""
+    realistic profile; a seed where paces below 1 and stops both happen, where robots hold
+    the standing show for people in the way it would go on, and where robots near their
+    places wait still once it has stood ``robot.PAUSE_STILL_AFTER``)."""
     data = ROOT / "src" / "dancebots" / "data"
+    holding_paused, waiting_still = [0], [0]
+    step = robot.RobotBrain.step
+
+    def counted(brain: robot.RobotBrain, state: robot.BrainState, show_time: float,
+                *args: object, **kwargs: object) -> object:
+        done = step(brain, state, show_time, *args, **kwargs)  # type: ignore[arg-type]
+        after, command = done[0], done[1]
+        paused = state.show_time is not None and show_time <= state.show_time
+        clock = kwargs.get("clock")
+        if paused and after.holds_show:
+            holding_paused[0] += 1
+        if (paused and after.paused_since is not None and isinstance(clock, float)
+                and clock - after.paused_since >= robot.PAUSE_STILL_AFTER
+                and command == robot.STOP and not after.held):
+            waiting_still[0] += 1
+        return done
+
+    monkeypatch.setattr(robot.RobotBrain, "step", counted)
     reference, batched = both(data / "open_day.dance", data / "open_day_crowd.toml",
                               replace(PATH, profile=REALISTIC, seed=2, hold="paced"))
     assert_same_run(reference, batched)
+    assert holding_paused[0] >= 100  # held robots holding the standing show (713 ticks)
+    assert waiting_still[0] >= 100  # robots waiting still while it stands (1,214 ticks)
     clock = batched.show_time.min(axis=0)
     steps = np.diff(clock)
     during = clock[1:] < batched.plan.duration

@@ -136,7 +136,9 @@ without it): the drive to a point a few centimetres to its side turned it by up 
 and back, corners swinging beside the people the formation waits for, and its place moves
 on from where it is when the show resumes (the tracking law closes the gap on the way)."""
 PAUSE_STILL_AFTER = 0.3
-"""s the shared show clock must have stood before :data:`PAUSE_STILL` acts: a clock that
+"""s the robot must have seen the shared show clock stand (from the first tick at which its
+show time did not advance, by its clock: with no clock given to ``RobotBrain.step`` the
+show time stands too, and the rule never acts) before :data:`PAUSE_STILL` acts: a clock that
 stands a tick or two and runs on (a hold let go at once) would otherwise stop robots that
 drive on their places at every such tick, stop and go at 5 Hz (open-day crowd seeds 0-4:
 556 stop-go ticks against 211 without the rule)."""
@@ -279,8 +281,8 @@ class BrainState:
     the strangers' points (N, 2) in the own map frame of the latest cloud it could use
     (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
     gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
-    before (S,) m/s); since when (its clock, s) the show time has not advanced
-    (``paused_since``, None while it runs)."""
+    before (S,) m/s); the robot's clock (s) at the first tick at which its show time had
+    not advanced (``paused_since``, None while it advances)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -594,8 +596,8 @@ class RobotBrain:
         near_since: float | None = None  # after the show: since when a stranger is near
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
         paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
-        paused_since = (now if state.paused_since is None else state.paused_since) if paused \
-            else None
+        paused_since = ((now if state.paused_since is None else state.paused_since)
+                        if paused else None)
         stood_for = 0.0 if paused_since is None else now - paused_since  # s the clock stood
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
@@ -662,7 +664,9 @@ class RobotBrain:
             # the stop rules that hold the show judge, while it stands, the motion it would
             # ask (``going``): judged on the standing place, a robot that held it let go at
             # the next tick, the show went on, it held again, stopping the formation and
-            # speaking at 5 Hz (open-day crowd seed 0: 94 stop sentences)
+            # speaking at 5 Hz (open-day crowd seed 0: 94 stop sentences). The ``predicted``
+            # rule and the stop flags do (the kernel's rules); ``closing`` and ``ssm`` still
+            # judge the robot's own command
             go_linear, go_angular = going if going is not None else (linear, angular)
             if (sensing.stop_rule == "predicted" and (go_linear != 0.0 or go_angular != 0.0)
                     and point_velocity is not None and point_kind is not None):

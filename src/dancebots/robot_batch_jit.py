@@ -489,8 +489,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     The ``paced`` hold strategy (rules[PACED]): each robot's clock ran at rates (R,) (0-1)
     since its last tick; out: paces (R,), the share of the plan's speeds each can follow
     (``robot._pace_left``; 1 without it).
-    State, updated: paused_since (R,) each robot's clock when its show time stopped
-    advancing (NaN: it advances).
+    State, updated: paused_since (R,) each robot's clock at the first tick at which its show
+    time had not advanced (NaN: it advances).
     """
     count = poses.shape[0]
     capacity = history.shape[1]
