@@ -624,7 +624,7 @@ class RobotBrain:
                                         angular_speed=reference.angular_speed * rate)
                 reference_speed = abs(reference.speed)
                 behind = math.hypot(reference.pose[0] - pose[0], reference.pose[1] - pose[1])
-                if (paused and not reference.final and behind <= PAUSE_STILL
+                if (going is not None and behind <= PAUSE_STILL
                         and stood_for >= PAUSE_STILL_AFTER - 1e-9
                         and not state.holds_show and state.pace >= 1.0):
                     linear, angular = 0.0, 0.0  # near its place it waits where it is

@@ -599,7 +599,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 speed, angular_speed = speed * rates[r], angular_speed * rates[r]
             reference_speed = abs(speed)
             behind = math.hypot(references[r, 0] - pose[0], references[r, 1] - pose[1])
-            if (paused and not finals[r] and behind <= rules[PAUSE_STILL]
+            if (going and behind <= rules[PAUSE_STILL]
                     and stood_for >= rules[PAUSE_STILL_AFTER] - 1e-9
                     and not flags[r, 1] and paces[r] >= 1.0):  # (its last tick's)
                 linear, angular = 0.0, 0.0  # near its place it waits where it is
