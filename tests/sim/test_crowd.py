@@ -233,12 +233,14 @@ def test_the_compiled_social_forces_are_the_numpy_ones(seed: int, count: int, ro
     lengths, widths = rng.uniform(0.5, 1.2, robots), rng.uniform(0.4, 0.8, robots)
     if robots:
         state.position[0] = poses[0, :2]  # one inside a footprint
+    standing = rng.random(robots) < 0.5  # some walk out of a formation past standing robots
+    state = dataclasses.replace(state, leaving=rng.random(count) < 0.5)
     params = SocialForceParams()
     expected = social_acceleration(state, walls, poses, lengths, widths, params,
-                                   None if per_segment else rings)
+                                   None if per_segment else rings, robot_standing=standing)
     got = social_acceleration_loops(
         state.position, state.velocity, state.goal, state.pause <= 0.0, state.preferred,
-        state.column("robot_range"), walls, rings, poses, lengths, widths, params.relaxation,
+        state.robot_ranges(standing), walls, rings, poses, lengths, widths, params.relaxation,
         params.pedestrian_strength, params.pedestrian_range, params.border_strength,
         params.border_range, params.step_time, math.cos(params.sight), params.out_of_sight)
     np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-9)
@@ -333,3 +335,65 @@ def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None
     unknown = _way_out(np.array([1.0, 0.0]), np.array([1.0, 0.0]),
                        np.array([[0.0, 0.0], [math.nan, 0.0]]), np.array([0.6, 0.6]), 0.2)
     assert unknown.tolist() == pytest.approx([1.0, 0.0])
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_child_asked_for_room_squeezes_out_between_standing_robots_only(
+        compiled: bool) -> None:
+    """A child stands in the middle of four robots whose corners point at it (centres 1.7 m
+    apart), and they ask for room. Where the robots stand still it walks out between two of
+    them, keeping LEAVING_RANGE of its robot range from them (it is marked leaving); robots
+    that move keep the whole range, and their pushes hold it in the middle (the trap that
+    kept a standing formation waiting until the run's end)."""
+    half = 0.85
+    corners = (math.pi / 4, 3 * math.pi / 4, -3 * math.pi / 4, -math.pi / 4)
+    robots = np.array([[5 - half, 5 - half, corners[0]], [5 + half, 5 - half, corners[1]],
+                       [5 + half, 5 + half, corners[2]], [5 - half, 5 + half, corners[3]]])
+    lengths, widths = np.full(4, 0.99), np.full(4, 0.67)
+    area = np.array([[1.0, 1.0], [9.0, 1.0], [9.0, 9.0], [1.0, 9.0]])
+
+    def walked(standing: bool) -> tuple[float, bool]:
+        child = Crowd("kids", 1, area, "child", 1.0, 0.0, 0.18, 1.2, 3, 1)  # type: ignore[arg-type]
+        rng = np.random.default_rng(1)
+        state = crowd_start([child], robots, 0.5 * np.hypot(lengths, widths), None, WALLS,
+                            rng)
+        state = dataclasses.replace(state, position=np.array([[5.0, 5.0]]),
+                                    goal=np.array([[5.0, 5.0]]), velocity=np.zeros((1, 2)),
+                                    pause=np.array([100.0]))
+        was_leaving = False
+        for _ in range(300):
+            state = crowd_step(state, 0.1, [area], WALLS, robots, lengths, widths, rng,
+                               speaking=np.ones(4, dtype=bool), compiled=compiled,
+                               robot_standing=np.full(4, standing))
+            was_leaving |= bool(state.leaving is not None and state.leaving[0])
+        return float(np.hypot(*(state.position[0] - 5.0))), was_leaving
+
+    out, leaving = walked(standing=True)
+    assert leaving
+    assert out > 2.0  # beyond the robots' far corners
+    trapped, leaving = walked(standing=False)
+    assert leaving
+    assert trapped < 0.3
+
+
+def test_only_a_person_inside_the_formation_walks_out_with_the_leaving_range() -> None:
+    """``robot_ranges``: the kind's range everywhere but for a leaving person and a
+    standing robot (LEAVING_RANGE of it); ``_inside_formation`` is the convex hull of the
+    known robot centres (no inside for fewer than three or robots in a line)."""
+    from dancebots.sim.crowd import LEAVING_RANGE, _inside_formation
+
+    state = dataclasses.replace(_state([[0.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]],
+                                       [[0.0, 0.0], [0.0, 0.0]]),
+                                leaving=np.array([True, False]))
+    ranges = state.robot_ranges(np.array([True, False, True]))
+    kind = state.column("robot_range")
+    np.testing.assert_allclose(ranges, [
+        [LEAVING_RANGE * kind[0], kind[0], LEAVING_RANGE * kind[0]], [kind[1]] * 3])
+    square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    points = np.array([[1.0, 1.0], [3.0, 1.0], [1.0, -0.5]])
+    assert _inside_formation(square, points).tolist() == [True, False, False]
+    assert _inside_formation(square[:2], points).tolist() == [False] * 3
+    line = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    assert _inside_formation(line, points).tolist() == [False] * 3
+    unknown = np.array([[0.0, 0.0], [2.0, 0.0], [math.nan, 2.0]])
+    assert _inside_formation(unknown, points).tolist() == [False] * 3

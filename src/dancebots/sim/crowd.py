@@ -39,8 +39,9 @@ from numpy.typing import NDArray
 
 from dancebots.world.model import Crowd, Obstacle
 
-__all__ = ["KIND_BEHAVIOUR", "CrowdState", "KindBehaviour", "SocialForceParams",
-           "crowd_start", "crowd_step", "social_acceleration", "wall_rings", "wall_segments"]
+__all__ = ["KIND_BEHAVIOUR", "LEAVING_RANGE", "CrowdState", "KindBehaviour",
+           "SocialForceParams", "crowd_start", "crowd_step", "social_acceleration",
+           "wall_rings", "wall_segments"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -100,6 +101,15 @@ HEARING = 2.0
 """m from a speaking robot's footprint (about) within which people hear it."""
 ROOM_MADE = (1.5, 3.0)
 """m: how far a person who heeds a speaking robot walks away (``_make_room``)."""
+LEAVING_RANGE = 0.3
+"""The share of its kind's robot range (H&M's R for robots) that a person keeps from a robot
+standing still while it walks out of the formation (it heeded a robot's request for room
+from inside the convex hull of the robots' centres): a real child squeezes out between two
+parked robots 0.6 m apart. With the whole range the pushes of four standing robots held a
+simulated person in the middle of a standing 2 x 2 formation, which waited for it until the
+run's end (open-day crowd seeds 37, 138, 205, 319, 833, 880, 959 of 1,000, 7ed8825). From
+a robot that moves it keeps the whole range: with the share for moving robots too, a
+child walking out ran into a robot that had moved on (seeds 578, 814; docs/safety.md)."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -107,7 +117,9 @@ class CrowdState:
     """P pedestrians: position (P, 2) and velocity (P, 2) in the world frame (m, m/s), goal
     (P, 2), pause (P,) s left to stand at the goal (0 while walking), preferred speed (P,)
     m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
-    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,)."""
+    (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,); leaving (P,):
+    walking out of the formation because a robot asked for room (:func:`_make_room`), until
+    it reaches that goal or picks another (None: nobody)."""
 
     position: FloatArray
     velocity: FloatArray
@@ -119,10 +131,20 @@ class CrowdState:
     crowd: IntArray
     behaviour: FloatArray
     names: tuple[str, ...]
+    leaving: NDArray[np.bool_] | None = None
 
     def column(self, field: str) -> FloatArray:
         """One :class:`KindBehaviour` field (P,) of every pedestrian."""
         return self.behaviour[:, _BEHAVIOUR_FIELDS.index(field)]
+
+    def robot_ranges(self, standing: NDArray[np.bool_]) -> FloatArray:
+        """The range (P, R) m of each robot's repulsion (H&M eq. 6's R) for each pedestrian:
+        its kind's, times :data:`LEAVING_RANGE` for a robot standing still (``standing``
+        (R,)) while the pedestrian walks out of the formation."""
+        ranges = np.repeat(self.column("robot_range")[:, None], len(standing), axis=1)
+        if self.leaving is not None and self.leaving.any() and standing.any():
+            ranges[np.ix_(self.leaving, standing)] *= LEAVING_RANGE
+        return ranges
 
 
 def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray:
@@ -194,13 +216,15 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
                         robot_lengths: FloatArray, robot_widths: FloatArray,
                         params: SocialForceParams = SocialForceParams(),
                         rings: IntArray | None = None,
-                        wall_vectors: FloatArray | None = None) -> FloatArray:
+                        wall_vectors: FloatArray | None = None,
+                        robot_standing: NDArray[np.bool_] | None = None) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian (H&M eq. 2-6, module docstring): towards its goal
     (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2);
     ``rings`` (S,) the border of each, :func:`wall_rings`: each border pushes from its
     nearest point; None: each segment is a border) and the robots (poses (R, 3), lengths
-    and widths (R,)); ``wall_vectors``: :func:`_nearest_on_segments` of the positions and
-    walls when the caller has them already."""
+    and widths (R,); ``robot_standing`` (R,): which stand still, :meth:`CrowdState.
+    robot_ranges`; None: none); ``wall_vectors``: :func:`_nearest_on_segments` of the
+    positions and walls when the caller has them already."""
     position, velocity = state.position, state.velocity
     count = len(position)
     to_goal = state.goal - position
@@ -237,7 +261,9 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
     if len(robot_poses):
         accel += _border_force(
             _from_footprints(position, robot_poses, robot_lengths, robot_widths),
-            params.border_strength, state.column("robot_range")[:, None])
+            params.border_strength, state.robot_ranges(
+                np.zeros(len(robot_poses), dtype=bool) if robot_standing is None
+                else robot_standing))
     return accel
 
 
@@ -362,9 +388,12 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
                rng: np.random.Generator,
                params: SocialForceParams = SocialForceParams(),
                speaking: NDArray[np.bool_] | None = None,
-               rings: IntArray | None = None, compiled: bool = False) -> CrowdState:
+               rings: IntArray | None = None, compiled: bool = False,
+               robot_standing: NDArray[np.bool_] | None = None) -> CrowdState:
     """The crowd ``dt`` s later: people near a robot that stopped for people and speaks
-    (``speaking`` (R,)) heed it at their kind's rate and step away; goals reached start a
+    (``speaking`` (R,)) heed it at their kind's rate and step away (from inside the
+    formation, keeping :data:`LEAVING_RANGE` of their range from the robots that stand
+    still, ``robot_standing`` (R,), None: none); goals reached start a
     pause, pauses that end and children who change their mind pick new goals (``areas``:
     each crowd's polygon), then the social forces (:func:`social_acceleration`) move
     everyone in substeps of ``params.substep``, speeds capped at ``max_speed_factor`` times
@@ -391,7 +420,12 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         goal = goal.copy()
         which = np.flatnonzero(rethink)
         goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng)
-    moving = replace(state, goal=goal, pause=pause)
+    leaving = state.leaving  # out of the formation: until at that goal or off to another
+    if leaving is not None and leaving.any():
+        leaving = leaving & ~arrived & ~rethink
+    moving = replace(state, goal=goal, pause=pause, leaving=leaving)
+    standing = (np.zeros(len(robot_poses), dtype=bool) if robot_standing is None
+                else robot_standing)
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
     if compiled:  # the substeps in one call, the same operations (``crowd_jit.walk``)
@@ -399,7 +433,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
 
         position, velocity = crowd_jit.walk(
             moving.position, moving.velocity, moving.goal, moving.pause <= 0.0,
-            moving.preferred, moving.column("robot_range"), moving.radius, walls,
+            moving.preferred, moving.robot_ranges(standing), moving.radius, walls,
             rings if rings is not None else np.arange(len(walls)), robot_poses,
             robot_lengths, robot_widths, params.relaxation, params.pedestrian_strength,
             params.pedestrian_range, params.border_strength, params.border_range,
@@ -413,7 +447,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         vectors = _nearest_on_segments(position, walls) if len(walls) else None
         accel = social_acceleration(replace(moving, position=position, velocity=velocity),
                                     walls, robot_poses, robot_lengths, robot_widths,
-                                    params, rings, vectors)
+                                    params, rings, vectors, standing)
         before = (None if vectors is None
                   else np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1))
         velocity = velocity + h * accel
@@ -448,6 +482,9 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     if not heeds.any():
         return state
     goal, pause = state.goal.copy(), state.pause.copy()
+    leaving = (np.zeros(len(goal), dtype=bool) if state.leaving is None
+               else state.leaving.copy())
+    leaving[heeds] = _inside_formation(robots[:, :2], state.position[heeds])
     for a in np.flatnonzero(heeds).tolist():
         away = offsets[a, nearest[a]]
         direction = _way_out(state.position[a], away, robots[:, :2], robot_reach,
@@ -456,7 +493,23 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
         goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
                            rng, goal[a])
         pause[a] = 0.0
-    return replace(state, goal=goal, pause=pause)
+    return replace(state, goal=goal, pause=pause, leaving=leaving)
+
+
+def _inside_formation(centres: FloatArray, points: FloatArray) -> NDArray[np.bool_]:
+    """Which points (N, 2) lie inside the convex hull of the robots' centres (R, 2) (none
+    for fewer than three robots, or robots in a line or not known)."""
+    from scipy.spatial import Delaunay, QhullError
+
+    known = centres[np.isfinite(centres).all(axis=1)]
+    if len(known) < 3 or len(points) == 0:
+        return np.zeros(len(points), dtype=bool)
+    try:
+        hull = Delaunay(known)
+    except QhullError:  # (in a line: no inside)
+        return np.zeros(len(points), dtype=bool)
+    result: NDArray[np.bool_] = hull.find_simplex(points) >= 0
+    return result
 
 
 WAYS_OUT = 16

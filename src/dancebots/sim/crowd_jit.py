@@ -65,8 +65,9 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
                               border_range: float, step_time: float, cos_sight: float,
                               out_of_sight: float) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian: ``crowd.social_acceleration`` (H&M eq. 2-6) for
-    positions, velocities and goals (P, 2), walking (P,) (not pausing), preferred speeds and
-    robot ranges (P,), walls (S, 2, 2) with the border of each (``rings`` (S,), contiguous;
+    positions, velocities and goals (P, 2), walking (P,) (not pausing), preferred speeds
+    (P,), each robot's range for each pedestrian (P, R) (``CrowdState.robot_ranges``),
+    walls (S, 2, 2) with the border of each (``rings`` (S,), contiguous;
     each border pushes from its nearest point), robots' poses (R, 3) and sizes (R,)."""
     count = position.shape[0]
     accel = np.empty((count, 2))
@@ -130,7 +131,7 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
             if ex == 0.0 and ey == 0.0:  # inside: pushed out the way it lies
                 ex, ey = lx, ly
             fx, fy = _border_push(c * ex - sn * ey, sn * ex + c * ey, border_strength,
-                                  robot_range[a])
+                                  robot_range[a, r])
             accel[a, 0] += fx
             accel[a, 1] += fy
     return accel
@@ -150,7 +151,7 @@ def walk(position: FloatArray, velocity: FloatArray, goal: FloatArray,
     the preferred speed (H&M eq. 7), and no step through a wall (a disc, ``radius`` (P,)
     m, that would touch one, nearer than before, stands). The same operations in the same
     order as ``crowd_step``'s NumPy loop around the forces. Returns positions and
-    velocities (P, 2)."""
+    velocities (P, 2); ``robot_range`` (P, R) as in :func:`social_acceleration_loops`."""
     count = position.shape[0]
     position, velocity = position.copy(), velocity.copy()
     ahead = np.empty((count, 2))

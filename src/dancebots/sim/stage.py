@@ -355,7 +355,7 @@ class Stage:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
                                self.pose, self.lengths, self.widths, self.crowd_rng,
                                speaking=self.speaking, rings=self.wall_rings,
-                               compiled=self.compiled)
+                               compiled=self.compiled, robot_standing=self._standing())
             stands = self._steps_into_robots(crowd.position, moved.position, crowd.radius)
             if stands.any():
                 position, velocity = moved.position.copy(), moved.velocity.copy()
@@ -363,6 +363,13 @@ class Stage:
                 moved = replace(moved, position=position, velocity=velocity)
             self.crowd = moved
         self.discs = self._discs(scripted)
+
+    def _standing(self) -> NDArray[np.bool_]:
+        """(R,) the robots standing still (no speed above :data:`MOVING_SPEED`, m/s and
+        rad/s): a person walking out of the formation squeezes past these
+        (``crowd.LEAVING_RANGE``)."""
+        result: NDArray[np.bool_] = np.all(np.abs(self.velocity) <= MOVING_SPEED, axis=1)
+        return result
 
     def _steps_into_robots(self, before: FloatArray, after: FloatArray,
                            radii: FloatArray) -> NDArray[np.bool_]:
