@@ -499,16 +499,13 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
 def _inside_formation(centres: FloatArray, points: FloatArray) -> NDArray[np.bool_]:
     """Which points (N, 2) lie inside the convex hull of the robots' centres (R, 2) (none
     for fewer than three robots, or robots in a line or not known)."""
-    from scipy.spatial import Delaunay, QhullError
-
     known = centres[np.isfinite(centres).all(axis=1)]
     if len(known) < 3 or len(points) == 0:
         return np.zeros(len(points), dtype=bool)
-    try:
-        hull = Delaunay(known)
-    except QhullError:  # (in a line: no inside)
+    hull = shapely.convex_hull(shapely.multipoints(known))
+    if not isinstance(hull, shapely.Polygon):  # (in a line: no inside)
         return np.zeros(len(points), dtype=bool)
-    result: NDArray[np.bool_] = hull.find_simplex(points) >= 0
+    result: NDArray[np.bool_] = shapely.contains_xy(hull, points[:, 0], points[:, 1])
     return result
 
 
