@@ -233,14 +233,14 @@ def test_the_compiled_social_forces_are_the_numpy_ones(seed: int, count: int, ro
     lengths, widths = rng.uniform(0.5, 1.2, robots), rng.uniform(0.4, 0.8, robots)
     if robots:
         state.position[0] = poses[0, :2]  # one inside a footprint
-    standing = rng.random(robots) < 0.5  # some walk out of a formation past standing robots
-    state = dataclasses.replace(state, leaving=rng.random(count) < 0.5)
+    if seed % 3:  # some keep a share of their range from some robots (walking out)
+        state = dataclasses.replace(state, robot_share=rng.uniform(0.3, 1.0, (count, robots)))
     params = SocialForceParams()
     expected = social_acceleration(state, walls, poses, lengths, widths, params,
-                                   None if per_segment else rings, robot_standing=standing)
+                                   None if per_segment else rings)
     got = social_acceleration_loops(
         state.position, state.velocity, state.goal, state.pause <= 0.0, state.preferred,
-        state.robot_ranges(standing), walls, rings, poses, lengths, widths, params.relaxation,
+        *state.robot_push(robots), walls, rings, poses, lengths, widths, params.relaxation,
         params.pedestrian_strength, params.pedestrian_range, params.border_strength,
         params.border_range, params.step_time, math.cos(params.sight), params.out_of_sight)
     np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-9)
@@ -376,19 +376,49 @@ def test_a_child_asked_for_room_squeezes_out_between_standing_robots_only(
     assert trapped < 0.3
 
 
-def test_only_a_person_inside_the_formation_walks_out_with_the_leaving_range() -> None:
-    """``robot_ranges``: the kind's range everywhere but for a leaving person and a
-    standing robot (LEAVING_RANGE of it); ``_inside_formation`` is the convex hull of the
-    known robot centres (no inside for fewer than three or robots in a line)."""
-    from dancebots.sim.crowd import LEAVING_RANGE, _inside_formation
+def test_a_person_walking_out_keeps_a_share_of_its_range_from_standing_robots() -> None:
+    """``_robot_share`` follows LEAVING_RANGE for a leaving person and a standing robot, 1
+    otherwise, with the time constant SHARE_TIME (None while everyone keeps the whole
+    range); ``robot_push`` keeps the push at the border (strength over range) and weakens it
+    everywhere else; ``_inside_formation`` is the convex hull of the known robot centres
+    (no inside for fewer than three or robots in a line)."""
+    from dancebots.sim.crowd import LEAVING_RANGE, SHARE_TIME, _inside_formation, _robot_share
 
-    state = dataclasses.replace(_state([[0.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]],
-                                       [[0.0, 0.0], [0.0, 0.0]]),
-                                leaving=np.array([True, False]))
-    ranges = state.robot_ranges(np.array([True, False, True]))
+    leaving, standing = np.array([True, False]), np.array([True, False, True])
+    assert _robot_share(None, None, standing, 2, 3, 0.1) is None
+    assert _robot_share(None, leaving, np.zeros(3, dtype=bool), 2, 3, 0.1) is None
+    share = _robot_share(None, leaving, standing, 2, 3, 0.1)
+    assert share is not None
+    step = math.exp(-0.1 / SHARE_TIME)
+    low = LEAVING_RANGE + (1.0 - LEAVING_RANGE) * step
+    np.testing.assert_allclose(share, [[low, 1.0, low], [1.0, 1.0, 1.0]])
+    for _ in range(100):
+        share = _robot_share(share, leaving, standing, 2, 3, 0.1)
+    assert share is not None
+    np.testing.assert_allclose(share, [[LEAVING_RANGE, 1, LEAVING_RANGE], [1, 1, 1]],
+                               atol=1e-6)
+    back = _robot_share(share, np.zeros(2, dtype=bool), standing, 2, 3, 0.1)
+    assert back is not None  # the way back to the whole range takes its time too
+    assert back[0, 0] == pytest.approx(1.0 + (LEAVING_RANGE - 1.0) * step)
+    for _ in range(100):
+        back = _robot_share(back, np.zeros(2, dtype=bool), standing, 2, 3, 0.1)
+    assert back is None
+
+    state = dataclasses.replace(_state([[0.0, 0.0], [1.0, 1.0]], [[0.0, 0.0], [1.0, 1.0]]),
+                                robot_share=share)
+    strength, reach = state.robot_push(3)
     kind = state.column("robot_range")
-    np.testing.assert_allclose(ranges, [
-        [LEAVING_RANGE * kind[0], kind[0], LEAVING_RANGE * kind[0]], [kind[1]] * 3])
+    np.testing.assert_allclose(reach, share * kind[:, None])
+    np.testing.assert_allclose(strength / reach, 1.0 / kind[:, None] * np.ones((2, 3)))
+    whole = dataclasses.replace(state, robot_share=None).robot_push(3)
+    np.testing.assert_allclose(whole[0], 1.0)
+    np.testing.assert_allclose(whole[1], np.repeat(kind[:, None], 3, axis=1))
+    gaps = np.linspace(0.0, 1.0, 11)
+    weaker = strength[0, 0] / reach[0, 0] * np.exp(-gaps / reach[0, 0])
+    full = 1.0 / kind[0] * np.exp(-gaps / kind[0])
+    assert np.all(weaker[1:] < full[1:])
+    assert weaker[0] == pytest.approx(full[0])
+
     square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
     points = np.array([[1.0, 1.0], [3.0, 1.0], [1.0, -0.5]])
     assert _inside_formation(square, points).tolist() == [True, False, False]

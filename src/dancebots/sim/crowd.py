@@ -109,7 +109,14 @@ parked robots 0.6 m apart. With the whole range the pushes of four standing robo
 simulated person in the middle of a standing 2 x 2 formation, which waited for it until the
 run's end (open-day crowd seeds 37, 138, 205, 319, 833, 880, 959 of 1,000, 7ed8825). From
 a robot that moves it keeps the whole range: with the share for moving robots too, a
-child walking out ran into a robot that had moved on (seeds 578, 814; docs/safety.md)."""
+child walking out ran into a robot that had moved on (seeds 578, 814; docs/safety.md). The
+push keeps the whole range's strength at the border (U0 / R), so with the share it is
+weaker at every distance, never stronger (:meth:`CrowdState.robot_push`)."""
+SHARE_TIME = 0.5
+"""s: the time constant with which a person's share of its range from a robot follows
+:data:`LEAVING_RANGE` or 1 (a person steps away from a robot that starts to move within
+about a second; a jump of the share flung a child squeezing past a robot that started to
+move into the next robot, open-day crowd seed 626 of 2234eb8)."""
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -119,7 +126,9 @@ class CrowdState:
     m/s, radius and height (P,) m, crowd (P,) the index of each one's crowd, behaviour
     (P, 9) the columns of :class:`KindBehaviour` per pedestrian, names (P,); leaving (P,):
     walking out of the formation because a robot asked for room (:func:`_make_room`), until
-    it reaches that goal or picks another (None: nobody)."""
+    it reaches that goal or picks another (None: nobody); robot_share (P, R): the share of
+    its robot range each keeps from each robot (:data:`LEAVING_RANGE`, :data:`SHARE_TIME`;
+    None: the whole range from every robot)."""
 
     position: FloatArray
     velocity: FloatArray
@@ -132,19 +141,23 @@ class CrowdState:
     behaviour: FloatArray
     names: tuple[str, ...]
     leaving: NDArray[np.bool_] | None = None
+    robot_share: FloatArray | None = None
 
     def column(self, field: str) -> FloatArray:
         """One :class:`KindBehaviour` field (P,) of every pedestrian."""
         return self.behaviour[:, _BEHAVIOUR_FIELDS.index(field)]
 
-    def robot_ranges(self, standing: NDArray[np.bool_]) -> FloatArray:
-        """The range (P, R) m of each robot's repulsion (H&M eq. 6's R) for each pedestrian:
-        its kind's, times :data:`LEAVING_RANGE` for a robot standing still (``standing``
-        (R,)) while the pedestrian walks out of the formation."""
-        ranges = np.repeat(self.column("robot_range")[:, None], len(standing), axis=1)
-        if self.leaving is not None and self.leaving.any() and standing.any():
-            ranges[np.ix_(self.leaving, standing)] *= LEAVING_RANGE
-        return ranges
+    def robot_push(self, robots: int) -> tuple[FloatArray, FloatArray]:
+        """Each robot's push on each pedestrian (H&M eq. 6 for robots) as its strength and
+        range (P, R): the kind's range times the share kept from that robot
+        (``robot_share``), the strength U0 (``SocialForceParams.border_strength``, a factor
+        here) times the share, so the push at the border stays U0 / R and is weaker than the
+        whole range's at every distance."""
+        ranges = np.repeat(self.column("robot_range")[:, None], robots, axis=1)
+        share = self.robot_share
+        if share is None or share.shape != ranges.shape:
+            return np.ones_like(ranges), ranges
+        return share, ranges * share
 
 
 def wall_segments(room: FloatArray, obstacles: Sequence[Obstacle]) -> FloatArray:
@@ -201,8 +214,8 @@ def _from_footprints(points: FloatArray, poses: FloatArray, lengths: FloatArray,
     return np.stack([c * ex - s * ey, s * ex + c * ey], axis=-1)
 
 
-def _border_force(vectors: FloatArray, strength: float, reach: FloatArray | float,
-                  ) -> FloatArray:
+def _border_force(vectors: FloatArray, strength: FloatArray | float,
+                  reach: FloatArray | float) -> FloatArray:
     """H&M eq. 6 summed over borders: vectors (P, B, 2) from each border's nearest point;
     -grad U0 exp(-d/R) = (U0/R) exp(-d/R) d_hat. Returns (P, 2)."""
     distance = np.hypot(vectors[..., 0], vectors[..., 1])
@@ -216,15 +229,14 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
                         robot_lengths: FloatArray, robot_widths: FloatArray,
                         params: SocialForceParams = SocialForceParams(),
                         rings: IntArray | None = None,
-                        wall_vectors: FloatArray | None = None,
-                        robot_standing: NDArray[np.bool_] | None = None) -> FloatArray:
+                        wall_vectors: FloatArray | None = None) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian (H&M eq. 2-6, module docstring): towards its goal
     (or to a stand while it pauses), away from the others, the walls (segments (S, 2, 2);
     ``rings`` (S,) the border of each, :func:`wall_rings`: each border pushes from its
     nearest point; None: each segment is a border) and the robots (poses (R, 3), lengths
-    and widths (R,); ``robot_standing`` (R,): which stand still, :meth:`CrowdState.
-    robot_ranges`; None: none); ``wall_vectors``: :func:`_nearest_on_segments` of the
-    positions and walls when the caller has them already."""
+    and widths (R,); each pushes as :meth:`CrowdState.robot_push` says);
+    ``wall_vectors``: :func:`_nearest_on_segments` of the positions and walls when the
+    caller has them already."""
     position, velocity = state.position, state.velocity
     count = len(position)
     to_goal = state.goal - position
@@ -259,11 +271,10 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
         accel += _border_force(vectors, params.border_strength,
                                params.border_range)
     if len(robot_poses):
+        strength, reach = state.robot_push(len(robot_poses))
         accel += _border_force(
             _from_footprints(position, robot_poses, robot_lengths, robot_widths),
-            params.border_strength, state.robot_ranges(
-                np.zeros(len(robot_poses), dtype=bool) if robot_standing is None
-                else robot_standing))
+            params.border_strength * strength, reach)
     return accel
 
 
@@ -423,9 +434,9 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     leaving = state.leaving  # out of the formation: until at that goal or off to another
     if leaving is not None and leaving.any():
         leaving = leaving & ~arrived & ~rethink
-    moving = replace(state, goal=goal, pause=pause, leaving=leaving)
-    standing = (np.zeros(len(robot_poses), dtype=bool) if robot_standing is None
-                else robot_standing)
+    moving = replace(state, goal=goal, pause=pause, leaving=leaving,
+                     robot_share=_robot_share(state.robot_share, leaving, robot_standing,
+                                              count, len(robot_poses), dt))
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
     if compiled:  # the substeps in one call, the same operations (``crowd_jit.walk``)
@@ -433,7 +444,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
 
         position, velocity = crowd_jit.walk(
             moving.position, moving.velocity, moving.goal, moving.pause <= 0.0,
-            moving.preferred, moving.robot_ranges(standing), moving.radius, walls,
+            moving.preferred, *moving.robot_push(len(robot_poses)), moving.radius, walls,
             rings if rings is not None else np.arange(len(walls)), robot_poses,
             robot_lengths, robot_widths, params.relaxation, params.pedestrian_strength,
             params.pedestrian_range, params.border_strength, params.border_range,
@@ -447,7 +458,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         vectors = _nearest_on_segments(position, walls) if len(walls) else None
         accel = social_acceleration(replace(moving, position=position, velocity=velocity),
                                     walls, robot_poses, robot_lengths, robot_widths,
-                                    params, rings, vectors, standing)
+                                    params, rings, vectors)
         before = (None if vectors is None
                   else np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1))
         velocity = velocity + h * accel
@@ -494,6 +505,28 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
                            rng, goal[a])
         pause[a] = 0.0
     return replace(state, goal=goal, pause=pause, leaving=leaving)
+
+
+def _robot_share(share: FloatArray | None, leaving: NDArray[np.bool_] | None,
+                 standing: NDArray[np.bool_] | None, people: int, robots: int,
+                 dt: float) -> FloatArray | None:
+    """The share (P, R) of its robot range each pedestrian keeps from each robot ``dt`` s
+    later: it follows :data:`LEAVING_RANGE` from the robots ``standing`` (R,) for the
+    pedestrians ``leaving`` (P,), 1 otherwise, with the time constant :data:`SHARE_TIME`.
+    None: the whole range from every robot (nobody leaving, nobody back to the whole)."""
+    who = np.zeros(people, dtype=bool) if leaving is None else leaving
+    past = np.zeros(robots, dtype=bool) if standing is None else standing
+    near = bool(who.any() and past.any())
+    if share is None or share.shape != (people, robots):
+        if not near:
+            return None
+        share = np.ones((people, robots))
+    target = np.ones((people, robots))
+    target[np.ix_(who, past)] = LEAVING_RANGE
+    result: FloatArray = target + (share - target) * math.exp(-dt / SHARE_TIME)
+    if not near and np.all(result > 1.0 - 1e-6):
+        return None
+    return result
 
 
 def _inside_formation(centres: FloatArray, points: FloatArray) -> NDArray[np.bool_]:

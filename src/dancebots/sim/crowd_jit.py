@@ -57,7 +57,8 @@ def _border_push(vx: float, vy: float, strength: float, reach: float) -> tuple[f
 @njit(cache=True)
 def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: FloatArray,
                               walking: NDArray[np.bool_], preferred: FloatArray,
-                              robot_range: FloatArray, walls: FloatArray,
+                              robot_strength: FloatArray, robot_range: FloatArray,
+                              walls: FloatArray,
                               rings: NDArray[np.int64], robot_poses: FloatArray,
                               robot_lengths: FloatArray, robot_widths: FloatArray,
                               relaxation: float, pedestrian_strength: float,
@@ -66,7 +67,8 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
                               out_of_sight: float) -> FloatArray:
     """dv/dt (P, 2) of every pedestrian: ``crowd.social_acceleration`` (H&M eq. 2-6) for
     positions, velocities and goals (P, 2), walking (P,) (not pausing), preferred speeds
-    (P,), each robot's range for each pedestrian (P, R) (``CrowdState.robot_ranges``),
+    (P,), each robot's push on each pedestrian, strength (a factor of U0) and range (P, R)
+    (``CrowdState.robot_push``),
     walls (S, 2, 2) with the border of each (``rings`` (S,), contiguous;
     each border pushes from its nearest point), robots' poses (R, 3) and sizes (R,)."""
     count = position.shape[0]
@@ -130,8 +132,8 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
             ey = ly - min(max(ly, -half_w), half_w)
             if ex == 0.0 and ey == 0.0:  # inside: pushed out the way it lies
                 ex, ey = lx, ly
-            fx, fy = _border_push(c * ex - sn * ey, sn * ex + c * ey, border_strength,
-                                  robot_range[a, r])
+            fx, fy = _border_push(c * ex - sn * ey, sn * ex + c * ey,
+                                  border_strength * robot_strength[a, r], robot_range[a, r])
             accel[a, 0] += fx
             accel[a, 1] += fy
     return accel
@@ -139,8 +141,8 @@ def social_acceleration_loops(position: FloatArray, velocity: FloatArray, goal: 
 
 @njit(cache=True)
 def walk(position: FloatArray, velocity: FloatArray, goal: FloatArray,
-         walking: NDArray[np.bool_], preferred: FloatArray, robot_range: FloatArray,
-         radius: FloatArray, walls: FloatArray, rings: NDArray[np.int64],
+         walking: NDArray[np.bool_], preferred: FloatArray, robot_strength: FloatArray,
+         robot_range: FloatArray, radius: FloatArray, walls: FloatArray, rings: NDArray[np.int64],
          robot_poses: FloatArray, robot_lengths: FloatArray, robot_widths: FloatArray,
          relaxation: float, pedestrian_strength: float, pedestrian_range: float,
          border_strength: float, border_range: float, step_time: float, cos_sight: float,
@@ -151,14 +153,15 @@ def walk(position: FloatArray, velocity: FloatArray, goal: FloatArray,
     the preferred speed (H&M eq. 7), and no step through a wall (a disc, ``radius`` (P,)
     m, that would touch one, nearer than before, stands). The same operations in the same
     order as ``crowd_step``'s NumPy loop around the forces. Returns positions and
-    velocities (P, 2); ``robot_range`` (P, R) as in :func:`social_acceleration_loops`."""
+    velocities (P, 2); ``robot_strength`` and ``robot_range`` (P, R) as in
+    :func:`social_acceleration_loops`."""
     count = position.shape[0]
     position, velocity = position.copy(), velocity.copy()
     ahead = np.empty((count, 2))
     for _ in range(steps):
         accel = social_acceleration_loops(
-            position, velocity, goal, walking, preferred, robot_range, walls, rings,
-            robot_poses, robot_lengths, robot_widths, relaxation, pedestrian_strength,
+            position, velocity, goal, walking, preferred, robot_strength, robot_range, walls,
+            rings, robot_poses, robot_lengths, robot_widths, relaxation, pedestrian_strength,
             pedestrian_range, border_strength, border_range, step_time, cos_sight,
             out_of_sight)
         before = wall_distances(position, walls)
