@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 from dancebots.report.metrics import RobotMetrics, RunMetrics
 from dancebots.report.queue_metrics import FollowerMetrics, QueueMetrics
 from dancebots.report.verdict import (
@@ -99,3 +101,20 @@ def test_the_reverse_and_heading_tolerances_are_parameters() -> None:
     assert run_verdict(show, reverse_tolerance=0.25, heading_tolerance=95.0).clean
     assert REVERSE_TOLERANCE == 0.05
     assert FINAL_HEADING_TOLERANCE == 30.0
+
+
+def test_a_show_whose_places_did_not_reach_their_slots_did_not_finish() -> None:
+    """The show ends when every place stands on its final slot (``show_end``, after the
+    plan's end where places follow the leader's path), not at the plan's end: a clock that
+    stood between the two (open-day crowd seed 648: 115.98 s of 119.54 s) left the rear
+    robots short of their slots while the certificate counted the show as finished."""
+    stood = dataclasses.replace(metrics((robot("R1"),)), final_show_time=10.5, show_end=11.2)
+    assert not stood.finished
+    assert run_verdict(stood).failures == (
+        "the show did not finish: the formation waited for a held robot until the run ended "
+        "at show time 10.5 s of 11.2 s",)
+    assert dataclasses.replace(stood, final_show_time=11.2).finished
+    plan_end = dataclasses.replace(stood, show_end=None)  # (metrics from before: the plan's)
+    assert plan_end.finished
+    assert not dataclasses.replace(plan_end, final_show_time=9.0).finished
+    assert stood.to_json()["show_end_s"] == 11.2

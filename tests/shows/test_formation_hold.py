@@ -164,3 +164,22 @@ def test_a_mate_off_its_place_where_it_said_it_is_holds_no_show(examples: Path) 
     metrics = run_metrics(result)
     assert metrics.final_show_time is not None
     assert metrics.final_show_time >= metrics.show_duration
+
+
+def test_a_run_ends_only_once_every_place_stands_on_its_final_slot() -> None:
+    """A run may settle from the time every place stands on its final slot: the path
+    follower's places reach theirs after the leader's end (``places_end``), the thesis
+    follower's at the plan's end. Settling from the plan's end let a clock that stood in
+    between end the run with the rear robots short of their slots (open-day crowd seed
+    648: 0.8 m)."""
+    from dancebots.plan.places import places_end
+    from dancebots.shows.formation import settle_from
+
+    show = load_show(str(ROOT / "src" / "dancebots" / "data" / "open_day.dance"),
+                     check=CheckOptions(places=places_followed("path")), timing="feasible")
+    assert show.plan is not None
+    plan = show.plan
+    assert places_end(plan) > plan.duration + 1.0  # the rear places follow the leader's path
+    assert settle_from(plan, "path") == places_end(plan)
+    assert settle_from(plan, "tracking") == places_end(plan)
+    assert settle_from(plan, "thesis") == plan.duration

@@ -168,7 +168,7 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.min_person_gap, float(sum(r.stopped_time for r in metrics.robots)),
         int(sum(r.stops for r in metrics.robots)), metrics.held_place_error,
         max(metrics.run_duration - metrics.show_duration, 0.0),
-        metrics.final_show_time is None or metrics.final_show_time >= metrics.show_duration - 1e-6,
+        metrics.finished,
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
         metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction)

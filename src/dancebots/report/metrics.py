@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 
 from dancebots.geometry import wrap_angles
 from dancebots.plan.placement import true_runs
-from dancebots.shows.formation import STATUS, RunResult
+from dancebots.shows.formation import STATUS, RunResult, settle_from
 from dancebots.sim.collision import footprint_gaps
 
 __all__ = [
@@ -193,6 +193,15 @@ class RunMetrics:
     final_show_time: float | None = None
     clock_stood: float = 0.0
     clock_stood_for_people: float = 0.0
+    show_end: float | None = None
+
+    @property
+    def finished(self) -> bool:
+        """The show ran to its end: the shared show time reached ``show_end`` (the time every
+        place stands on its final slot, ``shows.formation.settle_from``; None: the plan's
+        end, ``show_duration``)."""
+        end = self.show_duration if self.show_end is None else self.show_end
+        return self.final_show_time is None or bool(self.final_show_time >= end - 1e-6)
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -268,6 +277,7 @@ class RunMetrics:
             "min_person_gap_m": r3(self.min_person_gap),
             "held_place_error_m": r3(self.held_place_error),
             "final_show_time_s": r3(self.final_show_time),
+            "show_end_s": r3(self.show_end),
             "clock_stood_s": r3(self.clock_stood),
             "clock_stood_for_people_s": r3(self.clock_stood_for_people),
             "max_spacing_change_m": r3(self.max_spacing_change),
@@ -393,7 +403,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
         held_place_error=held_place_error(
             result, stopped | (result.holds if result.holds is not None else stopped), during),
         final_show_time=float(result.show_time[:, -1].min()) if len(result.times) else None,
-        clock_stood=waits.stood, clock_stood_for_people=waits.for_people)
+        clock_stood=waits.stood, clock_stood_for_people=waits.for_people,
+        show_end=settle_from(plan, result.config.brain.follower))
 
 
 class ClockWaits(NamedTuple):

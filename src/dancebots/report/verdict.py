@@ -107,11 +107,11 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
         who = "robots drive against their" if len(against) > 1 else "a robot drives against its"
         failures.append(f"{who} desired direction (more than {100 * reverse_tolerance:g} % of the "
                         f"time the slot moves): {listed}")
-    if metrics.final_show_time is not None and (
-            metrics.final_show_time < metrics.show_duration - 1e-6):
+    if metrics.final_show_time is not None and not metrics.finished:
+        end = metrics.show_duration if metrics.show_end is None else metrics.show_end
         failures.append(f"the show did not finish: the formation waited for a held robot until "
                         f"the run ended at show time {metrics.final_show_time:.1f} s of "
-                        f"{metrics.show_duration:.1f} s{_waits_text(metrics)}")
+                        f"{end:.1f} s{_waits_text(metrics)}")
     if metrics.clock_stood_otherwise >= stall_tolerance - 1e-9:
         failures.append(f"the formation stood {metrics.clock_stood_otherwise:.1f} s with nobody "
                         f"within {PERSON_NEAR:g} m of the robots that held it ({STALL_CAUSES})")

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from dancebots.control.tracking import follower_references, shared_pose_references
 from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
 from dancebots.perception.cloud import PointCloud
-from dancebots.plan.places import path_places
+from dancebots.plan.places import path_places, places_end
 from dancebots.plan.planner import Plan
 from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.robot_batch import BatchBrains, batch_supported
@@ -46,7 +46,7 @@ from dancebots.sync.hold import (
 
 __all__ = ["FORMATION_CONTROLS", "SCAN_AHEAD_FROM", "STATUS", "CollisionEvent", "Fault",
            "FaultKind", "FormationControl", "RobotEvent", "RunResult", "SimConfig",
-           "hold_strategy", "simulate"]
+           "hold_strategy", "settle_from", "simulate"]
 
 SCAN_AHEAD_FROM = 8
 """Robots from which the stage casts each scan on a second thread (``Stage.scan_ahead``):
@@ -278,6 +278,17 @@ def hold_strategy(config: SimConfig) -> HoldStrategy:
     return "alone" if config.brain.follower == "thesis" else "paced"
 
 
+def settle_from(plan: Plan, follower: str) -> float:
+    """The show time (s) from which a run may end once everything stands still: the plan's
+    end for the thesis follower; for the tracking and path followers the time every place
+    stands on its final slot (``plan.places.places_end``, up to a few seconds after the
+    leader's end for places that follow it along its path). Before (the plan's end for
+    all), a robot holding the formation's clock for a person in that gap ended the run with
+    the rear places short of their slots: open-day crowd seed 648, the clock standing at
+    115.98 s of 119.54 s, R3 and R4 left 0.8 m from their final slots."""
+    return plan.duration if follower == "thesis" else float(max(plan.duration, places_end(plan)))
+
+
 def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
     """Show-frame poses (T, 3) as robot ``robot`` believes them in the world: start ⊕ slot0⁻¹."""
     frame = Pose(*(float(v) for v in starts[robot])).compose(slots[robot].inverse())
@@ -303,7 +314,8 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
         crew = _Crew(brains, placement.robots, stage, config)
         clock = Clock(config.dt, plan.duration + config.settle,
                       max(1, round(config.control_period / config.dt)),
-                      settle_from=plan.duration, max_pause=config.max_pause)
+                      settle_from=settle_from(plan, options.follower),
+                      max_pause=config.max_pause)
         recorder = run_show(stage, crew.step, clock, progress)
     except BaseException:
         stage.close(check=False)  # (the error that stopped the run is the one to see)
