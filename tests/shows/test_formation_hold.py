@@ -53,6 +53,9 @@ def test_the_formation_waits_for_a_robot_a_bystander_holds(profile: str) -> None
     assert together.max_final_error <= 0.05
     assert together.final_show_time is not None
     assert together.final_show_time >= together.show_duration
+    assert together.finished  # every place reached its final slot (``show_end``)
+    assert together.show_end is not None
+    assert together.show_end > together.show_duration  # the path follower's rear places
     assert together.run_duration > alone.show_duration + 5.0
 
 
@@ -164,12 +167,13 @@ def test_a_mate_off_its_place_where_it_said_it_is_holds_no_show(examples: Path) 
     metrics = run_metrics(result)
     assert metrics.final_show_time is not None
     assert metrics.final_show_time >= metrics.show_duration
+    assert metrics.finished
 
 
 def test_a_run_ends_only_once_every_place_stands_on_its_final_slot() -> None:
     """A run may settle from the time every place stands on its final slot: the path
-    follower's places reach theirs after the leader's end (``places_end``), the thesis
-    follower's at the plan's end. Settling from the plan's end let a clock that stood in
+    follower's places reach theirs after the leader's end (``places_end``), the tracking and
+    thesis followers' at the plan's end. Settling from the plan's end let a clock that stood in
     between end the run with the rear robots short of their slots (open-day crowd seed
     648: 0.8 m)."""
     from dancebots.plan.places import places_end
@@ -181,5 +185,5 @@ def test_a_run_ends_only_once_every_place_stands_on_its_final_slot() -> None:
     plan = show.plan
     assert places_end(plan) > plan.duration + 1.0  # the rear places follow the leader's path
     assert settle_from(plan, "path") == places_end(plan)
-    assert settle_from(plan, "tracking") == places_end(plan)
+    assert settle_from(plan, "tracking") == plan.duration  # its rigid slots end with the plan
     assert settle_from(plan, "thesis") == plan.duration

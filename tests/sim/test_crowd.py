@@ -301,6 +301,47 @@ def test_a_compiled_crowd_walks_as_the_numpy_one() -> None:
     np.testing.assert_allclose(states[1], states[0], atol=1e-3)
 
 
+def test_a_compiled_crowd_walks_out_of_a_formation_as_the_numpy_one() -> None:
+    """Ten seconds of children among four robots in a square that speak (ask for room), two
+    standing still and two told to move, stepped with the compiled forces and with NumPy's:
+    the same people within a millimetre, the same ones leaving the formation, the same
+    shares of their range from each robot; some walked out (the shares are used)."""
+    crowd = dataclasses.replace(_crowd(12, "child"), area=ROOM.copy())
+    half = 0.85
+    robots = np.array([[5 - half, 5 - half, 0.8], [5 + half, 5 - half, 2.3],
+                       [5 + half, 5 + half, -2.3], [5 - half, 5 + half, -0.8]])
+    lengths, widths = np.full(4, 0.99), np.full(4, 0.67)
+    standing = np.array([True, True, False, False])
+    results = []
+    for compiled in (False, True):
+        rng = np.random.default_rng(3)
+        state = crowd_start([crowd], robots, 0.5 * np.hypot(lengths, widths), None, WALLS,
+                            rng)
+        state = dataclasses.replace(state, position=state.position.copy())
+        state.position[:3] = [[5.0, 5.0], [4.6, 5.3], [5.3, 4.7]]  # inside the formation
+        shared = 0
+        for _ in range(100):
+            state = crowd_step(state, 0.1, [ROOM], WALLS, robots, lengths, widths, rng,
+                               speaking=np.ones(4, dtype=bool), compiled=compiled,
+                               robot_standing=standing)
+            shared += int(state.robot_share is not None and (state.robot_share < 0.99).any())
+        results.append((state, shared))
+    (numpy_state, numpy_shared), (compiled_state, compiled_shared) = results
+    assert numpy_shared > 10  # people walked out keeping a share of their range
+    assert compiled_shared == numpy_shared
+    np.testing.assert_allclose(compiled_state.position, numpy_state.position, atol=1e-3)
+    assert compiled_state.leaving is not None
+    assert numpy_state.leaving is not None
+    assert compiled_state.leaving.tolist() == numpy_state.leaving.tolist()
+    if numpy_state.robot_share is None:
+        assert compiled_state.robot_share is None
+    else:
+        assert compiled_state.robot_share is not None
+        np.testing.assert_allclose(compiled_state.robot_share, numpy_state.robot_share,
+                                   atol=1e-9)
+        assert (numpy_state.robot_share[:, 2:] == 1.0).all()  # never from robots that move
+
+
 def test_a_person_asked_for_room_leaves_a_formation_between_two_robots() -> None:
     """A child in the middle of a square of four robots, asked for room by the one behind
     it: walking straight away from the speaker would take it into the robot opposite; the
@@ -413,11 +454,14 @@ def test_a_person_walking_out_keeps_a_share_of_its_range_from_standing_robots() 
     whole = dataclasses.replace(state, robot_share=None).robot_push(3)
     np.testing.assert_allclose(whole[0], 1.0)
     np.testing.assert_allclose(whole[1], np.repeat(kind[:, None], 3, axis=1))
-    gaps = np.linspace(0.0, 1.0, 11)
-    weaker = strength[0, 0] / reach[0, 0] * np.exp(-gaps / reach[0, 0])
-    full = 1.0 / kind[0] * np.exp(-gaps / kind[0])
+    from dancebots.sim.crowd import _border_force
+
+    gaps = np.linspace(1e-6, 1.0, 11)
+    vectors = np.stack([gaps, np.zeros_like(gaps)], axis=1)[:, None, :]  # (11, 1, 2)
+    weaker = _border_force(vectors, 10.0 * strength[0, 0], reach[0, 0])[:, 0]
+    full = _border_force(vectors, 10.0, kind[0])[:, 0]
     assert np.all(weaker[1:] < full[1:])
-    assert weaker[0] == pytest.approx(full[0])
+    assert weaker[0] == pytest.approx(full[0], rel=1e-4)  # the same push at the border
 
     square = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
     points = np.array([[1.0, 1.0], [3.0, 1.0], [1.0, -0.5]])

@@ -57,7 +57,8 @@ class RunSummary:
     stop rule; stops: how often a robot was held; held_place_error: the largest distance of a
     robot from its place while some robot was held, m (None: none was); overrun: s from the
     planned end until the last robot came to rest; finished: whether the show reached its
-    end (not: the formation waited for a held robot until the run's limit); max_final_error:
+    end, every place on its final slot (``RunMetrics.finished``; not: the formation waited for
+    a held robot until the run's limit); max_final_error:
     m; clean: the run's verdict; failures: its lines; wall: s the run took; clock_stood: s the
     formation's shared show clock stood during the show, clock_stood_for_people: s of it with
     a person near a robot that held it (``report.metrics.clock_waits``); how the robots

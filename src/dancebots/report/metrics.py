@@ -423,8 +423,9 @@ class ClockWaits(NamedTuple):
 
 def clock_waits(result: RunResult, near: float = PERSON_NEAR) -> ClockWaits:
     """The run's :class:`ClockWaits`. The clock stands at a tick where the formation's show
-    time (the earliest robot's, ``RunResult.show_time``) is in [0, the plan's duration) and
-    has not advanced since the tick before. A robot holds it at that tick when
+    time (the earliest robot's, ``RunResult.show_time``) is in [0, the show's end) (every
+    place on its final slot, ``shows.formation.settle_from``) and has not advanced since the
+    tick before. A robot holds it at that tick when
     ``RunResult.holds`` says so at that tick or at the ticks a hold message takes to reach
     the others (one tick plus ``SimConfig.hold_delay``): mates resume a tick after the
     holder. Each stood tick counts its sample period. 0 s for both without a shared clock."""
@@ -434,8 +435,8 @@ def clock_waits(result: RunResult, near: float = PERSON_NEAR) -> ClockWaits:
     period = float(np.median(np.diff(times)))
     clock = result.show_time.min(axis=0)  # (T,)
     stood = np.zeros(len(times), dtype=bool)
-    stood[1:] = (np.diff(clock) <= 0.0) & (clock[1:] >= 0.0) & (
-        clock[1:] < result.plan.duration - 1e-9)
+    end = settle_from(result.plan, result.config.brain.follower)
+    stood[1:] = (np.diff(clock) <= 0.0) & (clock[1:] >= 0.0) & (clock[1:] < end - 1e-9)
     if not stood.any():
         return ClockWaits(0.0, 0.0)
     lag = 1 + math.ceil(result.config.hold_delay / period - 1e-9)

@@ -83,8 +83,9 @@ class SimConfig:
         integrated exactly along arcs, so the ideal profile loses nothing).
     control_period: the brains' tick, s (10 Hz).
     command_timeout: a robot stops when its last command is older than this, s.
-    seed: seed of the noise generator. settle: extra time after the planned show, s; the run
-        ends earlier once every robot has stood still for a second after the show.
+    seed: seed of the noise generator. settle: extra time after the show's end (every place
+        on its final slot, :func:`settle_from`), s; the run ends earlier once every robot has
+        stood still for a second after it.
     lidar: the simulated LIDAR (None: robots without LIDAR, no obstacle detection).
     brain: how every robot decides (detector, force field, force steering: the options a
         real robot's node takes too); its ``lidar`` follows ``lidar`` above.
@@ -279,14 +280,16 @@ def hold_strategy(config: SimConfig) -> HoldStrategy:
 
 
 def settle_from(plan: Plan, follower: str) -> float:
-    """The show time (s) from which a run may end once everything stands still: the plan's
-    end for the thesis follower; for the tracking and path followers the time every place
-    stands on its final slot (``plan.places.places_end``, up to a few seconds after the
-    leader's end for places that follow it along its path). Before (the plan's end for
-    all), a robot holding the formation's clock for a person in that gap ended the run with
-    the rear places short of their slots: open-day crowd seed 648, the clock standing at
-    115.98 s of 119.54 s, R3 and R4 left 0.8 m from their final slots."""
-    return plan.duration if follower == "thesis" else float(max(plan.duration, places_end(plan)))
+    """The show time (s) by which every place stands on its final slot, from which a run may
+    end once everything stands still, and which a finished show's clock reaches: the plan's
+    end, but for the path follower, whose places follow the leader along its path, the time
+    they reach their slots (``plan.places.places_end``, a few seconds later). Before (the
+    plan's end for all), a robot holding the formation's clock for a person in that gap
+    ended the run with the rear places short of their slots: open-day crowd seed 648, the
+    clock standing at 115.98 s of 119.54 s, R3 and R4 left 0.8 m from their final slots."""
+    if follower != "path":
+        return plan.duration
+    return float(max(plan.duration, places_end(plan)))
 
 
 def _to_world(starts: FloatArray, slots: list[Pose], show: FloatArray, robot: int) -> FloatArray:
@@ -312,10 +315,10 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                   scan_ahead=config.scan_ahead and len(placement.robots) >= SCAN_AHEAD_FROM)
     try:
         crew = _Crew(brains, placement.robots, stage, config)
-        clock = Clock(config.dt, plan.duration + config.settle,
+        end = settle_from(plan, options.follower)
+        clock = Clock(config.dt, end + config.settle,
                       max(1, round(config.control_period / config.dt)),
-                      settle_from=settle_from(plan, options.follower),
-                      max_pause=config.max_pause)
+                      settle_from=end, max_pause=config.max_pause)
         recorder = run_show(stage, crew.step, clock, progress)
     except BaseException:
         stage.close(check=False)  # (the error that stopped the run is the one to see)

@@ -404,7 +404,8 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     """The crowd ``dt`` s later: people near a robot that stopped for people and speaks
     (``speaking`` (R,)) heed it at their kind's rate and step away (from inside the
     formation, keeping :data:`LEAVING_RANGE` of their range from the robots that stand
-    still, ``robot_standing`` (R,), None: none); goals reached start a
+    still, ``robot_standing`` (R,), None: none, the share following with the time constant
+    :data:`SHARE_TIME`); goals reached start a
     pause, pauses that end and children who change their mind pick new goals (``areas``:
     each crowd's polygon), then the social forces (:func:`social_acceleration`) move
     everyone in substeps of ``params.substep``, speeds capped at ``max_speed_factor`` times

@@ -175,6 +175,7 @@ class Stage:
                 np.array([profile.linear_noise, profile.angular_noise]))
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
+        self.commanded = np.zeros((count, 2))  # this step's commands (R, 2), among crowds
         self.corners = self._footprints(self.pose)  # where the robots stand now
         self.pending: list[tuple[float, list[PointCloud] | Future[list[PointCloud]]]] = []
         self.planar_pending: list[tuple[float, float, FloatArray, FloatArray]] = []
@@ -262,6 +263,9 @@ class Stage:
         # the profile's noise, drawn once for whichever way the step goes (``actuate``)
         noise = (self.rng.normal(0.0, 1.0, size=self.velocity.shape) if self._noisy
                  and self.physics is None else None)
+        if self.crowd is not None:  # (the crowd tells standing robots from moving ones)
+            self.commanded = fresh_commands(np.clip(command, -self.limits, self.limits), issued,
+                                            now, self.command_timeout)
         if self._free_step_data is not None:
             from dancebots.sim.stage_jit import free_step  # imports numba
 
@@ -365,10 +369,12 @@ class Stage:
         self.discs = self._discs(scripted)
 
     def _standing(self) -> NDArray[np.bool_]:
-        """(R,) the robots standing still (no speed above :data:`MOVING_SPEED`, m/s and
-        rad/s): a person walking out of the formation squeezes past these
+        """(R,) the robots standing still: no speed nor command of this step above
+        :data:`MOVING_SPEED` (m/s and rad/s; a robot told to drive moves, whatever its lag):
+        a person walking out of the formation squeezes past these
         (``crowd.LEAVING_RANGE``)."""
-        result: NDArray[np.bool_] = np.all(np.abs(self.velocity) <= MOVING_SPEED, axis=1)
+        result: NDArray[np.bool_] = (np.all(np.abs(self.velocity) <= MOVING_SPEED, axis=1)
+                                     & np.all(np.abs(self.commanded) <= MOVING_SPEED, axis=1))
         return result
 
     def _steps_into_robots(self, before: FloatArray, after: FloatArray,
