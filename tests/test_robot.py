@@ -605,3 +605,33 @@ def test_the_predicted_rule_keeps_a_robot_from_turning_into_a_stranger_running_a
     assert abs(turning) > 0.1
     kept, _ = command(-1.0)
     assert kept == 0.0
+
+
+def test_a_robot_that_is_not_held_does_not_turn_into_a_stranger_beside_it() -> None:
+    """A robot that turns (its heading 0.5 rad off its place's), not held, with a stranger
+    standing beside it: within the circle its footprint sweeps (``sweep_reach`` beyond its
+    side) it does not turn, outside it it does. The rule once held only for held robots, and
+    a standing robot that the show moved on turned its rear corner into a child squeezing
+    past it (children crowd seed 34, t = 218.0 s: docs/safety.md, "People walk out")."""
+    from dancebots.robot import BrainState, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    slot = brain.slot_at(now).pose
+    pose = (slot[0], slot[1], slot[2] + 0.5)
+    half_width = 0.5 * brain.sensing.width
+
+    def command(gap: float) -> tuple[float, bool]:
+        local = (-0.2, half_width + gap)  # beside its rear, on its left (R2 is on its right)
+        state = BrainState(obstacles=np.array([[local[0], local[1], 0.0, 1.0]]),
+                           seen_from=pose, cloud_stamp=now)
+        state, cmd, _ = brain.step(state, now, pose, None, clock=now)
+        return cmd.angular, state.held
+
+    turning, held = command(brain.sweep_reach + 0.05)
+    assert abs(turning) > 0.1
+    assert not held
+    kept, held = command(0.5 * brain.sweep_reach)
+    assert kept == 0.0
+    assert not held

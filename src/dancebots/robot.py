@@ -755,9 +755,11 @@ class RobotBrain:
                 linear, angular, making_room = self._guard_turn(
                     obstacles, height_step, seen_from or pose, pose, linear, angular,
                     state.making_room if may_make_room else None)
-            if held and angular != 0.0 and knows_strangers and near.nearest < self.sweep_reach:
-                # held, it turns only when nothing but mates on their places is within the
-                # circle its footprint sweeps (its corners' swing beyond its sides)
+            if angular != 0.0 and knows_strangers and near.nearest < self.sweep_reach:
+                # it turns only when nothing but mates on their places is within the circle
+                # its footprint sweeps (its corners' swing beyond its sides); once only when
+                # held, and a standing robot that the show moved on turned its rear corner
+                # into a child squeezing past it (children crowd seed 34, t = 218.0 s)
                 angular = 0.0
             if angular != 0.0 and predicted[2] < self.sweep_reach:
                 # ``predicted``: nor while a tracked stranger will be within that circle by

@@ -696,7 +696,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     cloud, height_step, detect, view, pose, length, width, linear, angular,
                     may_make_room, making_room[r], rules)
             sweep_reach = (0.5 * math.hypot(length, width) - 0.5 * min(length, width))
-            if held and angular != 0.0 and n_nearest < sweep_reach:
+            if angular != 0.0 and n_nearest < sweep_reach:  # a stranger within it: no turn
                 angular = 0.0
             if angular != 0.0 and p_nearest < sweep_reach:  # a stranger will be within it
                 angular = 0.0
