@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -635,3 +636,37 @@ def test_a_robot_that_is_not_held_does_not_turn_into_a_stranger_beside_it() -> N
     kept, held = command(0.5 * brain.sweep_reach)
     assert kept == 0.0
     assert not held
+
+
+def test_the_wait_after_the_show_starts_once_every_place_stands_on_its_slot() -> None:
+    """A robot with a stranger within NEAR_GAP (beside it, not in its way) waits for it
+    (holding the show) only after the show, once every place stands on its final slot
+    (``rest_from``: the path follower's rear places reach theirs 3.6 s after the bundled
+    show's plan ends); between the plan's end and then it drives on to its slot. Waiting
+    from the plan's end, a robot held the shared clock and the rear places stopped short of
+    their slots (open-day crowd seed 648: R3 and R4 0.8 m)."""
+    from dancebots.check import CheckOptions
+    from dancebots.loading import load_show
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.plan.placement import places_followed
+    from dancebots.robot import NEAR_GAP, SensingConfig
+
+    show = load_show(str(Path(__file__).resolve().parents[1] / "src" / "dancebots" / "data"
+                         / "open_day.dance"),
+                     check=CheckOptions(places=places_followed("path")), timing="feasible")
+    plan = show.plan
+    assert plan is not None
+    brain = RobotBrain(plan, "R3", FollowerParams(), sensing=SensingConfig(), follower="path")
+    assert brain.rest_from > plan.duration + 1.0
+
+    def waits(show_time: float) -> bool:
+        place = brain.slot_at(show_time).pose
+        pose = (place[0] - 0.3 * math.cos(place[2]), place[1] - 0.3 * math.sin(place[2]),
+                place[2])  # 0.3 m behind its place, facing its way
+        wall = np.array([[x, 0.3 + 0.5 * NEAR_GAP, 0.0, 1.7] for x in np.linspace(-1, 1, 21)])
+        state, _, _ = brain.step(brain.initial_state(), show_time, pose,
+                                 PointCloud(show_time, wall), clock=show_time)
+        return state.waiting
+
+    assert not waits(0.5 * (plan.duration + brain.rest_from))
+    assert waits(brain.rest_from + 1.0)

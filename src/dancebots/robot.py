@@ -180,7 +180,9 @@ along the arc it was on by as much (else within the stop rule's speed; an additi
 child who runs up at 2 m/s covers this in the half second a robot needs to see it and stop
 its turn; at full turn rate a corner swings at 1-2 m/s: the open-day certification's
 contacts), and
-after the show (the plan's end) it does not move at all: it goes to its final slot once no
+after the show (every place on its final slot: ``rest_from``, the path follower's rear
+places a few seconds after the plan's end) it does not move at all: it goes to its final
+slot once no
 stranger is this near, or :data:`AFTER_SHOW_WAIT` after one came near (a child running round
 a parking robot met it backing up)."""
 CORNER_SPEED = 0.25
@@ -655,7 +657,10 @@ class RobotBrain:
             # a stranger within NEAR_GAP: slow corners, and after the show a wait
             stranger_near = (sensing.stop_rule != "ssm" and knows_strangers
                              and near.nearest < NEAR_GAP)
-            if stranger_near and show_time >= self.plan.duration:
+            # (after the show: once every place stands on its final slot; from the plan's
+            # end, a robot on its place waited for a person and held the shared clock while
+            # the path follower's rear places still drove on: open-day crowd seed 648)
+            if stranger_near and show_time >= self.rest_from:
                 near_since = now if state.stranger_near_since is None else (
                     state.stranger_near_since)
             # ``predicted``: where the tracked strangers will be by now (m ahead, behind, from

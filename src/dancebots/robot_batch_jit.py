@@ -645,7 +645,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             flag_front = near_front if parked else seen_front
             flag_rear = near_rear if parked else seen_rear
             stranger_near = n_nearest < rules[NEAR_GAP]
-            if stranger_near and show_time >= rules[PLAN_DURATION]:
+            if stranger_near and show_time >= rules[REST_FROM]:
                 near_time = now if math.isnan(near_since[r]) else near_since[r]
             # ``predicted``: where the tracked strangers will be by now
             p_front, p_rear, p_nearest = math.inf, math.inf, math.inf
