@@ -571,6 +571,18 @@ def test_the_default_stop_rule_is_predicted_but_fixed_for_the_thesis_follower() 
                      BrainOptions()).sensing.stop_rule == "fixed"
 
 
+def _turning_robot() -> tuple[RobotBrain, float, tuple[float, float, float]]:
+    """R1 of PLAN_TEXT (path follower, ``predicted`` rule), the show time 1 s and a pose on its
+    place with its heading 0.5 rad off the place's: its follower turns it."""
+    from dancebots.robot import SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    slot = brain.slot_at(now).pose
+    return brain, now, (slot[0], slot[1], slot[2] + 0.5)
+
+
 def test_the_predicted_rule_keeps_a_robot_from_turning_into_a_stranger_running_at_its_side(
 ) -> None:
     """A robot that turns (its heading 0.5 rad off its place's) with a tracked stranger
@@ -579,13 +591,9 @@ def test_the_predicted_rule_keeps_a_robot_from_turning_into_a_stranger_running_a
     circle (``sweep_reach`` of the footprint), it does not (in dense crowds children ran
     into the sides of robots turning slowly on the spot: docs/safety.md, "Stop rules")."""
     from dancebots.perception.tracks import TRACKED
-    from dancebots.robot import BrainState, SensingConfig
+    from dancebots.robot import BrainState
 
-    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
-                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
-    now = 1.0
-    slot = brain.slot_at(now).pose
-    pose = (slot[0], slot[1], slot[2] + 0.5)
+    brain, now, pose = _turning_robot()
     half_width = 0.5 * brain.sensing.width
     predicted_gap = 0.5 * brain.sweep_reach  # where the stranger will be, from the side
     side = half_width + predicted_gap + 0.3  # where it was seen 0.3 s ago (1 m/s)
@@ -614,13 +622,9 @@ def test_a_robot_that_is_not_held_does_not_turn_into_a_stranger_beside_it() -> N
     side) it does not turn, outside it it does. The rule once held only for held robots, and
     a standing robot that the show moved on turned its rear corner into a child squeezing
     past it (children crowd seed 34, t = 218.0 s: docs/safety.md, "People walk out")."""
-    from dancebots.robot import BrainState, SensingConfig
+    from dancebots.robot import BrainState
 
-    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
-                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
-    now = 1.0
-    slot = brain.slot_at(now).pose
-    pose = (slot[0], slot[1], slot[2] + 0.5)
+    brain, now, pose = _turning_robot()
     half_width = 0.5 * brain.sensing.width
 
     def command(gap: float) -> tuple[float, bool]:
