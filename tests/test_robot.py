@@ -344,11 +344,13 @@ def test_a_turn_cut_for_a_stranger_slows_the_robot_along_the_same_arc(
 def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> None:
     """The formation's shared clock stands (the show time does not advance from one tick to
     the next): a robot 8 cm to the side of its place waits where it is (PAUSE_STILL)
-    instead of turning to drive onto it; 0.3 m away it drives back; with the clock running
-    the same 8 cm are steered out on the way; the robot that held or paced the show at
-    its last tick keeps closing on its place (else the clock creeps on without it: the row
-    bystander's R1 fell 18 cm behind); and a clock that stood less than PAUSE_STILL_AFTER
-    stops nobody (robots stopped and went at every one-tick hold)."""
+    instead of turning to drive onto it, and so does one 0.3 m to its side (the paused
+    law: no turn onto a point beside it); 0.3 m behind its place it drives on to it along
+    its heading, 0.3 m past it it does not back up; with the clock running the same 8 cm
+    are steered out on the way; the robot that held or paced the show at its last tick
+    keeps closing on its place (else the clock creeps on without it: the row bystander's
+    R1 fell 18 cm behind); and a clock that stood less than PAUSE_STILL_AFTER stops nobody
+    (robots stopped and went at every one-tick hold)."""
     from dataclasses import replace
 
     from dancebots.robot import PAUSE_STILL, PAUSE_STILL_AFTER, SensingConfig
@@ -358,12 +360,14 @@ def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> No
                        follower="path")
 
     def command_at(side: float, paused: bool, holds_show: bool = False,
-                   pace: float = 1.0, stood: float = 1.0) -> Command:
+                   pace: float = 1.0, stood: float = 1.0, behind: float = 0.0) -> Command:
         """The command at show time 2.0 s after a tick at 1.9 s, or, paused, with the show
         time standing at 2.0 s since the robot's clock read ``1.0 - stood`` s (its clock at
-        this tick: 1.0 s)."""
-        place = brain.slot_at(2.0).pose
-        pose = (place[0], place[1] + side, place[2])
+        this tick: 1.0 s); the robot ``side`` m to the left of its place and ``behind`` m
+        behind it, facing its way."""
+        x, y, heading = brain.slot_at(2.0).pose
+        pose = (x - behind * math.cos(heading) - side * math.sin(heading),
+                y - behind * math.sin(heading) + side * math.cos(heading), heading)
         state = brain.initial_state()
         if paused:
             state, _, _ = brain.step(state, 1.9, pose, clock=0.8 - stood)
@@ -377,17 +381,21 @@ def test_while_the_show_clock_stands_a_robot_near_its_place_stands_still() -> No
     assert PAUSE_STILL > 0.08
     assert PAUSE_STILL_AFTER < 1.0
     assert command_at(0.08, paused=True) == Command(0.0, 0.0)
-    assert command_at(0.3, paused=True) != Command(0.0, 0.0)
+    assert command_at(0.3, paused=True) == Command(0.0, 0.0)  # no turn onto a point beside
+    on = command_at(0.0, paused=True, behind=0.3)
+    assert on.linear > 0.2
+    assert on.angular == pytest.approx(0.0, abs=1e-9)
+    assert command_at(0.0, paused=True, behind=-0.3) == Command(0.0, 0.0)  # no backing up
     running = command_at(0.08, paused=False)
     assert running.linear > 0.2
     assert running.angular < 0.0  # back towards its place, on the right
-    assert command_at(0.08, paused=True, holds_show=True) != Command(0.0, 0.0)
-    assert command_at(0.08, paused=True, pace=0.5) != Command(0.0, 0.0)
+    assert command_at(0.0, paused=True, holds_show=True, behind=0.08).linear > 0.0
+    assert command_at(0.0, paused=True, pace=0.5, behind=0.08).linear > 0.0
     # a clock that stood a tick or two is no wait yet: the robot keeps closing on its place
-    brief = command_at(0.08, paused=True, stood=PAUSE_STILL_AFTER - 0.2)
-    assert brief != Command(0.0, 0.0)
-    assert brief == command_at(0.08, paused=True, stood=PAUSE_STILL_AFTER - 0.2,
-                               holds_show=True)
+    brief = command_at(0.0, paused=True, stood=PAUSE_STILL_AFTER - 0.2, behind=0.08)
+    assert brief.linear > 0.0
+    assert brief == command_at(0.0, paused=True, stood=PAUSE_STILL_AFTER - 0.2,
+                               holds_show=True, behind=0.08)
 
 
 def test_a_robot_holds_the_standing_show_while_a_person_blocks_its_way_on() -> None:

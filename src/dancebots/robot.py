@@ -620,7 +620,7 @@ class RobotBrain:
                 if paused and not reference.final:
                     going = tracking_step(self.tracking, pose, reference, seen.force)
                 if paused:  # the shared show clock stopped: the place stands where it is
-                    reference = replace(reference, speed=0.0, angular_speed=0.0)
+                    reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True)
                 elif self.paced and rate < 1.0:  # the clock runs slow: so does the place
                     reference = replace(reference, speed=reference.speed * rate,
                                         angular_speed=reference.angular_speed * rate)

@@ -104,9 +104,10 @@ def _parking(gains: FloatArray, distance: float, bearing: float, heading_error: 
 @njit(cache=True)
 def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: float, py: float,
               ptheta: float, rx: float, ry: float, rtheta: float, speed: float,
-              angular_speed: float, final: bool, fy: float) -> tuple[float, float]:
+              angular_speed: float, final: bool, fy: float,
+              paused: bool) -> tuple[float, float]:
     """``control.tracking.tracking_step`` of the robot at (px, py, ptheta) tracking the
-    reference (rx, ry, rtheta, speed, angular_speed, final), sideways force ``fy``."""
+    reference (rx, ry, rtheta, speed, angular_speed, final, paused), sideways force ``fy``."""
     dx, dy = rx - px, ry - py  # ``Pose.to_local``
     c, s = math.cos(ptheta), math.sin(ptheta)
     ex, ey = c * dx + s * dy, -s * dx + c * dy
@@ -121,6 +122,15 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
                    * math.sin(heading_error))
         direction = 1.0 if linear >= 0.0 else -1.0
         angular += direction * gains[FORCE_GAIN_STEER] * fy
+        return _saturate(linear, angular, max_linear, max_angular)
+    if paused and not final:  # ``control.tracking.paused_step``
+        linear = min(gains[ARRIVAL_GAIN] * max(ex, 0.0), max_linear) * max(
+            math.cos(heading_error), 0.0)
+        angular = (linear * gains[GAIN_Y] * ey
+                   + max(linear, gains[HEADING_SPEED]) * gains[GAIN_THETA]
+                   * math.sin(heading_error))
+        if linear > 0.0:
+            angular += gains[FORCE_GAIN_STEER] * fy
         return _saturate(linear, angular, max_linear, max_angular)
     distance = math.hypot(ex, ey)
     backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
@@ -592,7 +602,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 go_linear, go_angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy)
+                    angular_speed, finals[r], fy, False)
             if paused:
                 speed, angular_speed = 0.0, 0.0
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
@@ -607,7 +617,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 linear, angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy)
+                    angular_speed, finals[r], fy, paused)
             wanted_linear, wanted_angular = linear, angular
             if not going:
                 go_linear, go_angular = linear, angular

@@ -324,3 +324,54 @@ def test_shared_pose_references_place_each_slot_on_the_extrapolated_leader() -> 
                                      np.array([[1.0, 0.0]]))
     assert ahead[2] == pytest.approx(np.arctan2(0.1, 0.3))
     assert ahead[3] == pytest.approx(np.hypot(0.3, 0.1))
+
+
+def test_a_robot_whose_show_clock_stands_does_not_turn_onto_a_place_beside_it() -> None:
+    """The paused law (``tracking.paused_step``): the formation's clock stands and the
+    robot's place stands 0.2 m to its side. It stays where it is, turning at most gently to
+    the place's heading; the law for a place that stands a moment on its path turns it
+    towards the point at over 1 rad/s (what made robots among people swing left and right
+    at every tick the clock stood). A place ahead is closed along the heading, one behind
+    is not backed up to."""
+    beside = SlotReference((0.0, 0.2, 0.1), 0.0, 0.0, paused=True)
+    linear, angular = tracking_step(PARAMS, (0.0, 0.0, 0.0), beside)
+    assert linear == 0.0
+    assert abs(angular) <= PARAMS.heading_speed * PARAMS.gain_theta * math.sin(0.1) + 1e-12
+    assert angular > 0.0  # towards the place's heading
+    moment = tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference((0.0, 0.2, 0.1), 0.0, 0.0))
+    assert abs(moment[1]) > 1.0
+    ahead = tracking_step(PARAMS, (0.0, 0.0, 0.0),
+                          SlotReference((0.2, 0.0, 0.0), 0.0, 0.0, paused=True))
+    assert ahead == pytest.approx((PARAMS.arrival_gain * 0.2, 0.0))
+    assert tracking_step(PARAMS, (0.0, 0.0, 0.0),
+                         SlotReference((-0.2, 0.0, 0.0), 0.0, 0.0, paused=True)) == (0.0, 0.0)
+    # the show over, the place parks the robot whatever the clock does
+    final = SlotReference((0.0, 0.2, 0.1), 0.0, 0.0, final=True)
+    assert tracking_step(PARAMS, (0.0, 0.0, 0.0), final) == tracking_step(
+        PARAMS, (0.0, 0.0, 0.0), SlotReference((0.0, 0.2, 0.1), 0.0, 0.0, True, True))
+
+
+_FINITE = st.floats(-3.0, 3.0)
+
+
+@settings(max_examples=300, deadline=None)
+@given(pose=st.tuples(_FINITE, _FINITE, st.floats(-math.pi, math.pi)),
+       place=st.tuples(_FINITE, _FINITE, st.floats(-math.pi, math.pi)),
+       speed=st.sampled_from([0.0, 0.3, -0.2]), angular_speed=st.sampled_from([0.0, 0.5]),
+       final=st.booleans(), paused=st.booleans(), fy=st.floats(-2.0, 2.0))
+def test_the_compiled_tracking_law_is_the_reference(
+        pose: tuple[float, float, float], place: tuple[float, float, float], speed: float,
+        angular_speed: float, final: bool, paused: bool, fy: float) -> None:
+    """``robot_batch_jit._tracking`` (the batched brains' law) is ``tracking_step``, the
+    paused law included."""
+    from dancebots.robot_batch import _gains
+    from dancebots.robot_batch_jit import _tracking
+
+    class _Brain:  # (``_gains`` reads the brain's tracking parameters only)
+        tracking = PARAMS
+
+    expected = tracking_step(PARAMS, pose, SlotReference(place, speed, angular_speed, final,
+                                                         paused), (0.0, fy))
+    got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
+                    speed, angular_speed, final, fy, paused)
+    assert got == pytest.approx(expected, abs=1e-9)

@@ -63,13 +63,15 @@ def test_the_formation_waits_for_a_robot_a_bystander_holds(profile: str) -> None
 def test_a_paced_formation_waits_for_the_bystander_as_closely(profile: str) -> None:
     """``--hold paced``: R1, slowed and left behind on its way to the bystander, paces the
     clock while it drives a fifth of the plan's speed or more, and holds it below that (no
-    creeping clock while it stands at its stop distance): the formation keeps as close to
-    its places as ``together`` (9.7 / 9.3 cm) and waits for the bystander."""
+    creeping clock while it stands at its stop distance): the formation keeps within issue
+    13's 10 cm of its places, as ``together`` (9.7 / 9.3 cm), and waits for the bystander.
+    (Realistic: 9.5 cm since the paused law, R1 on the tick the show resumes, which it
+    still paces; 8.5 cm before, when that tick, 9.9 cm behind, came one after the hold.)"""
     extra = {"profile": REALISTIC} if profile == "realistic" else {}
     result = _run(hold="paced", **extra)
     metrics = run_metrics(result)
     assert metrics.held_place_error is not None
-    assert metrics.held_place_error <= 0.09
+    assert metrics.held_place_error <= 0.1
     assert run_verdict(metrics).clean
     assert metrics.clock_stood >= 5.0  # R1 held until the bystander walks off
     assert metrics.clock_stood_for_people == pytest.approx(metrics.clock_stood)
