@@ -35,13 +35,16 @@ def plan_of(path: Path) -> Plan:
     return plan
 
 
-def pure_run(path: Path, profile: str = "ideal") -> RunResult:
-    """The pure simulation of ``path`` with the ROS nodes' defaults (the path follower on
-    the feasible timing) in the simulator's ``profile``, to compare a ROS run with."""
+def pure_run(path: Path, profile: str = "ideal", world: Path | None = None) -> RunResult:
+    """The pure simulation of ``path`` (in ``world``) with the ROS nodes' defaults (the path
+    follower on the feasible timing) in the simulator's ``profile``, to compare a ROS run
+    with."""
     from dancebots.sim import PROFILES
+    from dancebots.world import load_world
 
     plan = plan_of(path)
-    arena, placement = prepare_show(place_show(plan, None, places="path"))
+    arena, placement = prepare_show(place_show(
+        plan, None if world is None else load_world(str(world)), places="path"))
     return simulate(plan, arena, placement, SimConfig(profile=PROFILES[profile],
                                                       brain=BrainOptions(follower="path")))
 

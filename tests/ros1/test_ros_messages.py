@@ -239,7 +239,7 @@ def test_the_generated_simulation_launch_loads(tmp_path, monkeypatch) -> None:  
     path = tmp_path / "simulation.launch"
     path.write_text(simulation_launch("/s.dance", ("R1", "R2"), stop_after=50.0,
                                       types=((0.99, 0.67, 1.0), (0.73, 0.6, 0.5)),
-                                      stop_rule="closing"))
+                                      stop_rule="closing", show_end=19.5))
     loaded = _load(str(path), [])
     assert loaded["nodes"] == ["/R1/formation_member", "/R1/network_test",
                                "/R2/formation_member", "/R2/network_test", "/sim_bridge"]
@@ -247,6 +247,7 @@ def test_the_generated_simulation_launch_loads(tmp_path, monkeypatch) -> None:  
     assert loaded["/R2/formation_member/max_speed"] == 0.5
     assert loaded["/R1/formation_member/stop_rule"] == "closing"
     assert loaded["/sim_bridge/stop_after"] == 50.0
+    assert loaded["/sim_bridge/show_end"] == 19.5
 
 
 def test_the_formations_wait_is_logged_once_however_late_the_ticks() -> None:

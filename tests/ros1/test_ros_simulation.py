@@ -278,3 +278,36 @@ def test_robots_that_run_different_shows_refuse_to_start(roscore: Master,
         assert f"{role}: refuses to start: {other} runs another show: its scenario file (" in log
         assert "start agreed" not in log
     assert np.all(Record.load(record_path).commands == 0.0)
+
+
+def test_the_ros_simulation_ends_when_the_show_does_however_long_the_formation_waits(
+        roscore: Master, tmp_path: Path) -> None:
+    """`dancebots ros simulate` of the row bystander whose bystander stands in R1's lane for
+    50 s of a 17 s show: the formation waits for it together, so the show ends over 30 s
+    after the plan (where the bridge used to end every run, the robots left short of their
+    slots); now the bridge ends the run once every robot's shared clock is at the show's end
+    and all stand, with the robots where the pure simulation of the same world puts them."""
+    row = Path(__file__).parents[2] / "examples" / "row_bystander.dance"
+    world = tmp_path / "long_bystander.toml"
+    world.write_text((row.parent / "worlds" / "row_bystander.toml").read_text().replace(
+        "start = 18.0", "start = 50.0"))
+    plan = plan_of(row)
+    record_path = tmp_path / "record.npz"
+    dancebots = Path(sys.executable).parent / "dancebots"
+    limit = 50.0 + plan.duration + START_ALLOWANCE + 60
+    with open(tmp_path / "simulate.log", "wb") as log:
+        finished = subprocess.run(
+            [str(dancebots), "ros", "simulate", str(row), "--world", str(world), "--record",
+             str(record_path)], env=roscore.env, stdout=log, stderr=subprocess.STDOUT,
+            timeout=limit, check=False)
+    output = (tmp_path / "simulate.log").read_text(errors="replace")
+    assert finished.returncode == 0, output[-3000:]
+    assert "the show is over at show time" in output, output[-3000:]
+    assert "(held by" in output or "the show waits" in output, output[-3000:]
+    record = Record.load(record_path)
+    span = record.times[-1] - record.times[0]
+    assert span > plan.duration + START_ALLOWANCE  # beyond the old end of every run
+    assert len(record.contacts) == 0
+    pure = pure_run(row, world=world)
+    final_gap = np.hypot(*(record.poses[:, -1, :2] - pure.poses[:, -1, :2]).T)
+    assert final_gap.max() <= FINAL_TOLERANCE, final_gap

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dancebots.shows.loop import STILL, Clock, Tick, run_show
+from dancebots.shows.loop import STILL, Clock, Tick, robots_moving, run_show, settled_since
 
 
 class FakeStage:
@@ -65,3 +65,20 @@ def test_a_show_with_a_robot_waiting_to_move_has_not_settled() -> None:
 
     recorder = run_show(stage, step, Clock(0.1, 30.0, settle_from=1.0))  # type: ignore[arg-type]
     assert recorder.times[-1] == pytest.approx(5.0 + STILL)
+
+
+def test_a_show_is_settled_from_its_end_while_nothing_moves() -> None:
+    """``settled_since`` (the loop's and the ROS bridge's end): settled from the first tick
+    at or past the show's end with nothing moving, kept while that lasts, lost when anything
+    moves, is told to, or the show time is short of the end."""
+    assert settled_since(None, 10.0, 19.0, 19.5, moving=False) is None  # before the end
+    assert settled_since(None, 10.0, 19.5, 19.5, moving=False) == 10.0
+    assert settled_since(10.0, 10.5, 19.6, 19.5, moving=False) == 10.0
+    assert settled_since(10.0, 10.6, 19.7, 19.5, moving=True) is None
+    still, told = np.zeros((2, 2)), np.zeros((2, 2))
+    assert not robots_moving(still, told)
+    told[1, 1] = 0.01  # a robot told to turn
+    assert robots_moving(still, told)
+    still[0, 0] = 0.002  # a robot creeping
+    assert robots_moving(still, np.zeros((2, 2)))
+    assert not robots_moving(np.zeros((0, 2)), np.zeros((0, 2)))  # no robots

@@ -111,6 +111,7 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.loading import load_show
     from dancebots.plan.placement import place_show
     from dancebots.ros1.launching import START_ALLOWANCE, ros_environment, simulation_launch
+    from dancebots.shows.formation import SimConfig, settle_from
     from dancebots.sim.setup import SetupError, prepare_show
 
     show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)
@@ -151,12 +152,19 @@ def run(args: argparse.Namespace) -> int:
         _, placement = prepare_show(place_show(plan, show.world))
     except SetupError as exc:
         return fail(NAME, str(exc))
+    # the bridge ends the run once the formation's clocks reach the show's end and every
+    # robot stands (``~show_end``), or at the run's limit: as ``dancebots run``, the show's
+    # end, its settling, and for a formation that waits together the longest wait
+    show_end = settle_from(plan, args.follower)
+    waits = (args.hold or ("alone" if args.follower == "thesis" else "paced")) != "alone"
+    limits = SimConfig()
     text = simulation_launch(
         scenario, plan.robots, world_file, vmax, args.profile, not args.no_lidar,
         str(Path(args.record).resolve()) if args.record else "",
-        plan.duration + START_ALLOWANCE,
+        show_end + START_ALLOWANCE + limits.settle + (limits.max_pause if waits else 0.0),
         tuple((t.length, t.width, t.max_speed) for t in placement.types),
-        args.follower, args.timing, args.hold or "", args.stop_rule or "")
+        args.follower, args.timing, args.hold or "", args.stop_rule or "",
+        show_end if waits else 0.0)
     if args.print_command:
         print(text, end="")
         return EXIT_OK

@@ -33,11 +33,14 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                       record: str = "", stop_after: float = 0.0,
                       types: tuple[tuple[float, float, float], ...] = (),
                       follower: str = "thesis", timing: str = "thesis",
-                      hold: str = "", stop_rule: str = "") -> str:
+                      hold: str = "", stop_rule: str = "", show_end: float = 0.0) -> str:
     """The launch file of a ROS simulation: the bridge, and formation.launch per robot with
     its name as prefix; types: per robot (length, width, max speed) of the simulated robot;
     follower, timing, hold and stop_rule: the strategies (``--follower``, ``--timing``,
-    ``--hold``, ``--stop-rule``; a hold or stop rule of "" lets the node choose)."""
+    ``--hold``, ``--stop-rule``; a hold or stop rule of "" lets the node choose); stop_after:
+    s after which the bridge ends the run; show_end: the show time (s) from which it ends it
+    once every robot says on /hold that its show time is there and it holds nothing, and
+    every robot stands (0: at stop_after only)."""
     def attr(value: object) -> str:
         return quoteattr(str(value))
 
@@ -52,6 +55,7 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
              f"    <param name=\"lidar\" value={attr(str(lidar).lower())}/>",
              f"    <param name=\"record\" value={attr(record)}/>",
              f"    <param name=\"stop_after\" value={attr(stop_after)}/>",
+             f"    <param name=\"show_end\" value={attr(show_end)}/>",
              "  </node>"]
     for i, robot in enumerate(robots):
         lines.append('  <include file="$(find dancebots_ros)/launch/formation.launch">')

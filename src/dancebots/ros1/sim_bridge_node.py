@@ -7,8 +7,13 @@ true), ``~rate`` (simulation steps per second, default 20), ``~record`` (optiona
 run's times, poses, applied commands and contacts, written every 5 s and at shutdown;
 ``.mcap``: an MCAP log with ROS 1 types, ``report.mcap_log.write_record_mcap``, else NumPy's
 .npz), ``~stop_after`` (s; shut down after this long, which ends a launch whose bridge is
-required; 0: run until stopped), ``~silence`` (fault injection: "R1@12.5" stops publishing R1's
-clouds from 12.5 s on).
+required; 0: run until stopped), ``~show_end`` (s of show time; when above 0, the bridge
+listens to the formation's ``/hold`` messages and shuts down once every robot's shared show
+clock is there, no robot holds the show and every robot has stood still for ``STILL`` s, or
+the clocks are ``~settle`` s (default 20) past it: the run ends when the show does however
+long the formation waited for people, as ``dancebots run`` ends it; a formation whose robots
+send no hold messages, ``--hold alone``, ends at ``~stop_after``), ``~silence`` (fault
+injection: "R1@12.5" stops publishing R1's clouds from 12.5 s on).
 Per robot R of the scenario (its name prefixes everything, as all share one master):
 subscribes ``/R/nav/cmd_vel`` (geometry_msgs/Twist; a command older than 0.1 s stops the
 robot, the robots' 10 Hz rule); publishes TF ``R/map`` -> ``R/base_link`` (the map's origin
@@ -30,16 +35,18 @@ import rospy
 import tf2_ros
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import PointCloud2
-from std_msgs.msg import Header
+from std_msgs.msg import Header, String
 
 from dancebots.plan.placement import place_show
 from dancebots.ros1.common import NodeLife, QueuedLog, load_show, required_param
 from dancebots.ros1.convert import cloud_message, transform_message
-from dancebots.ros1.naming import RobotNames
+from dancebots.ros1.naming import HOLD_TOPIC, RobotNames
+from dancebots.shows.loop import STILL, robots_moving, settled_since
 from dancebots.sim.kinematics import PROFILES, fresh_commands
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.setup import SetupError, prepare_show
 from dancebots.sim.stage import Stage
+from dancebots.sync.messages import HoldMessageError, parse_hold
 
 RECORD_EVERY = 5.0  # s between writes of the record
 
@@ -106,10 +113,26 @@ def main() -> None:
     log.info(f"sim_bridge: {count} robots, {1 / dt:g} steps/s, LIDAR "
              f"{'on' if lidar else 'off'}")
     stop_after = float(rospy.get_param("~stop_after", 0.0))
+    show_end = float(rospy.get_param("~show_end", 0.0))
+    settle = float(rospy.get_param("~settle", 20.0))
     silenced = _silences(str(rospy.get_param("~silence", "")), robots)
+    clocks: dict[str, tuple[float, bool]] = {}  # each robot's last show time and hold heard
 
-    def advance(now: float) -> None:
-        """Publish the clouds and poses at stage time ``now`` (s), record, and step."""
+    def hold_heard(message: String) -> None:
+        try:
+            heard = parse_hold(message.data)
+        except HoldMessageError:
+            return  # (the formation_member nodes log bad messages)
+        if heard.role in robots:
+            with lock:
+                clocks[heard.role] = (heard.show_time, heard.holds)
+
+    if show_end > 0.0:
+        rospy.Subscriber(HOLD_TOPIC, String, hold_heard, queue_size=100)
+
+    def advance(now: float) -> np.ndarray:
+        """Publish the clouds and poses at stage time ``now`` (s), record, and step; returns
+        the commands (R, 2) the robots obeyed."""
         nonlocal told
         stamp = rospy.Time.from_sec(start + now)
         for i, cloud in enumerate(stage.deliveries(now)):
@@ -133,8 +156,11 @@ def main() -> None:
             poses.append(stage.pose.copy())
             applied.append(obeyed)
         stage.advance(now, current, sent)
+        return obeyed
 
     step = 0
+    still_since: float | None = None
+    formation_time: float | None = None  # the show time every robot's clock has reached
     last_write = 0.0
     reason = None
     if record_path is not None and record_path.endswith(".mcap"):
@@ -146,12 +172,32 @@ def main() -> None:
             now = step * dt
             if 0 < stop_after <= now:
                 reason = "the show is over"
+                unfinished = ("" if formation_time is None or formation_time >= show_end
+                              else f"; the show had not finished: show time "
+                              f"{formation_time:.1f} s of {show_end:.1f} s (the formation "
+                              f"waited for a held robot)")
                 log.info(f"sim_bridge: {stop_after:g} s are over; {len(stage.collisions)} "
-                         "contacts")
+                         f"contacts{unfinished}")
                 break
             if not life.wait(start + now - rospy.get_time()):
                 break
-            advance(now)
+            obeyed = advance(now)
+            if show_end > 0.0:
+                with lock:
+                    heard = list(clocks.values()) if len(clocks) == count else []
+                if heard:
+                    formation_time = min(time for time, _ in heard)
+                    still_since = settled_since(
+                        still_since, now, formation_time, show_end,
+                        any(holds for _, holds in heard)
+                        or robots_moving(stage.velocity, obeyed))
+                    if (still_since is not None and now - still_since >= STILL) or (
+                            formation_time >= show_end + settle):
+                        reason = "the show is over"
+                        log.info(f"sim_bridge: the show is over at show time "
+                                 f"{formation_time:.1f} s, {now:.1f} s are over; "
+                                 f"{len(stage.collisions)} contacts")
+                        break
             if now - last_write >= RECORD_EVERY:
                 write_record()
                 last_write = now

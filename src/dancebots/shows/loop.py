@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 from dancebots.sim.recorder import Recorder
 from dancebots.sim.stage import Stage
 
-__all__ = ["STILL", "Clock", "Progress", "Step", "Tick", "run_show"]
+__all__ = ["STILL", "Clock", "Progress", "Step", "Tick", "robots_moving", "run_show",
+           "settled_since"]
 
 FloatArray = NDArray[np.float64]
 Progress = Callable[[float, float], None]
@@ -73,6 +74,24 @@ Step = Callable[[float], Tick]
 """A show's decisions at a control tick: ``step(show_time) -> Tick``."""
 
 
+def robots_moving(velocity: FloatArray, commands: FloatArray) -> bool:
+    """Whether any robot moves (velocities (R, 2), v m/s and w rad/s, above
+    :data:`STILL_SPEED`) or is told to (commands (R, 2) above :data:`STILL_COMMAND`)."""
+    return bool(np.abs(velocity).max(initial=0.0) > STILL_SPEED
+                or np.abs(commands).max(initial=0.0) > STILL_COMMAND)
+
+
+def settled_since(still_since: float | None, now: float, show_time: float,
+                  settle_from: float, moving: bool) -> float | None:
+    """Since when (s, the loop's time ``now``) a show has been settled: its show time at or
+    past ``settle_from`` with nothing ``moving`` (a robot drives, is told to, or waits to);
+    ``still_since``: the answer at the last tick. None: not settled. A show ends once it has
+    been settled :data:`STILL` s (:func:`run_show`, and the ROS simulator's bridge)."""
+    if show_time >= settle_from and not moving:
+        return now if still_since is None else still_since
+    return None
+
+
 def run_show(stage: Stage, step: Step, clock: Clock,
              progress: Progress | None = None) -> Recorder:
     """Run ``step`` and ``stage`` over the show's time; returns what was recorded at each
@@ -101,14 +120,11 @@ def run_show(stage: Stage, step: Step, clock: Clock,
                 progress(min(show_time, clock.end), clock.end)
                 last_report = now
             if clock.settle_from is not None:
-                moving = (np.abs(stage.velocity).max() > STILL_SPEED
-                          or np.abs(commands).max() > STILL_COMMAND or tick.waiting)
-                if show_time >= clock.settle_from and not moving:
-                    still_since = now if still_since is None else still_since
-                    if now - still_since >= STILL:
-                        break
-                else:
-                    still_since = None
+                still_since = settled_since(
+                    still_since, now, show_time, clock.settle_from,
+                    robots_moving(stage.velocity, commands) or tick.waiting)
+                if still_since is not None and now - still_since >= STILL:
+                    break
         if k >= total_steps:
             break
         stage.advance(now, commands, issued)
