@@ -650,6 +650,39 @@ def test_a_robot_that_is_not_held_does_not_turn_into_a_stranger_beside_it() -> N
     assert not held
 
 
+def test_a_stranger_beside_a_mate_does_not_hide_in_the_mates_disc_from_the_turn_rule(
+) -> None:
+    """A robot that turns (its heading 0.5 rad off its place's) with a child between it and
+    R2, R2 on its place: the child is 5 cm from the robot's side, within the disc round R2's
+    place that hides a mate off its place (``mate_radius``) but beyond R2's body where R2
+    said it is (``mate_body_radius``). Hearing nothing from R2 the robot knows no better and
+    turns (the thesis's ``--hold alone``); hearing R2 it does not: a child squeezing between
+    R1 and R2 was hidden so, and R1 drove on turning into it (open-day crowd seed 138 of
+    94d2cb6, t = 92.7 s: ``robot.MATE_BODY_MARGIN``)."""
+    from dancebots.geometry import Pose, compose_points
+    from dancebots.robot import BrainState
+
+    brain, now, pose = _turning_robot()
+    mate = brain.mates_at(now)[0]  # R2's place, own map frame
+    towards = (mate - np.array(pose[:2])) / np.hypot(*(mate - np.array(pose[:2])))
+    child = np.array(pose[:2]) + 0.4 * towards  # own map frame
+    local = Pose(*pose).to_local(float(child[0]), float(child[1]))
+    body = Pose(*pose).to_local(*(float(v) for v in mate - 0.3 * towards))  # R2's near side
+    state = BrainState(obstacles=np.array([[local[0], local[1], 0.0, 1.0],
+                                           [body[0], body[1], 0.0, 1.0]]),
+                       seen_from=pose, cloud_stamp=now)
+    assert brain.mate_body_radius < np.hypot(*(child - mate)) < brain.mate_radius
+    assert abs(local[1]) - 0.5 * brain.sensing.width < brain.sweep_reach  # beside it
+    show_frame = Pose(*brain._own_frame).inverse()
+    heard = compose_points(np.array([show_frame.x, show_frame.y, show_frame.theta]),
+                           mate[None])  # where R2 says it is: on its place (show frame)
+
+    _, unheard, _ = brain.step(state, now, pose, None, clock=now)
+    assert abs(unheard.angular) > 0.1
+    _, told, _ = brain.step(state, now, pose, None, clock=now, mates_heard=heard)
+    assert told.angular == 0.0
+
+
 def test_the_wait_after_the_show_starts_once_every_place_stands_on_its_slot() -> None:
     """A robot with a stranger within NEAR_GAP (beside it, not in its way) waits for it
     (holding the show) only after the show, once every place stands on its final slot

@@ -17,6 +17,7 @@ from __future__ import annotations
 import bisect
 import functools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Literal, get_args
 
@@ -119,6 +120,16 @@ keeping its reference's speed (:meth:`RobotBrain._approach_limit`)."""
 MATE_MARGIN = 0.3
 """m: LIDAR points within the robot's own half diagonal plus this of where a formation mate
 should be are left out of the tracking and path followers' force field."""
+MATE_BODY_MARGIN = 0.1
+"""m: while a robot hears every formation mate say where it is (``sync.hold``), a LIDAR
+point more than the largest mate's half diagonal (``SensingConfig.mate_reach``) plus this
+from each of them is no mate's body, however near it lies to where a mate should be: the
+rule that keeps a robot from turning with a stranger within the circle its footprint
+sweeps, and the hold for a person on or in its footprint, judge such points as strangers.
+The mates' wider discs (:data:`MATE_MARGIN` of their places, for a mate off its place) hid a
+child squeezing between R1 and R2, 8 cm from R1's side: R1 drove on turning at 0.43 rad/s
+and its side swept into the child (open-day crowd seed 138 of 94d2cb6, t = 92.7 s). The
+margin covers a message's tick of age at the robots' speeds."""
 OVERLAP = 0.01
 """m: an obstacle point nearer than this to the footprint (on or in it) holds the robot still,
 neither driving nor turning (a person standing in its footprint)."""
@@ -248,7 +259,9 @@ class SensingConfig:
     no sensor-age check), its detector, the force field's reach (m, 0: off), the approach
     gain (1/s, 0: off), whether to use the compiled perception (else the NumPy reference;
     same results), the detection and safety parameters, the stop rule (:data:`STOP_RULES`)
-    and, for ``ssm``, its parameters and its tracker's (None: ``TrackParams()``).
+    and, for ``ssm``, its parameters and its tracker's (None: ``TrackParams()``);
+    ``mate_reach``: the largest half diagonal of a formation mate, m (None: the robot's own),
+    for :data:`MATE_BODY_MARGIN`.
 
     Approach limit (an addition): the speed towards an obstacle in the robot's corridor is at
     most approach_gain * (free distance - stop distance), so a robot closes up to the stop
@@ -271,6 +284,7 @@ class SensingConfig:
     ssm: SsmParams = field(default_factory=SsmParams)
     closing: ClosingParams = field(default_factory=ClosingParams)
     tracks: TrackParams | None = None
+    mate_reach: float | None = None
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -388,6 +402,9 @@ class RobotBrain:
                 np.array([self._to_own.x, self._to_own.y, self._to_own.theta]), mates)
             self._mates.flags.writeable = False  # mates_at hands out views of it
         self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
+        self.mate_body_radius = (0.5 * math.hypot(self.sensing.length, self.sensing.width)
+                                 if self.sensing.mate_reach is None
+                                 else self.sensing.mate_reach) + MATE_BODY_MARGIN
         # the rules for strangers (points that are no mate on its place) need the mates'
         # places: the tracking and path followers; the thesis follower, which knows none,
         # keeps thesis 5.2's rules as written
@@ -679,7 +696,17 @@ class RobotBrain:
                     obstacles, height_step, seen_from or pose, pose, point_velocity,
                     point_kind, now - (cloud_stamp if cloud_stamp is not None else now),
                     show_time, mates_heard)
-            if near.nearest <= OVERLAP and knows_strangers:
+            # the nearest point that is no mate's body where every mate said it is (a
+            # stranger beside a mate, within its place's wider disc: MATE_BODY_MARGIN)
+            body_nearest = near.nearest
+            if (knows_strangers and seen.nearest < self.sweep_reach
+                    and near.nearest > seen.nearest and mates_heard is not None
+                    and len(mates_heard) and self._mates is not None
+                    and len(mates_heard) == len(self._mates)):
+                body_nearest = self._nearest_beyond_mates(
+                    obstacles, height_step, seen_from or pose, pose,
+                    compose_points(self._own_frame, mates_heard), seen.nearest)
+            if body_nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
                 # still until the person leaves (the thesis follower, which knows no mates'
@@ -760,7 +787,7 @@ class RobotBrain:
                 linear, angular, making_room = self._guard_turn(
                     obstacles, height_step, seen_from or pose, pose, linear, angular,
                     state.making_room if may_make_room else None)
-            if angular != 0.0 and knows_strangers and near.nearest < self.sweep_reach:
+            if angular != 0.0 and knows_strangers and body_nearest < self.sweep_reach:
                 # it turns only when nothing but mates on their places is within the circle
                 # its footprint sweeps (its corners' swing beyond its sides); once only when
                 # held, and a standing robot that the show moved on turned its rear corner
@@ -1132,21 +1159,35 @@ class RobotBrain:
         return self._perceive(columns[keep], height_step, seen_from, pose)
 
     def _far_from_mates(self, columns: np.ndarray, seen_from: tuple[float, float, float],
-                        mates: np.ndarray) -> np.ndarray:
+                        mates: np.ndarray, radius: float | None = None) -> np.ndarray:
         """(K,) True for the cloud's columns (``base_link`` at ``seen_from``) more than
-        ``mate_radius`` from every mate's place ``mates`` (M, 2), own map frame (all of them
-        for no mate): compiled (``perception.fast.far_from_all``) unless
+        ``radius`` (None: ``mate_radius``) from every mate's place ``mates`` (M, 2), own map
+        frame (all of them for no mate): compiled (``perception.fast.far_from_all``) unless
         ``SensingConfig.compiled`` is off."""
+        radius = self.mate_radius if radius is None else radius
         local = points_to_local(mates, seen_from)  # (M, 2) base_link
         if self.sensing.compiled:
             from dancebots.perception.fast import far_from_all  # imports numba
 
-            keep: np.ndarray = far_from_all(columns, local, self.mate_radius)
+            keep: np.ndarray = far_from_all(columns, local, radius)
             return keep
         gaps = np.hypot(columns[:, None, 0] - local[None, :, 0],
                         columns[:, None, 1] - local[None, :, 1])  # (K, M)
-        far: np.ndarray = gaps.min(axis=1, initial=np.inf) > self.mate_radius
+        far: np.ndarray = gaps.min(axis=1, initial=np.inf) > radius
         return far
+
+    def _nearest_beyond_mates(self, columns: np.ndarray, height_step: float,
+                              seen_from: tuple[float, float, float],
+                              pose: tuple[float, float, float], heard: np.ndarray,
+                              everything: float) -> float:
+        """The gap (m) from the footprint to the nearest of the cloud's columns (K, 4)
+        (``base_link`` at ``seen_from``) that lies more than ``mate_body_radius`` from every
+        mate where it said it is (``heard`` (M, 2), own map frame): no mate's body
+        (:data:`MATE_BODY_MARGIN`); ``everything``: the nearest of all of them."""
+        keep = self._far_from_mates(columns, seen_from, heard, self.mate_body_radius)
+        if keep.all():
+            return everything
+        return self._perceive(columns[keep], height_step, seen_from, pose).nearest
 
     def _perceive(self, columns: np.ndarray, height_step: float,
                   seen_from: tuple[float, float, float],
@@ -1252,10 +1293,13 @@ class BrainOptions:
 
 
 def brain_for(plan: Plan, robot: str, robot_type: RobotType,
-              options: BrainOptions = BrainOptions()) -> RobotBrain:
+              options: BrainOptions = BrainOptions(),
+              mate_types: Sequence[RobotType] = ()) -> RobotBrain:
     """The brain of ``robot`` (a role of the plan) on a robot of ``robot_type`` (footprint and
-    limits): the one factory that the simulator and the ROS node both use, so that they
-    cannot drift apart."""
+    limits), among formation mates of ``mate_types`` (their footprints; none known: its own):
+    the one factory that the simulator and the ROS node both use, so that they cannot drift
+    apart."""
+    mate_reach = max((0.5 * math.hypot(t.length, t.width) for t in mate_types), default=None)
     return RobotBrain(plan, robot, FollowerParams(
         vmax=plan.parameters.vmax, max_linear=robot_type.max_speed,
         max_angular=robot_type.max_angular_speed, force_steering=options.force_steering),
@@ -1263,6 +1307,7 @@ def brain_for(plan: Plan, robot: str, robot_type: RobotType,
             robot_type.length, robot_type.width, lidar=options.lidar,
             detector=options.detector, force_radius=options.force_radius,
             compiled=options.compiled,
-            stop_rule=default_stop_rule(options.follower, options.stop_rule)),
+            stop_rule=default_stop_rule(options.follower, options.stop_rule),
+            mate_reach=mate_reach),
         follower=options.follower, feedforward_lead=options.actuator_lag or 0.0,
         paced=options.paced)

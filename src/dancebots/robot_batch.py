@@ -134,6 +134,7 @@ class BatchBrains:
         self.limits = np.array([[b.tracking.max_linear, b.tracking.max_angular]
                                 for b in brains])
         self.mate_radius = np.array([b.mate_radius for b in brains])
+        self.mate_body = np.array([b.mate_body_radius for b in brains])
         self.gains = _gains(first)
         self.detect = np.array([detection.crop_half, detection.z_min, detection.z_max,
                                 detection.stop_distance, detection.corridor_margin,
@@ -238,7 +239,7 @@ class BatchBrains:
             self.columns, self.offsets, self.height_steps, references, finals,
             mates, heard if heard is not None else np.zeros((count, 2)),
             heard is not None, self.frame_cos_sin, self.own_frames, self.sizes, self.limits,
-            self.mate_radius, self.gains, self.detect, self.rules, self.history,
+            self.mate_radius, self.mate_body, self.gains, self.detect, self.rules, self.history,
             self.history_size, self.seen_from, self.has_seen_from, self.last_show_time,
             self.making_room, self.near_since, self.safety, self.lookup_failures,
             self.commands, self.flags, self.events, self.event_values, self.track_params,

@@ -455,7 +455,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 finals: NDArray[np.bool_], mates: FloatArray, heard: FloatArray,
                 use_heard: bool, frame_cos_sin: FloatArray, own_frames: FloatArray,
                 sizes: FloatArray, limits: FloatArray, mate_radius: FloatArray,
-                gains: FloatArray, detect: FloatArray, rules: FloatArray,
+                mate_body: FloatArray, gains: FloatArray, detect: FloatArray, rules: FloatArray,
                 history: FloatArray, history_size: NDArray[np.int64],
                 seen_from: FloatArray, has_seen_from: NDArray[np.bool_],
                 last_show_time: FloatArray, making_room: FloatArray,
@@ -481,7 +481,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     use_heard, with each robot's show frame in its own (own_frames (R, 3), their cos and sin
     (R, 2) as NumPy computes them).
     Per robot: sizes (R, 2) length, width; limits (R, 2) max linear, angular speed;
-    mate_radius (R,); gains, detect, rules: the indexed constants above.
+    mate_radius (R,), mate_body (R,) (``RobotBrain.mate_body_radius``); gains, detect, rules:
+    the indexed constants above.
     State, updated: history (R, H, 4) with history_size (R,); seen_from (R, 3) where
     has_seen_from; last_show_time (R,) (NaN: none); making_room (R,); near_since (R,) (NaN);
     safety (R, 5) error (0/1), last cloud, first tick, stopped since, last beep (NaN: None)
@@ -667,7 +668,28 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),
                     length, width, detect, mates_now, heard, use_heard, r,
                     frame_cos_sin[r], own_frames[r], mate_radius[r], rules[PREDICTED_STOP_TIME])
-            if n_nearest <= rules[OVERLAP]:
+            # ``RobotBrain.step``'s body_nearest: no mate's body where every mate said it is
+            sweep_reach = (0.5 * math.hypot(length, width) - 0.5 * min(length, width))
+            b_nearest = n_nearest
+            if (lidar and nearest < sweep_reach and n_nearest > nearest and heard_count > 0
+                    and heard_count == mates_now.shape[0]):
+                bodies = np.empty((heard_count, 2))
+                k = 0
+                c, s = frame_cos_sin[r, 0], frame_cos_sin[r, 1]
+                for j in range(count):
+                    if j != r and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
+                        bodies[k, 0] = own_frames[r, 0] + c * heard[j, 0] - s * heard[j, 1]
+                        bodies[k, 1] = own_frames[r, 1] + s * heard[j, 0] + c * heard[j, 1]
+                        k += 1
+                keep = far_from_all(cloud, to_local(bodies, view), mate_body[r])
+                if keep.all():
+                    b_nearest = nearest
+                else:
+                    _, _, b_nearest, _, _ = perceive_columns(
+                        cloud[keep, :], height_step, detect[CROP_HALF], detect[Z_MIN],
+                        detect[Z_MAX], view, pose, length, width, stop,
+                        detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
+            if b_nearest <= rules[OVERLAP]:
                 held = holds_show = True
                 linear = angular = 0.0
             elif (not math.isnan(near_time) and now - near_time < rules[AFTER_SHOW_WAIT]
@@ -705,8 +727,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 linear, angular, room = _guard_turn(
                     cloud, height_step, detect, view, pose, length, width, linear, angular,
                     may_make_room, making_room[r], rules)
-            sweep_reach = (0.5 * math.hypot(length, width) - 0.5 * min(length, width))
-            if angular != 0.0 and n_nearest < sweep_reach:  # a stranger within it: no turn
+            if angular != 0.0 and b_nearest < sweep_reach:  # a stranger within it: no turn
                 angular = 0.0
             if angular != 0.0 and p_nearest < sweep_reach:  # a stranger will be within it
                 angular = 0.0

@@ -70,6 +70,7 @@ from std_msgs.msg import Bool, String
 from dancebots.geometry import wrap_angle
 from dancebots.loading import show_digests
 from dancebots.perception.cloud import PointCloud
+from dancebots.plan.placement import robot_types
 from dancebots.plan.planner import virtual_leader_pose
 from dancebots.robot import (
     BrainOptions,
@@ -136,8 +137,9 @@ def main() -> None:
     scenario = str(required_param("~scenario"))
     role = str(required_param("~role"))
     world_file = str(rospy.get_param("~world", "")) or None
-    plan, _ = load_show(scenario, world_file, float(rospy.get_param("~vmax", 0.0)) or None,
-                        str(rospy.get_param("~timing", "feasible")))
+    plan, world = load_show(scenario, world_file,
+                            float(rospy.get_param("~vmax", 0.0)) or None,
+                            str(rospy.get_param("~timing", "feasible")))
     names = RobotNames(str(rospy.get_param("~robot_name", "")))
     kind = robot_type_for_host(socket.gethostname())
     length = float(rospy.get_param(names.param("length"), kind.length))
@@ -156,10 +158,14 @@ def main() -> None:
         if hold not in HOLD_STRATEGIES:
             raise ValueError(f"unknown ~hold {hold!r}; choose from {', '.join(HOLD_STRATEGIES)}")
         stop_rule = default_stop_rule(follower, str(rospy.get_param("~stop_rule", "")))
+        # the mates' footprints as the world gives them (else the default robot's), as the
+        # simulator's bridge places them (``robot.MATE_BODY_MARGIN``)
+        mate_types = [kind for name, kind in zip(plan.robots, robot_types(plan, world),
+                                                 strict=True) if name != role]
         brain = brain_for(plan, role, this_robot, BrainOptions(  # RobotBrain checks both
             follower=follower, lidar=use_lidar, stop_rule=stop_rule,
             actuator_lag=float(rospy.get_param("~actuator_lag", 0.0)),
-            paced=hold == "paced"))
+            paced=hold == "paced"), mate_types)
         # the show every robot must run alike: its files and what changes the motion (each
         # robot's own size and speed limits may differ: they come from its host)
         show = show_digests(scenario, world_file, {

@@ -308,8 +308,10 @@ def simulate(plan: Plan, arena: Arena, placement: Placement, config: SimConfig =
                       paced=hold_strategy(config) == "paced")  # (the clock's, not the brain's)
     lidar = None if config.lidar is None else replace(
         config.lidar, compiled=config.lidar.compiled and config.compiled)
-    brains = [brain_for(plan, robot, kind, options)
-              for robot, kind in zip(placement.robots, placement.types, strict=True)]
+    brains = [brain_for(plan, robot, kind, options,
+                        placement.types[:i] + placement.types[i + 1:])
+              for i, (robot, kind) in enumerate(zip(placement.robots, placement.types,
+                                                    strict=True))]
     stage = Stage(arena, placement, config.profile, config.dt, lidar,
                   config.command_timeout, config.seed, config.record_lidar, config.compiled,
                   scan_ahead=config.scan_ahead and len(placement.robots) >= SCAN_AHEAD_FROM)
