@@ -153,6 +153,23 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
 
 
 @njit(cache=True)
+def _heard_in_own_frame(heard: FloatArray, robot: int, count: int, cos_sin: FloatArray,
+                        own_frame: FloatArray) -> FloatArray:
+    """(count, 2) where robot ``robot``'s mates said they are (``heard`` (R, 2), show frame,
+    NaN: not heard; ``count`` of them heard), in its own frame (its show frame's pose
+    ``own_frame`` (3,), with its cos and sin ``cos_sin`` (2,)): ``compose_points``."""
+    result = np.empty((count, 2))
+    c, s = cos_sin[0], cos_sin[1]
+    k = 0
+    for j in range(heard.shape[0]):
+        if j != robot and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
+            result[k, 0] = own_frame[0] + c * heard[j, 0] - s * heard[j, 1]
+            result[k, 1] = own_frame[1] + s * heard[j, 0] + c * heard[j, 1]
+            k += 1
+    return result
+
+
+@njit(cache=True)
 def _approach_limit(rules: FloatArray, stop: float, free: float, strangers_free: float,
                     has_strangers: bool, reference_speed: float, parked: bool) -> float:
     """``RobotBrain._approach_limit`` (``has_strangers`` False: ``strangers_free`` None)."""
@@ -638,13 +655,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 # ``RobotBrain._without_mates`` with the mates heard (``compose_points``)
                 where = np.empty((mates_now.shape[0] + heard_count, 2))
                 where[:mates_now.shape[0]] = mates_now
-                k = mates_now.shape[0]
-                c, s = frame_cos_sin[r, 0], frame_cos_sin[r, 1]
-                for j in range(count):
-                    if j != r and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
-                        where[k, 0] = own_frames[r, 0] + c * heard[j, 0] - s * heard[j, 1]
-                        where[k, 1] = own_frames[r, 1] + s * heard[j, 0] + c * heard[j, 1]
-                        k += 1
+                where[mates_now.shape[0]:] = _heard_in_own_frame(
+                    heard, r, heard_count, frame_cos_sin[r], own_frames[r])
                 keep = far_from_all(cloud, to_local(where, view), mate_radius[r])
                 if not keep.all():
                     n_front, n_rear, n_nearest, _, _ = perceive_columns(
@@ -673,14 +685,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             b_nearest = n_nearest
             if (lidar and nearest < sweep_reach and n_nearest > nearest and heard_count > 0
                     and heard_count == mates_now.shape[0]):
-                bodies = np.empty((heard_count, 2))
-                k = 0
-                c, s = frame_cos_sin[r, 0], frame_cos_sin[r, 1]
-                for j in range(count):
-                    if j != r and math.isfinite(heard[j, 0]) and math.isfinite(heard[j, 1]):
-                        bodies[k, 0] = own_frames[r, 0] + c * heard[j, 0] - s * heard[j, 1]
-                        bodies[k, 1] = own_frames[r, 1] + s * heard[j, 0] + c * heard[j, 1]
-                        k += 1
+                bodies = _heard_in_own_frame(heard, r, heard_count, frame_cos_sin[r],
+                                             own_frames[r])
                 keep = far_from_all(cloud, to_local(bodies, view), mate_body[r])
                 if keep.all():
                     b_nearest = nearest
