@@ -655,10 +655,12 @@ def test_a_stranger_beside_a_mate_does_not_hide_in_the_mates_disc_from_the_turn_
     """A robot that turns (its heading 0.5 rad off its place's) with a child between it and
     R2, R2 on its place: the child is 5 cm from the robot's side, within the disc round R2's
     place that hides a mate off its place (``mate_radius``) but beyond R2's body where R2
-    said it is (``mate_body_radius``). Hearing nothing from R2 the robot knows no better and
-    turns (the thesis's ``--hold alone``); hearing R2 it does not: a child squeezing between
-    R1 and R2 was hidden so, and R1 drove on turning into it (open-day crowd seed 138 of
-    94d2cb6, t = 92.7 s: ``robot.MATE_BODY_MARGIN``)."""
+    should be and said it is (``mate_body_radius``). Hearing nothing from R2 the robot knows
+    no better and turns (the thesis's ``--hold alone``); hearing R2 it does not: a child
+    squeezing between R1 and R2 was hidden so, and R1 drove on turning into it (open-day
+    crowd seed 138 of 94d2cb6, t = 92.7 s: ``robot.MATE_BODY_MARGIN``). R2's own corner
+    within the circle the robot's footprint sweeps stays R2's: the robot turns, with R2
+    heard where it is and with R2's message late (heard 0.3 m off: it is on its place)."""
     from dancebots.geometry import Pose, compose_points
     from dancebots.robot import BrainState
 
@@ -666,21 +668,25 @@ def test_a_stranger_beside_a_mate_does_not_hide_in_the_mates_disc_from_the_turn_
     mate = brain.mates_at(now)[0]  # R2's place, own map frame
     towards = (mate - np.array(pose[:2])) / np.hypot(*(mate - np.array(pose[:2])))
     child = np.array(pose[:2]) + 0.4 * towards  # own map frame
-    local = Pose(*pose).to_local(float(child[0]), float(child[1]))
-    body = Pose(*pose).to_local(*(float(v) for v in mate - 0.3 * towards))  # R2's near side
-    state = BrainState(obstacles=np.array([[local[0], local[1], 0.0, 1.0],
-                                           [body[0], body[1], 0.0, 1.0]]),
-                       seen_from=pose, cloud_stamp=now)
-    assert brain.mate_body_radius < np.hypot(*(child - mate)) < brain.mate_radius
-    assert abs(local[1]) - 0.5 * brain.sensing.width < brain.sweep_reach  # beside it
+    corner = mate - 0.5 * towards  # a point of R2's body, its corner towards the robot
     show_frame = Pose(*brain._own_frame).inverse()
-    heard = compose_points(np.array([show_frame.x, show_frame.y, show_frame.theta]),
-                           mate[None])  # where R2 says it is: on its place (show frame)
+    to_show = np.array([show_frame.x, show_frame.y, show_frame.theta])
+    half_width = 0.5 * brain.sensing.width
 
-    _, unheard, _ = brain.step(state, now, pose, None, clock=now)
-    assert abs(unheard.angular) > 0.1
-    _, told, _ = brain.step(state, now, pose, None, clock=now, mates_heard=heard)
-    assert told.angular == 0.0
+    def angular(points: list[np.ndarray], heard: np.ndarray | None) -> float:
+        local = [Pose(*pose).to_local(float(x), float(y)) for x, y in points]
+        state = BrainState(obstacles=np.array([[x, y, 0.0, 1.0] for x, y in local]),
+                           seen_from=pose, cloud_stamp=now)
+        return brain.step(state, now, pose, None, clock=now, mates_heard=None if heard is None
+                          else compose_points(to_show, heard[None]))[1].angular
+
+    assert brain.mate_body_radius < np.hypot(*(child - mate)) < brain.mate_radius
+    assert abs(Pose(*pose).to_local(*child)[1]) - half_width < brain.sweep_reach
+    assert abs(Pose(*pose).to_local(*corner)[1]) - half_width < brain.sweep_reach
+    assert abs(angular([child, corner], None)) > 0.1  # the child hidden in R2's disc
+    assert angular([child, corner], mate) == 0.0  # R2 heard: the child is a stranger
+    assert abs(angular([corner], mate)) > 0.1  # R2's corner is R2's
+    assert abs(angular([corner], mate + 0.3 * towards)) > 0.1  # so with R2's message late
 
 
 def test_the_wait_after_the_show_starts_once_every_place_stands_on_its_slot() -> None:

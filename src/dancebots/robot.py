@@ -125,7 +125,9 @@ MATE_BODY_MARGIN = 0.1
 point more than the largest mate's half diagonal (``SensingConfig.mate_reach``) plus this
 from each of them is no mate's body, however near it lies to where a mate should be: the
 rule that keeps a robot from turning with a stranger within the circle its footprint
-sweeps, and the hold for a person on or in its footprint, judge such points as strangers.
+sweeps, and the hold for a person on or in its footprint, judge such points as strangers
+(points this near where a mate should be stay the mate's too: a mate whose message is late
+is on its place).
 The mates' wider discs (:data:`MATE_MARGIN` of their places, for a mate off its place) hid a
 child squeezing between R1 and R2, 8 cm from R1's side: R1 drove on turning at 0.43 rad/s
 and its side swept into the child (open-day crowd seed 138 of 94d2cb6, t = 92.7 s). The
@@ -402,9 +404,12 @@ class RobotBrain:
                 np.array([self._to_own.x, self._to_own.y, self._to_own.theta]), mates)
             self._mates.flags.writeable = False  # mates_at hands out views of it
         self.mate_radius = 0.5 * math.hypot(self.sensing.length, self.sensing.width) + MATE_MARGIN
+        reach = self.sensing.mate_reach
+        if reach is not None and not (math.isfinite(reach) and reach > 0.0):
+            raise ValueError(f"a mate's half diagonal must be a finite length above 0 m, not "
+                             f"{reach!r}")
         self.mate_body_radius = (0.5 * math.hypot(self.sensing.length, self.sensing.width)
-                                 if self.sensing.mate_reach is None
-                                 else self.sensing.mate_reach) + MATE_BODY_MARGIN
+                                 if reach is None else reach) + MATE_BODY_MARGIN
         # the rules for strangers (points that are no mate on its place) need the mates'
         # places: the tracking and path followers; the thesis follower, which knows none,
         # keeps thesis 5.2's rules as written
@@ -637,7 +642,8 @@ class RobotBrain:
                 if paused and not reference.final:
                     going = tracking_step(self.tracking, pose, reference, seen.force)
                 if paused:  # the shared show clock stopped: the place stands where it is
-                    reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True)
+                    reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True,
+                                        backwards=reference.speed < 0.0)
                 elif self.paced and rate < 1.0:  # the clock runs slow: so does the place
                     reference = replace(reference, speed=reference.speed * rate,
                                         angular_speed=reference.angular_speed * rate)
@@ -696,16 +702,18 @@ class RobotBrain:
                     obstacles, height_step, seen_from or pose, pose, point_velocity,
                     point_kind, now - (cloud_stamp if cloud_stamp is not None else now),
                     show_time, mates_heard)
-            # the nearest point that is no mate's body where every mate said it is (a
-            # stranger beside a mate, within its place's wider disc: MATE_BODY_MARGIN)
+            # the nearest point that is no mate's body where every mate should be or said it
+            # is (a stranger beside a mate, within its place's wider disc: MATE_BODY_MARGIN);
+            # never farther than the strangers' nearest
             body_nearest = near.nearest
             if (knows_strangers and seen.nearest < self.sweep_reach
                     and near.nearest > seen.nearest and mates_heard is not None
                     and len(mates_heard) and self._mates is not None
                     and len(mates_heard) == len(self._mates)):
-                body_nearest = self._nearest_beyond_mates(
-                    obstacles, height_step, seen_from or pose, pose,
-                    compose_points(self._own_frame, mates_heard), seen.nearest)
+                body_nearest = min(near.nearest, self._nearest_beyond_mates(
+                    obstacles, height_step, seen_from or pose, pose, np.concatenate(
+                        [self.mates_at(show_time),
+                         compose_points(self._own_frame, mates_heard)]), seen.nearest))
             if body_nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -1182,8 +1190,8 @@ class RobotBrain:
                               everything: float) -> float:
         """The gap (m) from the footprint to the nearest of the cloud's columns (K, 4)
         (``base_link`` at ``seen_from``) that lies more than ``mate_body_radius`` from every
-        mate where it said it is (``heard`` (M, 2), own map frame): no mate's body
-        (:data:`MATE_BODY_MARGIN`); ``everything``: the nearest of all of them."""
+        mate where it should be or said it is (``heard`` (M, 2), own map frame): no mate's
+        body (:data:`MATE_BODY_MARGIN`); ``everything``: the nearest of all of them."""
         keep = self._far_from_mates(columns, seen_from, heard, self.mate_body_radius)
         if keep.all():
             return everything

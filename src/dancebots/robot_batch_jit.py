@@ -104,10 +104,11 @@ def _parking(gains: FloatArray, distance: float, bearing: float, heading_error: 
 @njit(cache=True)
 def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: float, py: float,
               ptheta: float, rx: float, ry: float, rtheta: float, speed: float,
-              angular_speed: float, final: bool, fy: float,
-              paused: bool) -> tuple[float, float]:
+              angular_speed: float, final: bool, fy: float, paused: bool,
+              backwards: bool) -> tuple[float, float]:
     """``control.tracking.tracking_step`` of the robot at (px, py, ptheta) tracking the
-    reference (rx, ry, rtheta, speed, angular_speed, final, paused), sideways force ``fy``."""
+    reference (rx, ry, rtheta, speed, angular_speed, final, paused, backwards), sideways
+    force ``fy``."""
     dx, dy = rx - px, ry - py  # ``Pose.to_local``
     c, s = math.cos(ptheta), math.sin(ptheta)
     ex, ey = c * dx + s * dy, -s * dx + c * dy
@@ -124,13 +125,14 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         angular += direction * gains[FORCE_GAIN_STEER] * fy
         return _saturate(linear, angular, max_linear, max_angular)
     if paused and not final:  # ``control.tracking.paused_step``
-        linear = min(gains[ARRIVAL_GAIN] * max(ex, 0.0), max_linear) * max(
-            math.cos(heading_error), 0.0)
+        direction = -1.0 if backwards else 1.0
+        linear = direction * min(gains[ARRIVAL_GAIN] * max(direction * ex, 0.0),
+                                 max_linear) * max(math.cos(heading_error), 0.0)
         angular = (linear * gains[GAIN_Y] * ey
-                   + max(linear, gains[HEADING_SPEED]) * gains[GAIN_THETA]
+                   + max(abs(linear), gains[HEADING_SPEED]) * gains[GAIN_THETA]
                    * math.sin(heading_error))
-        if linear > 0.0:
-            angular += gains[FORCE_GAIN_STEER] * fy
+        if linear != 0.0:
+            angular += direction * gains[FORCE_GAIN_STEER] * fy
         return _saturate(linear, angular, max_linear, max_angular)
     distance = math.hypot(ex, ey)
     backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
@@ -620,7 +622,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 go_linear, go_angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy, False)
+                    angular_speed, finals[r], fy, False, False)
+            backwards = speed < 0.0  # (the slot's way when the clock stood)
             if paused:
                 speed, angular_speed = 0.0, 0.0
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
@@ -635,7 +638,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 linear, angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy, paused)
+                    angular_speed, finals[r], fy, paused, backwards)
             wanted_linear, wanted_angular = linear, angular
             if not going:
                 go_linear, go_angular = linear, angular
@@ -685,16 +688,18 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             b_nearest = n_nearest
             if (lidar and nearest < sweep_reach and n_nearest > nearest and heard_count > 0
                     and heard_count == mates_now.shape[0]):
-                bodies = _heard_in_own_frame(heard, r, heard_count, frame_cos_sin[r],
-                                             own_frames[r])
+                bodies = np.empty((mates_now.shape[0] + heard_count, 2))
+                bodies[:mates_now.shape[0]] = mates_now
+                bodies[mates_now.shape[0]:] = _heard_in_own_frame(
+                    heard, r, heard_count, frame_cos_sin[r], own_frames[r])
                 keep = far_from_all(cloud, to_local(bodies, view), mate_body[r])
-                if keep.all():
-                    b_nearest = nearest
-                else:
-                    _, _, b_nearest, _, _ = perceive_columns(
+                beyond = nearest
+                if not keep.all():
+                    _, _, beyond, _, _ = perceive_columns(
                         cloud[keep, :], height_step, detect[CROP_HALF], detect[Z_MIN],
                         detect[Z_MAX], view, pose, length, width, stop,
                         detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
+                b_nearest = min(n_nearest, beyond)
             if b_nearest <= rules[OVERLAP]:
                 held = holds_show = True
                 linear = angular = 0.0

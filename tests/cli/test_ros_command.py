@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import shlex
 import socket
 from pathlib import Path
@@ -101,3 +102,34 @@ def test_start_at_sets_the_timecode_start(capsys) -> None:  # type: ignore[no-un
     assert exit_info.value.code == 2
     assert capsys.readouterr().err.endswith(
         "error: --start-strategy timecode needs --start-at TIME\n")
+
+
+@pytest.mark.parametrize(("hold", "waits"), [("", True), ("paced", True), ("alone", False)])
+def test_simulate_ends_with_the_show_within_the_runs_limit(capsys, hold: str,  # type: ignore[no-untyped-def]
+                                                           waits: bool) -> None:
+    """The bridge ends the run at the show's end (the path follower's places' end, read on
+    /hold) and at the latest after the start's allowance, the show, the settling and, for a
+    formation that waits together, the run's longest wait (``SimConfig``); a formation
+    that sends no hold messages (``--hold alone``) has no show end to wait for."""
+    from dancebots.loading import load_show
+    from dancebots.plan.places import places_end
+    from dancebots.ros1.launching import START_ALLOWANCE
+    from dancebots.shows.formation import SimConfig
+
+    arguments = ["ros", "simulate", str(EXAMPLE), "--print-command"]
+    assert main([*arguments, "--hold", hold] if hold else arguments) == 0
+    launch = capsys.readouterr().out
+
+    def param(name: str) -> float:
+        found = re.search(rf'<param name="{name}" value="([^"]*)"/>', launch)
+        assert found is not None, name
+        return float(found.group(1))
+
+    plan = load_show(str(EXAMPLE), timing="feasible").plan  # as the command loads it
+    assert plan is not None
+    end = max(plan.duration, places_end(plan))
+    limits = SimConfig()
+    assert param("show_end") == (pytest.approx(end) if waits else 0.0)
+    assert param("settle") == limits.settle
+    assert param("stop_after") == pytest.approx(
+        end + START_ALLOWANCE + limits.settle + (limits.max_pause if waits else 0.0))

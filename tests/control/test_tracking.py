@@ -332,7 +332,7 @@ def test_a_robot_whose_show_clock_stands_does_not_turn_onto_a_place_beside_it() 
     the place's heading; the law for a place that stands a moment on its path turns it
     towards the point at over 1 rad/s (what made robots among people swing left and right
     at every tick the clock stood). A place ahead is closed along the heading, one behind
-    is not backed up to."""
+    is not backed up to, but where the slot is driven in reverse."""
     beside = SlotReference((0.0, 0.2, 0.1), 0.0, 0.0, paused=True)
     linear, angular = tracking_step(PARAMS, (0.0, 0.0, 0.0), beside)
     assert linear == 0.0
@@ -345,6 +345,12 @@ def test_a_robot_whose_show_clock_stands_does_not_turn_onto_a_place_beside_it() 
     assert ahead == pytest.approx((PARAMS.arrival_gain * 0.2, 0.0))
     assert tracking_step(PARAMS, (0.0, 0.0, 0.0),
                          SlotReference((-0.2, 0.0, 0.0), 0.0, 0.0, paused=True)) == (0.0, 0.0)
+    # where the slot is driven in reverse, a place behind is closed backwards, one ahead not
+    behind = tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference(
+        (-0.2, 0.0, 0.0), 0.0, 0.0, paused=True, backwards=True))
+    assert behind == pytest.approx((-PARAMS.arrival_gain * 0.2, 0.0))
+    assert tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference(
+        (0.2, 0.0, 0.0), 0.0, 0.0, paused=True, backwards=True)) == (0.0, 0.0)
     # the show over, the place parks the robot whatever the clock does
     final = SlotReference((0.0, 0.2, 0.1), 0.0, 0.0, final=True)
     assert tracking_step(PARAMS, (0.0, 0.0, 0.0), final) == tracking_step(
@@ -358,10 +364,11 @@ _FINITE = st.floats(-3.0, 3.0)
 @given(pose=st.tuples(_FINITE, _FINITE, st.floats(-math.pi, math.pi)),
        place=st.tuples(_FINITE, _FINITE, st.floats(-math.pi, math.pi)),
        speed=st.sampled_from([0.0, 0.3, -0.2]), angular_speed=st.sampled_from([0.0, 0.5]),
-       final=st.booleans(), paused=st.booleans(), fy=st.floats(-2.0, 2.0))
+       final=st.booleans(), paused=st.booleans(), backwards=st.booleans(),
+       fy=st.floats(-2.0, 2.0))
 def test_the_compiled_tracking_law_is_the_reference(
         pose: tuple[float, float, float], place: tuple[float, float, float], speed: float,
-        angular_speed: float, final: bool, paused: bool, fy: float) -> None:
+        angular_speed: float, final: bool, paused: bool, backwards: bool, fy: float) -> None:
     """``robot_batch_jit._tracking`` (the batched brains' law) is ``tracking_step``, the
     paused law included."""
     from dancebots.robot_batch import _gains
@@ -371,7 +378,7 @@ def test_the_compiled_tracking_law_is_the_reference(
         tracking = PARAMS
 
     expected = tracking_step(PARAMS, pose, SlotReference(place, speed, angular_speed, final,
-                                                         paused), (0.0, fy))
+                                                         paused, backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
-                    speed, angular_speed, final, fy, paused)
+                    speed, angular_speed, final, fy, paused, backwards)
     assert got == pytest.approx(expected, abs=1e-9)

@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
         show_end + START_ALLOWANCE + limits.settle + (limits.max_pause if waits else 0.0),
         tuple((t.length, t.width, t.max_speed) for t in placement.types),
         args.follower, args.timing, args.hold or "", args.stop_rule or "",
-        show_end if waits else 0.0)
+        show_end if waits else 0.0, limits.settle)
     if args.print_command:
         print(text, end="")
         return EXIT_OK

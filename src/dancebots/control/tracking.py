@@ -113,13 +113,15 @@ class SlotReference:
     signed speed along its heading, m/s, and angular speed, rad/s; final: the slot stands for
     good (the show is over), so the robot parks on it (:func:`parking_step`); paused: the
     slot stands a moment because the formation's shared show clock stands (``sync.hold``), and
-    moves on along its heading when the clock runs (:func:`tracking_step`'s paused law)."""
+    moves on along its heading when the clock runs (:func:`tracking_step`'s paused law),
+    backwards where ``backwards`` (a slot driven in reverse when the clock stood)."""
 
     pose: tuple[float, float, float]
     speed: float
     angular_speed: float
     final: bool = False
     paused: bool = False
+    backwards: bool = False
 
     @property
     def moving(self) -> bool:
@@ -401,7 +403,8 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
         angular += direction * params.force_gain * fy
         return _saturate(linear, angular, params)
     if reference.paused and not reference.final:
-        return _saturate(*paused_step(params, ex, ey, heading_error, fy), params)
+        return _saturate(*paused_step(params, ex, ey, heading_error, fy, reference.backwards),
+                         params)
     distance = math.hypot(ex, ey)
     backwards = ex < 0.0 and distance < params.reverse_distance
     push = (-1.0 if backwards else 1.0) * params.force_gain * fy  # away from what pushes
@@ -428,23 +431,26 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
 
 
 def paused_step(params: TrackingParams, ex: float, ey: float, heading_error: float,
-                fy: float) -> tuple[float, float]:
+                fy: float, backwards: bool = False) -> tuple[float, float]:
     """The paused law (an addition): (linear m/s, angular rad/s) of a robot whose place stands
     because the formation's shared show clock stands, the place (ex, ey) m ahead and to the
     left in ``base_link``, ``heading_error`` rad from its heading, sideways force ``fy``.
     Kanayama's law with the robot's own closing speed for the reference's: it closes the
-    distance along its heading to a place ahead of it (at ``arrival_gain`` per metre, never
-    in reverse: a robot braking past its place stands, and the place comes to it when the
-    show runs on) and turns gently to the place's heading (``heading_speed``), never towards a
-    point beside it. Before, the drive onto the standing point turned robots at up to 2.2
-    rad/s for places 10-20 cm to their side whenever the clock stood a tick, and back when it
-    ran: open-day crowd seed 1, R1 at t = 97-99 s, left and right at 5 Hz."""
-    linear = min(params.arrival_gain * max(ex, 0.0), params.max_linear) * max(
-        math.cos(heading_error), 0.0)
+    distance along its heading to a place ahead of it (at ``arrival_gain`` per metre; behind
+    it where the slot is driven in reverse, ``backwards``; never against the slot's way: a
+    robot braking past its place stands, and the place comes to it when the show runs on)
+    and turns gently to the place's heading (``heading_speed``), never towards a point
+    beside it. Before, the drive onto the standing point turned robots at up to 2.2 rad/s
+    for places 10-20 cm to their side whenever the clock stood a tick, and back when it ran:
+    open-day crowd seed 1, R1 at t = 97-99 s, left and right at 5 Hz."""
+    direction = -1.0 if backwards else 1.0
+    linear = direction * min(params.arrival_gain * max(direction * ex, 0.0),
+                             params.max_linear) * max(math.cos(heading_error), 0.0)
     angular = (linear * params.gain_y * ey
-               + max(linear, params.heading_speed) * params.gain_theta * math.sin(heading_error))
-    if linear > 0.0:  # it steers away from what it drives past, as the moving law
-        angular += params.force_gain * fy
+               + max(abs(linear), params.heading_speed) * params.gain_theta
+               * math.sin(heading_error))
+    if linear != 0.0:  # it steers away from what it drives past, as the moving law
+        angular += direction * params.force_gain * fy
     return linear, angular
 
 

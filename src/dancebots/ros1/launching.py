@@ -33,14 +33,15 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
                       record: str = "", stop_after: float = 0.0,
                       types: tuple[tuple[float, float, float], ...] = (),
                       follower: str = "thesis", timing: str = "thesis",
-                      hold: str = "", stop_rule: str = "", show_end: float = 0.0) -> str:
+                      hold: str = "", stop_rule: str = "", show_end: float = 0.0,
+                      settle: float = 20.0) -> str:
     """The launch file of a ROS simulation: the bridge, and formation.launch per robot with
     its name as prefix; types: per robot (length, width, max speed) of the simulated robot;
     follower, timing, hold and stop_rule: the strategies (``--follower``, ``--timing``,
     ``--hold``, ``--stop-rule``; a hold or stop rule of "" lets the node choose); stop_after:
     s after which the bridge ends the run; show_end: the show time (s) from which it ends it
     once every robot says on /hold that its show time is there and it holds nothing, and
-    every robot stands (0: at stop_after only)."""
+    every robot stands, or ``settle`` s of show time later (0: at stop_after only)."""
     def attr(value: object) -> str:
         return quoteattr(str(value))
 
@@ -56,6 +57,7 @@ def simulation_launch(scenario: str, robots: tuple[str, ...], world: str = "",
              f"    <param name=\"record\" value={attr(record)}/>",
              f"    <param name=\"stop_after\" value={attr(stop_after)}/>",
              f"    <param name=\"show_end\" value={attr(show_end)}/>",
+             f"    <param name=\"settle\" value={attr(settle)}/>",
              "  </node>"]
     for i, robot in enumerate(robots):
         lines.append('  <include file="$(find dancebots_ros)/launch/formation.launch">')

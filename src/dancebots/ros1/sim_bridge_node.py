@@ -175,7 +175,7 @@ def main() -> None:
                 unfinished = ("" if formation_time is None or formation_time >= show_end
                               else f"; the show had not finished: show time "
                               f"{formation_time:.1f} s of {show_end:.1f} s (the formation "
-                              f"waited for a held robot)")
+                              f"waited for a held or silent robot)")
                 log.info(f"sim_bridge: {stop_after:g} s are over; {len(stage.collisions)} "
                          f"contacts{unfinished}")
                 break
