@@ -1186,13 +1186,13 @@ class RobotBrain:
 
     def _nearest_beyond_mates(self, columns: np.ndarray, height_step: float,
                               seen_from: tuple[float, float, float],
-                              pose: tuple[float, float, float], heard: np.ndarray,
+                              pose: tuple[float, float, float], mates: np.ndarray,
                               everything: float) -> float:
         """The gap (m) from the footprint to the nearest of the cloud's columns (K, 4)
         (``base_link`` at ``seen_from``) that lies more than ``mate_body_radius`` from every
-        mate where it should be or said it is (``heard`` (M, 2), own map frame): no mate's
-        body (:data:`MATE_BODY_MARGIN`); ``everything``: the nearest of all of them."""
-        keep = self._far_from_mates(columns, seen_from, heard, self.mate_body_radius)
+        mate where it should be and where it said it is (``mates`` (M, 2), own map frame): no
+        mate's body (:data:`MATE_BODY_MARGIN`); ``everything``: the nearest of all of them."""
+        keep = self._far_from_mates(columns, seen_from, mates, self.mate_body_radius)
         if keep.all():
             return everything
         return self._perceive(columns[keep], height_step, seen_from, pose).nearest

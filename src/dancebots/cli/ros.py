@@ -113,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
     from dancebots.ros1.launching import START_ALLOWANCE, ros_environment, simulation_launch
     from dancebots.shows.formation import SimConfig, settle_from
     from dancebots.sim.setup import SetupError, prepare_show
+    from dancebots.sync.hold import default_hold_strategy
 
     show = load_show(args.scenario, args.world, args.vmax, timing=args.timing)
     if show.plan is None or not show.valid:
@@ -156,7 +157,7 @@ def run(args: argparse.Namespace) -> int:
     # robot stands (``~show_end``), or at the run's limit: as ``dancebots run``, the show's
     # end, its settling, and for a formation that waits together the longest wait
     show_end = settle_from(plan, args.follower)
-    waits = (args.hold or ("alone" if args.follower == "thesis" else "paced")) != "alone"
+    waits = (args.hold or default_hold_strategy(args.follower)) != "alone"
     limits = SimConfig()
     text = simulation_launch(
         scenario, plan.robots, world_file, vmax, args.profile, not args.no_lidar,

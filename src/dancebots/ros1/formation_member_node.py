@@ -116,6 +116,7 @@ from dancebots.sync.hold import (
     clock_rate,
     clock_receive,
     clock_tick,
+    default_hold_strategy,
     heard_positions,
     new_clock,
 )
@@ -153,8 +154,7 @@ def main() -> None:
             kind.name, length, width, float(rospy.get_param("~max_speed", kind.max_speed)),
             float(rospy.get_param("~max_angular_speed", kind.max_angular_speed)))
         follower = cast(Follower, str(rospy.get_param("~follower", "path")))
-        hold = str(rospy.get_param("~hold", "")) or (
-            "alone" if follower == "thesis" else "paced")
+        hold = str(rospy.get_param("~hold", "")) or default_hold_strategy(follower)
         if hold not in HOLD_STRATEGIES:
             raise ValueError(f"unknown ~hold {hold!r}; choose from {', '.join(HOLD_STRATEGIES)}")
         stop_rule = default_stop_rule(follower, str(rospy.get_param("~stop_rule", "")))

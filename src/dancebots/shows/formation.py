@@ -39,6 +39,7 @@ from dancebots.sync.hold import (
     HoldParams,
     HoldStrategy,
     clock_rate,
+    default_hold_strategy,
     formation_clocks,
     formation_receive,
     formation_tick,
@@ -276,7 +277,7 @@ def hold_strategy(config: SimConfig) -> HoldStrategy:
     thesis follower)."""
     if config.hold is not None:
         return config.hold
-    return "alone" if config.brain.follower == "thesis" else "paced"
+    return default_hold_strategy(config.brain.follower)
 
 
 def settle_from(plan: Plan, follower: str) -> float:

@@ -40,8 +40,8 @@ from numpy.typing import NDArray
 
 __all__ = ["ADVANCE_MIN", "HOLD_STRATEGIES", "FormationClocks", "HoldMessage", "HoldParams",
            "HoldStrategy", "ShowClock", "clock_rate", "clock_receive", "clock_tick",
-           "formation_clocks", "formation_receive", "formation_tick", "heard_positions",
-           "new_clock"]
+           "default_hold_strategy", "formation_clocks", "formation_receive", "formation_tick",
+           "heard_positions", "new_clock"]
 
 HoldStrategy = Literal["together", "alone", "paced"]
 ArrayOrFloat = TypeVar("ArrayOrFloat", float, NDArray[np.float64])
@@ -50,6 +50,13 @@ HOLD_STRATEGIES: tuple[HoldStrategy, ...] = get_args(HoldStrategy)
 every robot's show time is its clock since the start, whatever the others do; ``paced`` (an
 addition, the default of the tracking and path followers): ``together`` with paces (module
 docstring; docs/safety.md has both certified)."""
+
+
+def default_hold_strategy(follower: str) -> HoldStrategy:
+    """The hold strategy of a robot told none, for its ``follower``: ``alone`` for the thesis's
+    (thesis 4.2 as written), ``paced`` for the others (the simulator, ``dancebots ros
+    simulate`` and the formation_member node alike)."""
+    return "alone" if follower == "thesis" else "paced"
 
 
 ADVANCE_MIN = 1e-9
