@@ -228,18 +228,19 @@ def test_a_robot_that_may_not_turn_beside_a_mate_makes_room_forwards_first() -> 
     brain = RobotBrain(plan, "R2", FollowerParams(), sensing=SensingConfig(), follower="path")
     here = (0.0, 0.0, 0.0)
     beside = _side_by_side_cloud(0.2)
-    assert brain._make_room(beside, 0.1, here, here, -1.0, 0.0) == 1.0
+    mate = np.array([[0.0, 0.8]])  # R1's middle: its points may turn too (turn_share)
+    assert brain._make_room(beside, 0.1, here, here, -1.0, mate, 0.0) == 1.0
     # a wall 0.8 m ahead: no forward shift leaves room for the stop distance
     wall = np.column_stack([np.full(31, 1.4), np.linspace(-0.6, 0.6, 31), np.zeros(31),
                             np.ones(31)])
-    assert brain._make_room(np.concatenate([beside, wall]), 0.1, here, here, -1.0,
+    assert brain._make_room(np.concatenate([beside, wall]), 0.1, here, here, -1.0, mate,
                             0.0) == -1.0
     # it keeps going backwards once it chose to, even with the way ahead free again
-    assert brain._make_room(beside, 0.1, here, here, -1.0, -1.0) == -1.0
+    assert brain._make_room(beside, 0.1, here, here, -1.0, mate, -1.0) == -1.0
     # walls close ahead and behind: nowhere to make room
     behind = wall * np.array([-1.0, 1.0, 1.0, 1.0])
     assert brain._make_room(np.concatenate([beside, wall, behind]), 0.1, here, here, -1.0,
-                            0.0) == 0.0
+                            mate, 0.0) == 0.0
 
 
 def test_a_robot_makes_room_only_among_mates() -> None:
@@ -266,7 +267,8 @@ def test_a_robot_makes_room_only_among_mates() -> None:
     half_diagonal = 0.5 * math.hypot(brain.sensing.length, brain.sensing.width)
     assert all(abs(c.linear) < 0.05 for c in commands[3:])
     assert all(abs(c.angular) * half_diagonal <= CORNER_SPEED for c in commands[3:])
-    assert brain._make_room(beside, 0.1, turned, turned, -1.0, 0.0) != 0.0
+    assert brain._make_room(beside, 0.1, turned, turned, -1.0, np.array([[-0.8, 0.0]]),
+                            0.0) != 0.0
 
 
 def test_near_a_stranger_a_robot_turns_slowly_enough_for_its_corners() -> None:
@@ -721,3 +723,17 @@ def test_the_wait_after_the_show_starts_once_every_place_stands_on_its_slot() ->
 
     assert not waits(0.5 * (plan.duration + brain.rest_from))
     assert waits(brain.rest_from + 1.0)
+
+
+def test_a_turn_about_a_point_within_the_footprint_is_on_the_spot() -> None:
+    """``turns_on_the_spot``: the turn centre (|v / w| m to the side) within half the width;
+    open-day crowd seed 293's robots (0.04 m/s at 2.04 rad/s, a HUSKY 0.67 m wide) were;
+    an arc of the show (0.35 m/s at 0.2 rad/s) and driving straight are not."""
+    from dancebots.robot import turns_on_the_spot
+
+    assert turns_on_the_spot(0.04, 2.04, 0.67)
+    assert turns_on_the_spot(0.0, -0.5, 0.67)
+    assert turns_on_the_spot(-0.3, 1.0, 0.67)  # 0.3 m: within 0.335 m
+    assert not turns_on_the_spot(0.35, 0.2, 0.67)
+    assert not turns_on_the_spot(0.35, 0.0, 0.67)
+    assert not turns_on_the_spot(0.0, 0.0, 0.67)

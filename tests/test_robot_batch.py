@@ -133,7 +133,7 @@ def test_batch_runs_the_paced_clock_as_the_brains_do(monkeypatch: pytest.MonkeyP
 
 
 @pytest.mark.parametrize(("world", "seed"), [("open_day_crowd.toml", 41),
-                                             ("open_day_crowd.toml", 8),
+                                             ("open_day_crowd.toml", 13),
                                              ("open_day_runners.toml", 9)])
 def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         world: str, seed: int, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -141,9 +141,11 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
     stop on where tracked strangers will be, no turn while one will be within the circle the
     footprint sweeps): the same runs as the brains one by one, among the open-day crowd and
     among runners (seeds where the rule stops robots; in the crowd's, a stranger will be
-    within that circle at some ticks; in crowd seed 8 a person near a mate's place but beyond
+    within that circle at some ticks; in crowd seed 13 a person near a mate's place but beyond
     its body, where it should be and said it is, keeps a robot from turning:
-    ``MATE_BODY_MARGIN``)."""
+    ``MATE_BODY_MARGIN``; and the turn guard cuts turns that would take more than its share
+    of the gap to a mate while turning on the spot (crowd seed 41),
+    ``DetectorParams.turn_share``)."""
     data = ROOT / "src" / "dancebots" / "data"
     path = data / world if world == "open_day_crowd.toml" else ROOT / "examples" / "worlds" / world
     config = replace(PATH, profile=REALISTIC, seed=seed,
@@ -169,10 +171,25 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         return found
 
     monkeypatch.setattr(robot.RobotBrain, "_nearest_beyond_mates", beyond_counted)
+    shared: list[float] = []  # turns the guard cut for a mate's own turn (turn_share)
+    guard = robot.RobotBrain._guard_turn
+
+    def guard_counted(brain: robot.RobotBrain, *args: object) -> tuple[float, float, float]:
+        found = guard(brain, *args)  # type: ignore[arg-type]
+        mates = args[6]
+        assert isinstance(mates, np.ndarray)
+        if len(mates):
+            standing = guard(brain, *args[:6], np.empty((0, 2)), *args[7:])  # type: ignore[arg-type]
+            if abs(found[1]) < abs(standing[1]):
+                shared.append(found[1])
+        return found
+
+    monkeypatch.setattr(robot.RobotBrain, "_guard_turn", guard_counted)
     reference, batched = both(data / "open_day.dance", path, config)
     assert_same_run(reference, batched)
+    assert shared or seed != 41  # the guard left mates room for their own turns
     assert within or world != "open_day_crowd.toml"  # the turn rule had its say
-    assert beside or seed != 8  # a stranger beside a mate was no mate's body
+    assert beside or seed != 13  # a stranger beside a mate was no mate's body
     assert any(e.kind == "speech" for e in batched.events)
     # the prediction did stop robots: the fixed rule decides otherwise in the same crowd
     fixed = simulate(batched.plan, batched.arena, batched.placement,

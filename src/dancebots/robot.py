@@ -48,7 +48,9 @@ from dancebots.perception.obstacles import (
     Perception,
     StopFlags,
     clear_distances,
+    compensate_motion,
     footprint_clearance,
+    near_any,
     obstacle_points_from_columns,
     obstacle_points_now,
     perceive,
@@ -68,7 +70,7 @@ if TYPE_CHECKING:  # SSM's tracker (SciPy) is imported where the ssm stop rule r
 
 __all__ = ["DETECTORS", "FOLLOWERS", "STOP_RULES", "BrainOptions", "BrainState", "Command",
            "Detector", "Follower", "RobotBrain", "SensingConfig", "StopRule", "brain_for",
-           "default_stop_rule"]
+           "default_stop_rule", "turns_on_the_spot"]
 
 Follower = Literal["tracking", "path", "thesis"]
 FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
@@ -94,6 +96,16 @@ cloud is on its way stops the robot too (the compensated detector moves the poin
 robot's own motion only); formation mates where they should be or said they are are not
 tracked. The default (:func:`default_stop_rule`): ``predicted``, ``fixed`` with the thesis's
 follower."""
+
+
+def turns_on_the_spot(linear: float, angular: float, width: float) -> bool:
+    """Whether a command (m/s, rad/s) turns a robot ``width`` m wide about a point within its
+    footprint (|v / w| at most half the width): its corners sweep out at its sides, where a
+    mate beside it may sweep its own (open-day crowd seed 293: two robots side by side both
+    turned on the spot when the show resumed, and touched), so its turn guard leaves such a
+    mate its share of the gap (``DetectorParams.turn_share``). Driving an arc, the robot
+    moves on into the way ahead, which the stop zones and the formation's plan keep free."""
+    return angular != 0.0 and abs(linear) <= abs(angular) * 0.5 * width
 
 
 def default_stop_rule(follower: str, stop_rule: str | None = None) -> StopRule:
@@ -786,15 +798,21 @@ class RobotBrain:
                     linear = linear * (top / abs(angular))
                     angular = min(max(angular, -top), top)
             making_room = 0.0
+            # turning on the spot, the guard leaves mates (points near where one should be or
+            # said it is) room for their own turn (``DetectorParams.turn_share``)
+            mates_now = (self._mate_centres(show_time, mates_heard)
+                         if turns_on_the_spot(linear, angular, sensing.width)
+                         else np.empty((0, 2)))
             if angular != 0.0 and seen.nearest < turn_reach(
-                    self.sensing.length, self.sensing.width, linear, self.sensing.detection):
+                    sensing.length, sensing.width, linear, sensing.detection,
+                    sensing.detection.turn_share if len(mates_now) else 1.0):
                 # it may make room for a turn only among mates (not held; no stranger near)
                 may_make_room = (not held and knows_strangers and near.nearest >= turn_reach(
                     sensing.length, sensing.width, MAKE_ROOM_SPEED, sensing.detection)
                     and seen.nearest >= MAKE_ROOM_FLOOR)
                 linear, angular, making_room = self._guard_turn(
                     obstacles, height_step, seen_from or pose, pose, linear, angular,
-                    state.making_room if may_make_room else None)
+                    mates_now, state.making_room if may_make_room else None)
             if angular != 0.0 and knows_strangers and body_nearest < self.sweep_reach:
                 # it turns only when nothing but mates on their places is within the circle
                 # its footprint sweeps (its corners' swing beyond its sides); once only when
@@ -842,11 +860,13 @@ class RobotBrain:
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
                     seen_from: tuple[float, float, float], pose: tuple[float, float, float],
-                    linear: float, angular: float, making_room: float | None = None,
-                    ) -> tuple[float, float, float]:
+                    linear: float, angular: float, mates: np.ndarray,
+                    making_room: float | None = None) -> tuple[float, float, float]:
         """The turn guard (an addition), for a command (m/s, rad/s) that turns while a point is
         within reach of the turn (``perception.obstacles.turn_reach``): the largest fraction
-        of the turn that swings no corner into anything (``turn_fraction``). When none is left
+        of the turn that swings no corner into anything (``turn_fraction``), the points
+        within ``mate_radius`` of ``mates`` (J, 2), own map frame, taken as mates that may
+        turn too (:meth:`_turn_points`). When none is left
         and what blocks it is beside the robot's leading half (the front driving forwards),
         the robot gives way: it creeps at :data:`GIVE_WAY_SPEED`, so that a robot that would
         cut into a neighbour's lane lets the neighbour go first instead of driving on beside
@@ -865,25 +885,53 @@ class RobotBrain:
                 return float(turn_fraction_columns(
                     columns, height_step, detection.crop_half, detection.z_min,
                     detection.z_max, np.array(seen_from), np.array(pose), length, width,
-                    linear, angular, detection.turn_margin, detection.turn_horizon, leading))
-            points = obstacle_points_now(columns, height_step, seen_from, pose, detection)
+                    linear, angular, detection.turn_margin, detection.turn_horizon,
+                    detection.turn_share, points_to_local(mates, seen_from),
+                    self.mate_radius, leading))
+            points, moving = self._turn_points(columns, height_step, seen_from, pose, mates)
             if leading:
-                points = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
-            return turn_fraction(points, length, width, linear, angular, detection)
+                ahead = points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0
+                points, moving = points[ahead], moving[ahead]
+            return turn_fraction(points, length, width, linear, angular, detection, moving)
 
         fraction = fraction_of(False)
         if fraction == 0.0 and making_room is not None and (
                 abs(linear) < GIVE_WAY_SPEED or making_room != 0.0):
-            room = self._make_room(columns, height_step, seen_from, pose, angular, making_room)
+            room = self._make_room(columns, height_step, seen_from, pose, angular, mates,
+                                   making_room)
             if room != 0.0:
                 return room * MAKE_ROOM_SPEED, 0.0, room
         if fraction == 0.0 and fraction_of(True) == 0.0:
             linear = math.copysign(min(abs(linear), GIVE_WAY_SPEED), linear)
         return linear, fraction * angular, 0.0
 
+    def _turn_points(self, columns: np.ndarray, height_step: float,
+                     seen_from: tuple[float, float, float], pose: tuple[float, float, float],
+                     mates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The obstacle points (M, 2) of the cloud's columns (``base_link`` at ``seen_from``) in
+        ``base_link`` at ``pose``, and (M,) which lie within ``mate_radius`` of a centre of
+        ``mates`` (J, 2), own map frame: a mate that may turn as the robot does."""
+        detection = self.sensing.detection
+        points = obstacle_points_from_columns(columns, height_step, detection)
+        moving = near_any(points, points_to_local(mates, seen_from), self.mate_radius)
+        if seen_from != pose:
+            points = compensate_motion(points, seen_from, pose)
+        return points, moving
+
+    def _mate_centres(self, show_time: float, mates_heard: np.ndarray | None) -> np.ndarray:
+        """(J, 2) where the formation mates should be at ``show_time`` and where they said they
+        are (``mates_heard`` (K, 2), show frame), own map frame; none for a robot that knows
+        no mates."""
+        if self._mates is None:
+            return np.empty((0, 2))
+        where = self.mates_at(show_time)
+        if mates_heard is not None and len(mates_heard):
+            where = np.concatenate([where, compose_points(self._own_frame, mates_heard)])
+        return where
+
     def _make_room(self, columns: np.ndarray, height_step: float,
                    seen_from: tuple[float, float, float], pose: tuple[float, float, float],
-                   angular: float, previous: float) -> float:
+                   angular: float, mates: np.ndarray, previous: float) -> float:
         """The direction (+1.0 forwards, -1.0 backwards, 0.0 none) in which a robot that should
         turn on the spot at ``angular`` rad/s, and may not turn at all where it stands, drives
         straight to make room for the turn (an addition, like a driver who pulls forward out
@@ -896,7 +944,7 @@ class RobotBrain:
         last tick (``previous``) while any shift that way works, so it does not shuttle."""
         detection = self.sensing.detection
         length, width = self.sensing.length, self.sensing.width
-        points = obstacle_points_now(columns, height_step, seen_from, pose, detection)
+        points, moving = self._turn_points(columns, height_step, seen_from, pose, mates)
         front, rear = clear_distances(points, length, width, detection)
         for direction in ((previous,) if previous != 0.0 else ()) + (1.0, -1.0):
             free = front if direction > 0.0 else rear
@@ -904,7 +952,7 @@ class RobotBrain:
                 if shift + detection.stop_distance + MATE_GAP > free:
                     break
                 moved = points - np.array([direction * shift, 0.0])
-                if turn_fraction(moved, length, width, 0.0, angular, detection) > 0.0:
+                if turn_fraction(moved, length, width, 0.0, angular, detection, moving) > 0.0:
                     return direction
         return 0.0
 

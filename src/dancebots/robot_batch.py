@@ -138,7 +138,8 @@ class BatchBrains:
         self.gains = _gains(first)
         self.detect = np.array([detection.crop_half, detection.z_min, detection.z_max,
                                 detection.stop_distance, detection.corridor_margin,
-                                detection.turn_margin, detection.turn_horizon])
+                                detection.turn_margin, detection.turn_horizon,
+                                detection.turn_share])
         self.rules = np.array([
             sensing.force_radius, robot.FORCE_GAIN, sensing.approach_gain, robot.MATE_GAP,
             robot.OVERLAP, robot.HOLD_LAG, robot.SLOWED, robot.GIVE_WAY_SPEED,

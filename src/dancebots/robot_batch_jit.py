@@ -32,6 +32,7 @@ from dancebots.perception.fast import (
     to_local,
     turn_fraction_columns,
     turn_fraction_local,
+    turn_shares,
 )
 from dancebots.perception.tracks_jit import STANDING, TRACKED, track_cloud
 
@@ -48,7 +49,8 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
  ARRIVAL_GAIN, TURN_GAIN, REVERSE_DISTANCE, FORCE_GAIN_STEER, HEADING_SPEED, PARK_ALPHA,
  PARK_THETA, WAIT_SPEED) = range(14)
 # indices of the detection parameters (``perception.obstacles.DetectorParams``) in ``detect``
-CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON = range(7)
+(CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON,
+ TURN_SHARE) = range(8)
 # indices of the brain's constants (``robot`` module) in ``rules``
 (FORCE_RADIUS, FORCE_GAIN, APPROACH_GAIN, MATE_GAP, OVERLAP, HOLD_LAG, SLOWED, GIVE_WAY_SPEED,
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
@@ -186,11 +188,12 @@ def _approach_limit(rules: FloatArray, stop: float, free: float, strangers_free:
 
 
 @njit(cache=True)
-def _turn_reach(length: float, width: float, linear: float, detect: FloatArray) -> float:
+def _turn_reach(length: float, width: float, linear: float, detect: FloatArray,
+                share: float) -> float:
     """``perception.obstacles.turn_reach``."""
     half_l, half_w = 0.5 * length, 0.5 * width
-    return float(math.hypot(half_l, half_w) - min(half_l, half_w)
-                 + abs(linear) * detect[TURN_HORIZON] + detect[TURN_MARGIN])
+    sweep = math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * detect[TURN_HORIZON]
+    return float(detect[TURN_MARGIN] + sweep / share)
 
 
 @njit(cache=True)
@@ -225,8 +228,12 @@ def _points_now(columns: FloatArray, height_step: float, detect: FloatArray,
 @njit(cache=True)
 def _make_room(columns: FloatArray, height_step: float, detect: FloatArray,
                seen_from: FloatArray, pose: FloatArray, length: float, width: float,
-               angular: float, previous: float, rules: FloatArray) -> float:
-    """``RobotBrain._make_room``."""
+               angular: float, previous: float, rules: FloatArray, mates: FloatArray,
+               mate_radius: float) -> float:
+    """``RobotBrain._make_room`` (``mates`` (J, 2): the mates' centres, ``base_link`` at
+    ``seen_from``)."""
+    shares = turn_shares(_crop_points(columns, height_step, detect), mates, mate_radius,
+                         detect[TURN_SHARE])  # ``RobotBrain._turn_points``
     points = _points_now(columns, height_step, detect, seen_from, pose)
     half_l = 0.5 * length
     front, rear = math.inf, math.inf  # ``clear_distances``
@@ -252,7 +259,7 @@ def _make_room(columns: FloatArray, height_step: float, detect: FloatArray,
                 moved[i, 0] = points[i, 0] - direction * shift
                 moved[i, 1] = points[i, 1]
             if turn_fraction_local(moved, length, width, 0.0, angular, detect[TURN_MARGIN],
-                                   detect[TURN_HORIZON], False) > 0.0:
+                                   detect[TURN_HORIZON], shares, False) > 0.0:
                 return direction
     return 0.0
 
@@ -261,22 +268,24 @@ def _make_room(columns: FloatArray, height_step: float, detect: FloatArray,
 def _guard_turn(columns: FloatArray, height_step: float, detect: FloatArray,
                 seen_from: FloatArray, pose: FloatArray, length: float, width: float,
                 linear: float, angular: float, may_make_room: bool, making_room: float,
-                rules: FloatArray) -> tuple[float, float, float]:
-    """``RobotBrain._guard_turn`` (``may_make_room`` False: ``making_room`` None)."""
+                rules: FloatArray, mates: FloatArray, mate_radius: float,
+                ) -> tuple[float, float, float]:
+    """``RobotBrain._guard_turn`` (``may_make_room`` False: ``making_room`` None; ``mates``
+    (J, 2): the mates' centres, ``base_link`` at ``seen_from``)."""
     fraction = turn_fraction_columns(
         columns, height_step, detect[CROP_HALF], detect[Z_MIN], detect[Z_MAX], seen_from,
         pose, length, width, linear, angular, detect[TURN_MARGIN], detect[TURN_HORIZON],
-        False)
+        detect[TURN_SHARE], mates, mate_radius, False)
     if fraction == 0.0 and may_make_room and (
             abs(linear) < rules[GIVE_WAY_SPEED] or making_room != 0.0):
         room = _make_room(columns, height_step, detect, seen_from, pose, length, width,
-                          angular, making_room, rules)
+                          angular, making_room, rules, mates, mate_radius)
         if room != 0.0:
             return room * rules[MAKE_ROOM_SPEED], 0.0, room
     if fraction == 0.0 and turn_fraction_columns(
             columns, height_step, detect[CROP_HALF], detect[Z_MIN], detect[Z_MAX], seen_from,
             pose, length, width, linear, angular, detect[TURN_MARGIN], detect[TURN_HORIZON],
-            True) == 0.0:
+            detect[TURN_SHARE], mates, mate_radius, True) == 0.0:
         linear = math.copysign(min(abs(linear), rules[GIVE_WAY_SPEED]), linear)
     return linear, fraction * angular, 0.0
 
@@ -731,13 +740,26 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 if abs(angular) > top:  # ``RobotBrain.step``: slower along the same arc
                     linear = linear * (top / abs(angular))
                     angular = min(max(angular, -top), top)
-            if angular != 0.0 and nearest < _turn_reach(length, width, linear, detect):
+            # ``RobotBrain._mate_centres``: turning on the spot (``robot.turns_on_the_spot``),
+            # the guard leaves mates room for their own turn
+            on_the_spot = angular != 0.0 and abs(linear) <= abs(angular) * 0.5 * width
+            places = mates_now.shape[0] if on_the_spot else 0
+            heard_mates = heard_count if places > 0 else 0
+            centres = np.empty((places + heard_mates, 2))
+            centres[:places] = mates_now[:places]
+            if heard_mates > 0:
+                centres[places:] = _heard_in_own_frame(
+                    heard, r, heard_count, frame_cos_sin[r], own_frames[r])
+            if angular != 0.0 and nearest < _turn_reach(
+                    length, width, linear, detect,
+                    detect[TURN_SHARE] if centres.shape[0] > 0 else 1.0):
                 may_make_room = (not held and n_nearest >= _turn_reach(
-                    length, width, rules[MAKE_ROOM_SPEED], detect)
+                    length, width, rules[MAKE_ROOM_SPEED], detect, 1.0)
                     and nearest >= rules[MAKE_ROOM_FLOOR])
                 linear, angular, room = _guard_turn(
                     cloud, height_step, detect, view, pose, length, width, linear, angular,
-                    may_make_room, making_room[r], rules)
+                    may_make_room, making_room[r], rules, to_local(centres, view),
+                    mate_radius[r])
             if angular != 0.0 and b_nearest < sweep_reach:  # a stranger within it: no turn
                 angular = 0.0
             if angular != 0.0 and p_nearest < sweep_reach:  # a stranger will be within it
@@ -748,7 +770,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     abs(wanted_linear) - rules[SLOWED])
                 turn_cut = abs(angular) < abs(wanted_angular) - rules[SLOWED] and (
                     (stranger_near and behind > rules[SLOW_TURN_LAG])
-                    or n_nearest < _turn_reach(length, width, linear, detect))
+                    or n_nearest < _turn_reach(length, width, linear, detect, 1.0))
                 holds_show = (abs(linear) < abs(wanted_linear) - rules[SLOWED]
                               and by_stranger) or turn_cut
                 if paced and holds_show:  # ``robot._pace_left``

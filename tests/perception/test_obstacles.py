@@ -16,6 +16,7 @@ from dancebots.perception.obstacles import (
     clear_distances,
     compensate_motion,
     footprint_clearance,
+    near_any,
     obstacle_points,
     obstacle_points_from_columns,
     predicted_stop_flags,
@@ -262,6 +263,71 @@ def test_a_tight_turn_is_cut_where_the_tail_would_swing_into_a_neighbour() -> No
     assert turn_fraction(np.empty((0, 2)), LENGTH, WIDTH, 0.35, -1.4, params) == 1.0
 
 
+HUSKY = (0.99, 0.67)  # m, the open-day show's front robots
+
+
+def _outline(pose: tuple[float, float, float], frame: tuple[float, float, float]
+             ) -> np.ndarray:
+    """The outline of a HUSKY's footprint at ``pose`` as points (M, 2) every 2 cm, in
+    ``base_link`` of a robot at ``frame`` (what its LIDAR sees of a mate)."""
+    from dancebots.geometry import points_to_local, points_to_world
+
+    half_l, half_w = 0.5 * HUSKY[0], 0.5 * HUSKY[1]
+    xs = np.arange(-half_l, half_l + 1e-9, 0.02)
+    ys = np.arange(-half_w, half_w + 1e-9, 0.02)
+    edge = np.concatenate([np.column_stack([xs, np.full(len(xs), y)]) for y in (-half_w, half_w)]
+                          + [np.column_stack([np.full(len(ys), x), ys]) for x in (-half_l, half_l)])
+    return points_to_local(points_to_world(edge, pose), frame)
+
+
+def _smallest_gap_both_turning(first: tuple[float, float, float], first_rate: float,
+                               second: tuple[float, float, float], second_rate: float) -> float:
+    """The smallest distance (m) between two HUSKY footprints turning on the spot at their
+    rates (rad/s) for 1 s, sampled every 5 ms (shapely)."""
+    import shapely
+    from shapely import affinity
+
+    def footprint(pose: tuple[float, float, float], turned: float) -> shapely.Polygon:
+        box = shapely.box(-HUSKY[0] / 2, -HUSKY[1] / 2, HUSKY[0] / 2, HUSKY[1] / 2)
+        return affinity.translate(affinity.rotate(box, pose[2] + turned, origin=(0, 0),
+                                                  use_radians=True), pose[0], pose[1])
+
+    return min(footprint(first, first_rate * t).distance(footprint(second, second_rate * t))
+               for t in np.arange(0.0, 1.0 + 1e-9, 0.005))
+
+
+@pytest.mark.parametrize("rates", [(2.04, -1.78), (1.0, -1.0), (0.5, -0.5)])
+def test_two_mates_turning_on_the_spot_side_by_side_leave_each_other_room(
+        rates: tuple[float, float]) -> None:
+    """Open-day crowd seed 293 (t = 106.3 s): two HUSKYs side by side, their rears 0.25 m
+    apart, both turned on the spot when the show resumed, swinging their rears towards each
+    other (their poses and commands). Each guard, taking the other for standing, let its
+    corners come within the 10 cm margin of it; together they touched. Taking the other's
+    points as a mate's that may turn too (turn_share 0.5), each closes at most half the gap
+    beyond the margin: together they keep the margin (to the 0.1 s sampling's half margin);
+    a fast turn waits (the robot makes room), a gentle one goes on at a quarter."""
+    params = DetectorParams()
+    first, second = (0.0, 0.0, -1.40), (-1.12, 0.08, -1.85)
+    first_sees = _outline(second, first)
+    second_sees = _outline(first, second)
+    assert footprint_clearance(first_sees, *HUSKY) == pytest.approx(0.25, abs=0.01)
+
+    def fractions(moving: bool) -> tuple[float, float]:
+        return (turn_fraction(first_sees, *HUSKY, 0.0, rates[0], params,
+                              np.full(len(first_sees), moving)),
+                turn_fraction(second_sees, *HUSKY, 0.0, rates[1], params,
+                              np.full(len(second_sees), moving)))
+
+    standing = fractions(False)
+    assert standing == (1.0, 1.0)  # alone, each turn would keep the margin
+    assert _smallest_gap_both_turning(first, rates[0], second, rates[1]) < (
+        0.5 * params.turn_margin)
+    shared = fractions(True)
+    assert min(shared) > 0.0 or abs(rates[0]) > 0.5  # a gentle turn goes on, slower
+    assert _smallest_gap_both_turning(first, shared[0] * rates[0], second,
+                                      shared[1] * rates[1]) > 0.5 * params.turn_margin
+
+
 def test_a_turn_on_the_spot_beside_a_wall_is_refused() -> None:
     """Turning on the spot sweeps the corners out to the half diagonal (0.67 m): with a wall
     0.1 m beside the robot no fraction of the turn keeps its distance."""
@@ -272,28 +338,54 @@ def test_a_turn_on_the_spot_beside_a_wall_is_refused() -> None:
 
 @settings(deadline=None, max_examples=300)  # the first call compiles the numba function
 @given(columns, st.tuples(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3), st.floats(-3, 3)),
-       st.floats(-0.5, 0.5), st.floats(-3.2, 3.2), st.booleans())
+       st.floats(-0.5, 0.5), st.floats(-3.2, 3.2), st.booleans(),
+       st.sampled_from([0.5, 1.0, 0.3]),
+       arrays(np.float64, st.tuples(st.integers(0, 3), st.just(2)),
+              elements=st.floats(-3, 3, allow_nan=False)),
+       st.sampled_from([0.0, 0.5, 0.9, 5.0]))
 def test_the_compiled_turn_guard_agrees_with_the_reference(
         data: np.ndarray, pose: tuple[float, float, float], linear: float, angular: float,
-        leading: bool) -> None:
-    """turn_fraction_columns (compiled, on the cloud's columns seen at another pose) gives
-    turn_fraction's answer on the same points moved to the pose (the tested reference)."""
+        leading: bool, share: float, mates: np.ndarray, radius: float) -> None:
+    """turn_fraction_columns (compiled, on the cloud's columns seen at another pose, the
+    points near ``mates`` taken as moving) gives turn_fraction's answer on the same points
+    moved to the pose (the tested reference)."""
     from dancebots.perception.fast import turn_fraction_columns
 
     data = data.copy()
     data[:, 2] = np.abs(data[:, 2]) * 0.5
     data[:, 3] = data[:, 2] + np.abs(data[:, 3])
-    params = DetectorParams()
+    params = DetectorParams(turn_share=share)
     seen_from = (0.0, 0.0, 0.0)
-    points = compensate_motion(obstacle_points_from_columns(data, 0.1), seen_from, pose)
+    seen = obstacle_points_from_columns(data, 0.1)
+    moving = near_any(seen, mates, radius)
+    points = compensate_motion(seen, seen_from, pose)
     if leading:
-        points = points[points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0]
-    expected = turn_fraction(points, LENGTH, WIDTH, linear, angular, params)
+        ahead = points[:, 0] * (1.0 if linear >= 0.0 else -1.0) > 0.0
+        points, moving = points[ahead], moving[ahead]
+    expected = turn_fraction(points, LENGTH, WIDTH, linear, angular, params, moving)
     compiled = turn_fraction_columns(data, 0.1, params.crop_half, params.z_min, params.z_max,
                                      np.array(seen_from), np.array(pose), LENGTH, WIDTH,
                                      linear, angular, params.turn_margin, params.turn_horizon,
-                                     leading)
+                                     share, mates, radius, leading)
     assert compiled == expected
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), points=st.integers(0, 30), centres=st.integers(0, 4),
+       radius=st.sampled_from([0.0, 1e-300, 0.3, 0.9, 5.0]))
+def test_the_compiled_turn_shares_are_near_any(seed: int, points: int, centres: int,
+                                               radius: float) -> None:
+    """turn_shares gives the share to exactly the points near_any finds near a centre (a
+    centre that is not a number is near every point)."""
+    from dancebots.perception.fast import turn_shares
+
+    rng = np.random.default_rng(seed)
+    cloud = rng.uniform(-3.0, 3.0, (points, 2))
+    mates = rng.uniform(-3.0, 3.0, (centres, 2))
+    if centres and seed % 3 == 0:
+        mates[0, seed % 2] = np.nan
+    expected = np.where(near_any(cloud, mates, radius), 0.5, 1.0)
+    assert turn_shares(cloud, mates, radius, 0.5).tolist() == expected.tolist()
 
 
 def test_a_turn_that_cannot_be_predicted_is_refused() -> None:

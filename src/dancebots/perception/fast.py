@@ -14,7 +14,8 @@ from numba import njit
 from numpy.typing import NDArray
 
 __all__ = ["far_from_all", "kept_columns", "perceive_columns", "perceive_columns_split",
-           "perceive_moved", "to_local", "turn_fraction_columns", "turn_fraction_local"]
+           "perceive_moved", "to_local", "turn_fraction_columns", "turn_fraction_local",
+           "turn_shares"]
 
 
 @njit(cache=True)
@@ -75,44 +76,73 @@ def turn_fraction_columns(columns: NDArray[np.float64], height_step: float, crop
                           z_min: float, z_max: float, seen_from: NDArray[np.float64],
                           pose: NDArray[np.float64], length: float, width: float,
                           linear: float, angular: float, margin: float, horizon: float,
+                          share: float, mates: NDArray[np.float64], mate_radius: float,
                           leading: bool) -> float:
     """``perception.obstacles.turn_fraction`` of the obstacle points of a cloud stored as
     columns (K, 4) seen at ``seen_from``, moved to ``pose`` (as :func:`perceive_columns`);
-    ``leading``: of the points ahead of the robot's middle in its direction of travel only
-    (behind it when ``linear`` < 0)."""
+    the points within ``mate_radius`` of a centre of ``mates`` (J, 2), ``base_link`` at
+    ``seen_from`` (``perception.obstacles.near_any``), may move themselves (turn ``share``),
+    the others stand; ``leading``: of the points ahead of the robot's middle in its
+    direction of travel only (behind it when ``linear`` < 0)."""
     if angular == 0.0:
         return 1.0
     points = _kept(columns, height_step, crop_half, z_min, z_max)
     c0, s0 = math.cos(seen_from[2]), math.sin(seen_from[2])
     c1, s1 = math.cos(pose[2]), math.sin(pose[2])
     local = np.empty_like(points)
+    shares = turn_shares(points, mates, mate_radius, share)
     for i in range(points.shape[0]):
         wx = seen_from[0] + c0 * points[i, 0] - s0 * points[i, 1] - pose[0]
         wy = seen_from[1] + s0 * points[i, 0] + c0 * points[i, 1] - pose[1]
         local[i, 0] = c1 * wx + s1 * wy
         local[i, 1] = -s1 * wx + c1 * wy
-    return turn_fraction_local(local, length, width, linear, angular, margin, horizon,
+    return turn_fraction_local(local, length, width, linear, angular, margin, horizon, shares,
                                leading)
+
+
+@njit(cache=True)
+def turn_shares(points: NDArray[np.float64], mates: NDArray[np.float64], mate_radius: float,
+                share: float) -> NDArray[np.float64]:
+    """(M,) the turn share of each obstacle point (M, 2): ``share`` within ``mate_radius`` of
+    a centre of ``mates`` (J, 2), same frame (``perception.obstacles.near_any``), else 1.0
+    (a standing point)."""
+    shares = np.empty(points.shape[0])
+    for i in range(points.shape[0]):
+        shares[i] = share if _near_a_mate(points[i, 0], points[i, 1], mates,
+                                          mate_radius) else 1.0
+    return shares
 
 
 @njit(cache=True)
 def turn_fraction_local(points: NDArray[np.float64], length: float, width: float,
                         linear: float, angular: float, margin: float, horizon: float,
-                        leading: bool) -> float:
+                        shares: NDArray[np.float64], leading: bool) -> float:
     """``perception.obstacles.turn_fraction`` of obstacle points (M, 2) in ``base_link``
-    (turn margin and horizon given); ``leading``: of the points ahead of the robot's middle
-    in its direction of travel only (behind it when ``linear`` < 0)."""
-    if angular == 0.0:
+    (turn margin and horizon given; ``shares`` (M,): each point's turn share, 1.0 for a
+    standing point); ``leading``: of the points ahead of the robot's middle in its
+    direction of travel only (behind it when ``linear`` < 0)."""
+    if angular == 0.0 or points.shape[0] == 0:
         return 1.0
     if not (math.isfinite(linear) and math.isfinite(angular)):
         return 0.0
     half_l, half_w = 0.5 * length, 0.5 * width
-    reach = (math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * horizon
-             + margin)
+    sweep = math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * horizon
+    # the points that may block (within their ``turn_reach``) and the least share of them
+    least = math.inf
+    for i in range(points.shape[0]):
+        x0, y0 = points[i, 0], points[i, 1]
+        if leading and x0 * (1.0 if linear >= 0.0 else -1.0) <= 0.0:
+            continue
+        gap0 = math.hypot(max(abs(x0) - half_l, 0.0), max(abs(y0) - half_w, 0.0))
+        if gap0 < margin + sweep / shares[i]:
+            least = min(least, shares[i])
+    if least == math.inf:
+        return 1.0
+    reach = margin + sweep / least  # ``turn_reach`` of the least share
     # the instants of ``perception.obstacles.turn_samples``, evenly over the horizon
     spread = math.hypot(half_l, half_w) + reach
     step = min(0.1, 0.5 * margin / (abs(linear) + abs(angular) * spread))
-    needed = horizon / step
+    needed = horizon / step if step > 0.0 else math.inf
     if not needed < 1000.0:  # perception.obstacles.MAX_TURN_SAMPLES: no turn
         return 0.0
     steps = math.ceil(needed - 1e-9) + 1
@@ -146,12 +176,16 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
         if leading and x0 * (1.0 if linear >= 0.0 else -1.0) <= 0.0:
             continue
         gap0 = math.hypot(max(abs(x0) - half_l, 0.0), max(abs(y0) - half_w, 0.0))
-        if gap0 >= reach:
+        if gap0 >= margin + sweep / shares[i]:
             continue
-        floor = min(gap0, margin) - 1e-9
-        if math.hypot(x0, y0) - travel - half_diagonal - 1e-9 >= floor:
+        share = shares[i]
+        # ``turn_floor`` of the gap now: no lower than that of the straight gap (<= gap0)
+        bound = gap0 - share * max(gap0 - margin, 0.0) - 1e-9
+        if math.hypot(x0, y0) - travel - half_diagonal - 1e-9 >= bound:
             continue
-        # the straight gap matters only below floor + 1e-9 (else the threshold is the floor)
+        # the straight gap: for a standing point it matters only below bound + 1e-9 (the
+        # margin or gap0; else the threshold is the bound), for a point that may move it
+        # sets the floor (the nearest gap: only instants that may come nearer)
         straight = math.inf
         k = 0
         while k < steps:
@@ -160,8 +194,10 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
             x, y = c * px + s * py, -s * px + c * py
             gap = math.hypot(max(abs(x) - half_l, 0.0), max(abs(y) - half_w, 0.0))
             straight = min(straight, gap)
-            k = _next_instant_that_may_reach(k, gap, floor + 1e-9, abs(linear), 0.0,
-                                             math.hypot(x, y) + travel, spacing, steps)
+            k = _next_instant_that_may_reach(
+                k, gap, bound + 1e-9 if share == 1.0 else straight, abs(linear), 0.0,
+                math.hypot(x, y) + travel, spacing, steps)
+        floor = straight - share * max(straight - margin, 0.0) - 1e-9  # ``turn_floor``
         threshold = min(floor, straight - 1e-9)
         for f in range(3):
             if blocked[f]:

@@ -27,6 +27,7 @@ __all__ = [
     "clear_distances",
     "compensate_motion",
     "footprint_clearance",
+    "near_any",
     "obstacle_points",
     "obstacle_points_from_columns",
     "obstacle_points_now",
@@ -34,6 +35,7 @@ __all__ = [
     "predicted_points",
     "predicted_stop_flags",
     "stop_flags",
+    "turn_floor",
     "turn_fraction",
     "turn_reach",
     "turn_samples",
@@ -49,7 +51,10 @@ class DetectorParams:
     (thesis: 55 cm); corridor_margin: the stop zones are as wide as the robot plus this on
     each side, m, so that neighbours beside the robot do not stop it; turn_margin,
     turn_horizon: a turn may not bring any obstacle point nearer than turn_margin (m) to the
-    footprint within turn_horizon (s) (:func:`turn_fraction`)."""
+    footprint within turn_horizon (s) (:func:`turn_fraction`); turn_share: the share of a
+    point's gap beyond turn_margin that a turn may close, the rest left for the point's own
+    move (a mate turning on the spot beside the robot: 0.5 and two robots that both turn
+    take half the gap each; 1.0 takes all of it, as if every point stood)."""
 
     crop_half: float = 2.0
     z_min: float = 0.10
@@ -58,10 +63,13 @@ class DetectorParams:
     corridor_margin: float = 0.10
     turn_margin: float = 0.10
     turn_horizon: float = 1.0
+    turn_share: float = 0.5
 
     def __post_init__(self) -> None:
         if not (self.turn_horizon >= 0.0 and self.turn_margin > 0.0):
             raise ValueError("turn_horizon must be >= 0 s and turn_margin > 0 m")
+        if not 0.0 < self.turn_share <= 1.0:
+            raise ValueError("turn_share must be > 0 and <= 1")
 
 
 @dataclass(frozen=True, slots=True)
@@ -156,14 +164,17 @@ def footprint_clearance(points: FloatArray, length: float, width: float) -> floa
 
 
 def turn_reach(length: float, width: float, linear: float,
-               params: DetectorParams = DetectorParams()) -> float:
-    """How far from the footprint (m) a point can be and still be met by the robot turning
-    within ``params.turn_horizon`` s at ``linear`` m/s: the corners' swing beyond the sides
-    (half diagonal less the smaller half side, a turn on the spot), the way driven, and the
-    turn margin; :func:`turn_fraction` is needed only for points nearer than this."""
+               params: DetectorParams = DetectorParams(), share: float = 1.0) -> float:
+    """How far from the footprint (m) a point can be and still block the robot turning
+    within ``params.turn_horizon`` s at ``linear`` m/s: the turn margin and the robot's
+    sweep (the corners' swing beyond the sides, half diagonal less the smaller half side, a
+    turn on the spot, and the way driven) over ``share``, the share of the gap beyond the
+    margin that the turn may close (1.0 for a standing point, ``params.turn_share`` for one
+    that may move: :func:`turn_fraction`); :func:`turn_fraction` is needed only for points
+    nearer than this."""
     half_l, half_w = 0.5 * length, 0.5 * width
-    return (math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * params.turn_horizon
-            + params.turn_margin)
+    sweep = math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * params.turn_horizon
+    return params.turn_margin + sweep / share
 
 
 MAX_TURN_SAMPLES = 1000
@@ -172,16 +183,17 @@ MAX_TURN_SAMPLES = 1000
 
 
 def turn_samples(length: float, width: float, linear: float, angular: float,
-                 params: DetectorParams = DetectorParams()) -> int:
+                 params: DetectorParams = DetectorParams(), share: float = 1.0) -> int:
     """How many instants :func:`turn_fraction` checks, evenly over ``params.turn_horizon``:
-    at most 0.1 s apart, and so close that a point within :func:`turn_reach` moves at most
-    half the turn margin across the robot between two of them (its speed in ``base_link``
-    is at most |v| + |w| r, r its distance from the middle), so that a point the samples
-    keep the turn margin (10 cm) away is never nearer than half of it in between; 0 when that
-    would take more than :data:`MAX_TURN_SAMPLES` steps."""
-    reach = math.hypot(0.5 * length, 0.5 * width) + turn_reach(length, width, linear, params)
+    at most 0.1 s apart, and so close that a point within :func:`turn_reach` (of ``share``)
+    moves at most half the turn margin across the robot between two of them (its speed in
+    ``base_link`` is at most |v| + |w| r, r its distance from the middle), so that a point
+    the samples keep the turn margin (10 cm) away is never nearer than half of it in
+    between; 0 when that would take more than :data:`MAX_TURN_SAMPLES` steps."""
+    reach = math.hypot(0.5 * length, 0.5 * width) + turn_reach(length, width, linear, params,
+                                                               share)
     step = min(0.1, 0.5 * params.turn_margin / (abs(linear) + abs(angular) * reach))
-    needed = params.turn_horizon / step  # inf or huge for absurd speeds
+    needed = params.turn_horizon / step if step > 0.0 else math.inf  # huge: absurd speeds
     return math.ceil(needed - 1e-9) + 1 if needed < MAX_TURN_SAMPLES else 0
 
 
@@ -190,14 +202,19 @@ TURN_FRACTIONS = (1.0, 0.5, 0.25, 0.0)
 
 
 def turn_fraction(points: FloatArray, length: float, width: float, linear: float,
-                  angular: float, params: DetectorParams = DetectorParams()) -> float:
+                  angular: float, params: DetectorParams = DetectorParams(),
+                  moving: NDArray[np.bool_] | None = None) -> float:
     """The largest of :data:`TURN_FRACTIONS` of ``angular`` (rad/s) at which the robot,
     driving ``linear`` (m/s) on that arc for ``params.turn_horizon`` s (at
-    :func:`turn_samples` instants),
-    brings no obstacle point (M, 2) in ``base_link`` (taken as standing) within
-    ``params.turn_margin`` m of its footprint, nor nearer than it already is if it is nearer,
-    unless driving straight would bring it as near (the stop flags are for that). 0.0 when
-    only driving straight does, and for speeds that are not finite or too fast to sample
+    :func:`turn_samples` instants), brings no obstacle point (M, 2) in ``base_link`` nearer
+    than its :func:`turn_floor` of the nearest it comes driving straight: within
+    ``params.turn_margin`` m of its footprint, nor, for the points that may move themselves
+    (``moving`` (M,); None: none, every point stands), more than ``params.turn_share`` of
+    the way from that gap to the margin (the rest is the point's own, a mate beside the
+    robot that turns too: two robots that both turn close the gap between them to the
+    margin at most), nor nearer than driving straight if that is within the margin (the
+    stop flags are for what driving straight brings near). 0.0 when only driving straight
+    does, and for speeds that are not finite or too fast to sample
     (:data:`MAX_TURN_SAMPLES`) (an addition; thesis ch. 5.2 stops the robot only ahead and
     behind, and a skid-steer robot's corners swing out as it turns: a 1.2 m robot turning
     on a 0.25 m radius sweeps its tail 0.26 m beyond its side)."""
@@ -205,14 +222,19 @@ def turn_fraction(points: FloatArray, length: float, width: float, linear: float
         return 1.0
     if not (math.isfinite(linear) and math.isfinite(angular)):
         return 0.0  # no turn that cannot be predicted
-    points = points[np.hypot(*np.maximum(np.abs(points) - [0.5 * length, 0.5 * width],
-                                         0.0).T) < turn_reach(length, width, linear, params)]
+    shares = (np.ones(len(points)) if moving is None
+              else np.where(moving, params.turn_share, 1.0))  # (M,)
+    half_l, half_w = 0.5 * length, 0.5 * width
+    sweep = math.hypot(half_l, half_w) - min(half_l, half_w) + abs(linear) * params.turn_horizon
+    within = np.hypot(*np.maximum(np.abs(points) - [half_l, half_w], 0.0).T) < (
+        params.turn_margin + sweep / shares)  # turn_reach of each point
+    points, shares = points[within], shares[within]
     if len(points) == 0:
         return 1.0
-    samples = turn_samples(length, width, linear, angular, params)
+    samples = turn_samples(length, width, linear, angular, params, float(shares.min()))
     if samples == 0:
         return 0.0
-    half = np.array([0.5 * length, 0.5 * width])
+    half = np.array([half_l, half_w])
     times = np.linspace(0.0, params.turn_horizon, samples)  # (K,)
     fractions = np.array(TURN_FRACTIONS)  # (F,)
     w = fractions[:, None] * angular  # (F, 1)
@@ -227,12 +249,30 @@ def turn_fraction(points: FloatArray, length: float, width: float, linear: float
     x, y = c * px + s * py, -s * px + c * py  # in base_link at each time
     gap = np.hypot(np.maximum(np.abs(x) - half[0], 0.0), np.maximum(np.abs(y) - half[1], 0.0))
     nearest = gap.min(axis=1)  # (F, M): the nearest each point comes on each arc
-    floor = np.minimum(gap[0, 0], params.turn_margin) - 1e-9  # (M,)
+    floor = turn_floor(nearest[-1], params.turn_margin, shares) - 1e-9  # (M,)
     bad = (nearest < floor) & (nearest < nearest[-1] - 1e-9)  # worse than straight, too near
     for fraction, blocked in zip(TURN_FRACTIONS, bad.any(axis=1), strict=True):
         if not blocked:
             return fraction
     return 0.0
+
+
+def turn_floor(gap: FloatArray, margin: float, share: FloatArray | float) -> FloatArray:
+    """How near (m) a turn may bring points that driving straight brings ``gap`` (M,) m from
+    the footprint: the gap less ``share`` (M,) or one for all of its part beyond ``margin``
+    (m): the margin for a standing point (share 1), the gap itself within the margin
+    (:func:`turn_fraction`)."""
+    result: FloatArray = gap - share * np.maximum(gap - margin, 0.0)
+    return result
+
+
+def near_any(points: FloatArray, centres: FloatArray, radius: float) -> NDArray[np.bool_]:
+    """(M,) whether each point (M, 2) lies within ``radius`` m of any of ``centres`` (K, 2),
+    same frame (a centre that is not a number is near everything; no centre: none)."""
+    gaps = np.hypot(points[:, None, 0] - centres[None, :, 0],
+                    points[:, None, 1] - centres[None, :, 1])  # (M, K)
+    near: NDArray[np.bool_] = np.any(~(gaps > radius), axis=1)
+    return near
 
 
 def compensate_motion(points: FloatArray, pose_at_stamp: tuple[float, float, float],
