@@ -145,11 +145,8 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         return _saturate(-drive if backwards else drive, gains[TURN_GAIN] * bearing + push,
                          max_linear, max_angular)
     if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
-        linear = (gains[ARRIVAL_GAIN] * ex * max(math.cos(heading_error), 0.0)
-                  if abs(ex) > gains[ARRIVAL_DISTANCE] else 0.0)
-        angular = (gains[TURN_GAIN] * heading_error
-                   if abs(heading_error) > gains[HEADING_TOLERANCE] else 0.0)
-        return _saturate(linear, angular, max_linear, max_angular)
+        linear = gains[ARRIVAL_GAIN] * ex * max(math.cos(heading_error), 0.0)
+        return _saturate(linear, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
     if distance > gains[ARRIVAL_DISTANCE]:
         linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,
                                    backwards)

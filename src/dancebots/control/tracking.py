@@ -418,16 +418,9 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
                          params)
     if params.arrival_distance < distance <= params.settle_distance:
         # a few centimetres off its final slot: face the slot's heading and close the
-        # distance along it (no turn towards a slot beside the robot: a spin for millimetres),
-        # each only beyond its tolerance (arrival_distance along, heading_tolerance): what is
-        # left is to the side, and a robot that closed it by millimetres of noise never
-        # stood still (open-day crowd seed 1: R1 3 cm beside its final slot was told
-        # +-0.01 m/s and +-0.02 rad/s for 28 s, and the show did not settle)
-        linear = (params.arrival_gain * ex * max(math.cos(heading_error), 0.0)
-                  if abs(ex) > params.arrival_distance else 0.0)
-        angular = (params.turn_gain * heading_error
-                   if abs(heading_error) > params.heading_tolerance else 0.0)
-        return _saturate(linear, angular, params)
+        # distance along it (no turn towards a slot beside the robot: a spin for millimetres)
+        linear = params.arrival_gain * ex * max(math.cos(heading_error), 0.0)
+        return _saturate(linear, params.turn_gain * heading_error, params)
     if distance > params.arrival_distance:
         linear, angular = parking_step(params, distance, math.atan2(ey, ex), heading_error,
                                        backwards)
