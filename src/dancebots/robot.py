@@ -723,9 +723,8 @@ class RobotBrain:
                     and len(mates_heard) and self._mates is not None
                     and len(mates_heard) == len(self._mates)):
                 body_nearest = min(near.nearest, self._nearest_beyond_mates(
-                    obstacles, height_step, seen_from or pose, pose, np.concatenate(
-                        [self.mates_at(show_time),
-                         compose_points(self._own_frame, mates_heard)]), seen.nearest))
+                    obstacles, height_step, seen_from or pose, pose,
+                    self._mate_centres(show_time, mates_heard), seen.nearest))
             if body_nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -965,13 +964,7 @@ class RobotBrain:
         mates."""
         if self._mates is None:
             return None
-        where = self.mates_at(show_time)
-        if mates_heard is not None and len(mates_heard):
-            where = np.concatenate([where, compose_points(self._own_frame, mates_heard)])
-        gaps = np.hypot(points[:, None, 0] - where[None, :, 0],
-                        points[:, None, 1] - where[None, :, 1])  # (N, M)
-        near: np.ndarray = np.any(~(gaps > self.mate_radius), axis=1)  # NaN: near
-        return near
+        return near_any(points, self._mate_centres(show_time, mates_heard), self.mate_radius)
 
     def _predicted_gaps(self, columns: np.ndarray, height_step: float,
                         seen_from: tuple[float, float, float],
@@ -997,13 +990,8 @@ class RobotBrain:
             return math.inf, math.inf, math.inf
         moving = kind == TRACKED
         if self._mates is not None and moving.any():
-            where = self.mates_at(show_time)
-            if mates_heard is not None and len(mates_heard):
-                where = np.concatenate([where, compose_points(self._own_frame, mates_heard)])
-            local = points_to_local(where, pose)  # (M, 2) base_link now, as the points
-            gaps = np.hypot(points[:, None, 0] - local[None, :, 0],
-                            points[:, None, 1] - local[None, :, 1])  # (N, M)
-            moving &= ~np.any(~(gaps > self.mate_radius), axis=1)  # NaN: near (a mate)
+            local = points_to_local(self._mate_centres(show_time, mates_heard), pose)
+            moving &= ~near_any(points, local, self.mate_radius)  # (base_link now)
         if not moving.any():
             return math.inf, math.inf, math.inf
         ahead = np.concatenate([  # now, and by the time a stop took effect
@@ -1122,11 +1110,7 @@ class RobotBrain:
         within ``mate_radius`` of where a mate should be or said it is (``heard``, show
         frame; none for a robot that knows no mates' places: the thesis follower's, for which
         a formation mate is a stranger too)."""
-        mates = np.zeros((0, 2))
-        if self._mates is not None:
-            mates = self.mates_at(show_time)
-            if heard is not None and len(heard):
-                mates = np.concatenate([mates, compose_points(self._own_frame, heard)])
+        mates = self._mate_centres(show_time, heard)
         detection = self._ssm_detection
         if self.sensing.compiled:
             from dancebots.perception.closing_jit import stranger_points_columns  # imports numba

@@ -174,6 +174,19 @@ def _heard_in_own_frame(heard: FloatArray, robot: int, count: int, cos_sin: Floa
 
 
 @njit(cache=True)
+def _mate_centres(places: FloatArray, heard: FloatArray, robot: int, count: int,
+                  cos_sin: FloatArray, own_frame: FloatArray) -> FloatArray:
+    """``RobotBrain._mate_centres``: (M + count, 2) where robot ``robot``'s mates should be
+    (``places`` (M, 2), own frame) and where the ``count`` heard said they are
+    (:func:`_heard_in_own_frame`)."""
+    where = np.empty((places.shape[0] + count, 2))
+    where[:places.shape[0]] = places
+    if count > 0:
+        where[places.shape[0]:] = _heard_in_own_frame(heard, robot, count, cos_sin, own_frame)
+    return where
+
+
+@njit(cache=True)
 def _approach_limit(rules: FloatArray, stop: float, free: float, strangers_free: float,
                     has_strangers: bool, reference_speed: float, parked: bool) -> float:
     """``RobotBrain._approach_limit`` (``has_strangers`` False: ``strangers_free`` None)."""
@@ -665,10 +678,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     seen_front or seen_rear or behind > rules[HOLD_LAG]
                     or n_nearest < rules[NEAR_GAP]):
                 # ``RobotBrain._without_mates`` with the mates heard (``compose_points``)
-                where = np.empty((mates_now.shape[0] + heard_count, 2))
-                where[:mates_now.shape[0]] = mates_now
-                where[mates_now.shape[0]:] = _heard_in_own_frame(
-                    heard, r, heard_count, frame_cos_sin[r], own_frames[r])
+                where = _mate_centres(mates_now, heard, r, heard_count, frame_cos_sin[r],
+                                      own_frames[r])
                 keep = far_from_all(cloud, to_local(where, view), mate_radius[r])
                 if not keep.all():
                     n_front, n_rear, n_nearest, _, _ = perceive_columns(
@@ -697,10 +708,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             b_nearest = n_nearest
             if (lidar and nearest < sweep_reach and n_nearest > nearest and heard_count > 0
                     and heard_count == mates_now.shape[0]):
-                bodies = np.empty((mates_now.shape[0] + heard_count, 2))
-                bodies[:mates_now.shape[0]] = mates_now
-                bodies[mates_now.shape[0]:] = _heard_in_own_frame(
-                    heard, r, heard_count, frame_cos_sin[r], own_frames[r])
+                bodies = _mate_centres(mates_now, heard, r, heard_count, frame_cos_sin[r],
+                                       own_frames[r])
                 keep = far_from_all(cloud, to_local(bodies, view), mate_body[r])
                 beyond = nearest
                 if not keep.all():
@@ -744,12 +753,9 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             # the guard leaves mates room for their own turn
             on_the_spot = angular != 0.0 and abs(linear) <= abs(angular) * 0.5 * width
             places = mates_now.shape[0] if on_the_spot else 0
-            heard_mates = heard_count if places > 0 else 0
-            centres = np.empty((places + heard_mates, 2))
-            centres[:places] = mates_now[:places]
-            if heard_mates > 0:
-                centres[places:] = _heard_in_own_frame(
-                    heard, r, heard_count, frame_cos_sin[r], own_frames[r])
+            centres = _mate_centres(mates_now[:places], heard, r,
+                                    heard_count if places > 0 else 0, frame_cos_sin[r],
+                                    own_frames[r])
             if angular != 0.0 and nearest < _turn_reach(
                     length, width, linear, detect,
                     detect[TURN_SHARE] if centres.shape[0] > 0 else 1.0):
