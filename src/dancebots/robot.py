@@ -936,7 +936,8 @@ class RobotBrain:
         straight to make room for the turn (an addition, like a driver who pulls forward out
         of a tight row before turning; thesis listing 7.4 with SIM robots 0.2 m apart: R2's
         tail would swing into R1 beside it): towards one of :data:`MAKE_ROOM_SHIFTS` after
-        which the turn, with every obstacle point standing where it is, is allowed
+        which the turn, with every obstacle point where it is (those within ``mate_radius``
+        of ``mates`` (J, 2), own map frame, a mate's that may turn too), is allowed
         (``perception.obstacles.turn_fraction``) and to which the way is free beyond the stop
         distance and :data:`MATE_GAP`; forwards when any such shift lies ahead (a robot that
         backs off looks wrong to the audience), else backwards. It keeps the direction of the
