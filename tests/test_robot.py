@@ -241,6 +241,17 @@ def test_a_robot_that_may_not_turn_beside_a_mate_makes_room_forwards_first() -> 
     behind = wall * np.array([-1.0, 1.0, 1.0, 1.0])
     assert brain._make_room(np.concatenate([beside, wall, behind]), 0.1, here, here, -1.0,
                             mate, 0.0) == 0.0
+    # 0.3 m beside a mate, a wall 1.8 m ahead: the shift forwards that leaves the turn room
+    # with R1 standing is too short once R1 may turn too (it takes half of the gap): it
+    # makes room backwards instead
+    beside = _side_by_side_cloud(0.3)
+    wall = np.column_stack([np.full(31, 1.8), np.linspace(-0.6, 0.6, 31), np.zeros(31),
+                            np.ones(31)])
+    standing = np.empty((0, 2))
+    assert brain._make_room(np.concatenate([beside, wall]), 0.1, here, here, -1.0, standing,
+                            0.0) == 1.0
+    assert brain._make_room(np.concatenate([beside, wall]), 0.1, here, here, -1.0,
+                            np.array([[0.0, 0.9]]), 0.0) == -1.0
 
 
 def test_a_robot_makes_room_only_among_mates() -> None:

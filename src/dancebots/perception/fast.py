@@ -138,14 +138,20 @@ def turn_fraction_local(points: NDArray[np.float64], length: float, width: float
             least = min(least, shares[i])
     if least == math.inf:
         return 1.0
-    reach = margin + sweep / least  # ``turn_reach`` of the least share
-    # the instants of ``perception.obstacles.turn_samples``, evenly over the horizon
-    spread = math.hypot(half_l, half_w) + reach
-    step = min(0.1, 0.5 * margin / (abs(linear) + abs(angular) * spread))
-    needed = horizon / step if step > 0.0 else math.inf
-    if not needed < 1000.0:  # perception.obstacles.MAX_TURN_SAMPLES: no turn
-        return 0.0
-    steps = math.ceil(needed - 1e-9) + 1
+    # the instants of ``perception.obstacles.turn_samples``, evenly over the horizon: for
+    # standing points (share 1) and for the least share, nested
+    counts = np.empty(2, dtype=np.int64)
+    for j in range(2):
+        reach = margin + sweep / (1.0 if j == 0 else least)  # ``turn_reach``
+        spread = math.hypot(half_l, half_w) + reach
+        step = min(0.1, 0.5 * margin / (abs(linear) + abs(angular) * spread))
+        needed = horizon / step if step > 0.0 else math.inf
+        if not needed < 1000.0:  # perception.obstacles.MAX_TURN_SAMPLES: no turn
+            return 0.0
+        counts[j] = math.ceil(needed - 1e-9) + 1
+    steps = counts[0]
+    if counts[0] > 1 and counts[1] > counts[0]:
+        steps = (-((counts[1] - 1) // -(counts[0] - 1))) * (counts[0] - 1) + 1
     spacing = horizon / (steps - 1) if steps > 1 else 0.0
     fractions = (1.0, 0.5, 0.25, 0.0)
     # the robot's pose on each arc (fraction, step): dx, dy, cos, sin

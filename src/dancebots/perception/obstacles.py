@@ -189,12 +189,24 @@ def turn_samples(length: float, width: float, linear: float, angular: float,
     moves at most half the turn margin across the robot between two of them (its speed in
     ``base_link`` is at most |v| + |w| r, r its distance from the middle), so that a point
     the samples keep the turn margin (10 cm) away is never nearer than half of it in
-    between; 0 when that would take more than :data:`MAX_TURN_SAMPLES` steps."""
-    reach = math.hypot(0.5 * length, 0.5 * width) + turn_reach(length, width, linear, params,
-                                                               share)
-    step = min(0.1, 0.5 * params.turn_margin / (abs(linear) + abs(angular) * reach))
-    needed = params.turn_horizon / step if step > 0.0 else math.inf  # huge: absurd speeds
-    return math.ceil(needed - 1e-9) + 1 if needed < MAX_TURN_SAMPLES else 0
+    between; for a ``share`` below 1, the instants of standing points (share 1) and as many
+    more between each two as that needs, so that the instants of standing points are always
+    among them; 0 when either would take more than :data:`MAX_TURN_SAMPLES` steps."""
+    counts = []
+    for each in (1.0, share):
+        reach = math.hypot(0.5 * length, 0.5 * width) + turn_reach(length, width, linear,
+                                                                   params, each)
+        step = min(0.1, 0.5 * params.turn_margin / (abs(linear) + abs(angular) * reach))
+        needed = params.turn_horizon / step if step > 0.0 else math.inf  # huge: absurd speeds
+        if not needed < MAX_TURN_SAMPLES:
+            return 0
+        counts.append(math.ceil(needed - 1e-9) + 1)
+    standing, moving = counts
+    if standing <= 1 or moving <= standing:
+        return standing
+    # the standing points' instants and more (a multiple of their intervals), so that a
+    # point that may move never makes the guard miss what it saw of a standing one
+    return math.ceil((moving - 1) / (standing - 1)) * (standing - 1) + 1
 
 
 TURN_FRACTIONS = (1.0, 0.5, 0.25, 0.0)
