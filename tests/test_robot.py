@@ -437,6 +437,59 @@ def test_a_robot_holds_the_standing_show_while_a_person_blocks_its_way_on() -> N
     assert holding[4][:2] == (False, False)
 
 
+@pytest.mark.parametrize("paced", [False, True], ids=["together", "paced"])
+def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_ahead(
+        paced: bool) -> None:
+    """A visitor stands a few cm beyond the stop distance ahead of a robot: the approach limit
+    lets it creep, so it falls behind its place and holds the show. While the show stands it
+    creeps up to its standing place; judged there it would let go, the show would run a tick,
+    it would fall behind and hold again, and its mates lurched on at every let-go (thesis
+    7.1's row with a visitor in R1's lane: R2 drove 3.5 cm at a time, and on ROS once 0.37 m
+    as R1's cable was pulled just after a let-go). It keeps holding while the person would
+    cut the motion the show asks; with the person a little farther, a paced robot says the
+    pace it could follow instead; with the person gone it lets go."""
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import HOLD_LAG, PACE_MIN, SensingConfig
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
+    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path",
+                       paced=paced)
+    front = 0.5 * brain.sensing.length + brain.sensing.detection.stop_distance
+
+    def person(gap: float) -> np.ndarray:
+        return np.array([[front + gap, y, 0.0, 1.7] for y in np.linspace(-0.1, 0.1, 5)])
+
+    place = brain.slot_at(2.0).pose
+
+    def short_of_place(by: float) -> tuple[float, float, float]:
+        return (place[0] - by * math.cos(place[2]), place[1] - by * math.sin(place[2]),
+                place[2])
+
+    def holds(gap: float | None) -> tuple[bool, float]:
+        state = brain.initial_state()
+        steps = ((1.9, 1.9, short_of_place(0.12), 0.03),  # running, left behind: it holds
+                 (2.0, 2.0, short_of_place(0.1), 0.03),
+                 (2.1, 2.0, short_of_place(0.1), 0.03),  # the show stands
+                 (2.2, 2.0, short_of_place(0.5 * HOLD_LAG), gap))  # crept up to its place
+        for now, show_time, pose, ahead in steps:
+            columns = np.zeros((0, 4)) if ahead is None else person(ahead)
+            state, _, _ = brain.step(state, show_time, pose, PointCloud(now, columns),
+                                     clock=now)
+            if show_time == 2.0 and now < 2.2:
+                assert state.holds_show  # the lag rule's hold
+                assert not state.held
+        return state.holds_show, state.pace
+
+    assert holds(0.03) == (True, 1.0)  # the person would cut the show's motion to a crawl
+    assert holds(None) == (False, 1.0)  # gone: the show goes on
+    farther, pace = holds(0.15)
+    if paced:  # it could follow a share of the show's speed: it says so
+        assert not farther
+        assert PACE_MIN * 0.9 < pace < 0.9
+    else:
+        assert (farther, pace) == (True, 1.0)
+
+
 def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:
     """After the plan's end nothing is late: a robot 0.5 m short of its final slot with a
     person 0.8 m beside it (NEAR_GAP) stands, held and holding the show (it asks for room);
