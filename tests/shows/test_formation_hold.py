@@ -13,7 +13,7 @@ from dancebots.check import CheckOptions
 from dancebots.loading import load_show
 from dancebots.plan.compile import compile_scenario
 from dancebots.plan.placement import place_show, places_followed
-from dancebots.report.metrics import clock_waits, run_metrics
+from dancebots.report.metrics import clock_restarts, clock_waits, run_metrics
 from dancebots.report.verdict import STALL_TOLERANCE, run_verdict
 from dancebots.robot import BrainOptions
 from dancebots.shows.formation import Fault, RunResult, SimConfig, simulate
@@ -107,6 +107,27 @@ def test_the_clock_stands_for_the_bystander_and_the_metrics_say_so() -> None:
     assert (metrics.clock_stood, metrics.clock_stood_for_people) == waits
     assert metrics.clock_stood_otherwise == 0.0
     assert metrics.to_json()["clock_stood_s"] == round(waits.stood, 4)
+    # the formation starts off once, when she walks off, and never lurches on a few cm while
+    # R1 still waits (before: 3 restarts, 2 of them brief, as R1 crept up to its place)
+    assert clock_restarts(result) == (1, 0)
+    assert (metrics.clock_restarts, metrics.clock_brief_runs) == (1, 0)
+    assert metrics.to_json()["clock_brief_runs"] == 0
+
+
+def test_clock_restarts_counts_every_start_after_a_stand_and_the_brief_ones() -> None:
+    """On the bystander's run with its show times replaced (every robot alike): the clock
+    runs, stands, runs 2 ticks (brief), stands, runs 10 ticks, stands, runs past the show's
+    end (not brief)."""
+    result = _run()
+    ticks = len(result.times)
+    steps = np.full(ticks - 1, 0.1)
+    for stand in (range(20, 30), range(32, 40), range(50, 60)):
+        steps[list(stand)] = 0.0
+    clock = np.concatenate([[0.0], np.cumsum(steps)])
+    faked = replace(result, show_times=np.tile(clock, (len(result.robots), 1)))
+    assert clock_restarts(faked) == (3, 1)
+    assert clock_restarts(faked, brief=1.0) == (3, 2)
+    assert clock_restarts(replace(faked, holds=None)) == (0, 0)
 
 
 def test_a_formation_that_stands_for_a_failed_robot_with_nobody_near_is_a_stall() -> None:

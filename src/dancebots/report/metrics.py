@@ -40,6 +40,7 @@ __all__ = [
     "REVERSE_DISTANCE_MIN",
     "REVERSE_SPEED_MIN",
     "WHEEL_TURN_MIN",
+    "ClockRestarts",
     "ClockWaits",
     "FormationError",
     "OffFormation",
@@ -47,6 +48,7 @@ __all__ = [
     "RowMetrics",
     "RunMetrics",
     "against_desired",
+    "clock_restarts",
     "clock_waits",
     "formation_error",
     "heading_errors",
@@ -194,6 +196,8 @@ class RunMetrics:
     clock_stood: float = 0.0
     clock_stood_for_people: float = 0.0
     show_end: float | None = None
+    clock_restarts: int = 0
+    clock_brief_runs: int = 0
 
     @property
     def finished(self) -> bool:
@@ -280,6 +284,8 @@ class RunMetrics:
             "show_end_s": r3(self.show_end),
             "clock_stood_s": r3(self.clock_stood),
             "clock_stood_for_people_s": r3(self.clock_stood_for_people),
+            "clock_restarts": self.clock_restarts,
+            "clock_brief_runs": self.clock_brief_runs,
             "max_spacing_change_m": r3(self.max_spacing_change),
             "rms_slot_error_m": r3(self.rms_slot_error),
             "max_slot_error_m": r3(self.max_slot_error),
@@ -383,6 +389,7 @@ def run_metrics(result: RunResult) -> RunMetrics:
                      if result.wheel_rates is not None else None)
         for i, name in enumerate(result.robots))
     waits = clock_waits(result)
+    restarts = clock_restarts(result)
     return RunMetrics(
         plan.scenario.path, result.config.profile.name, result.config.seed, plan.duration,
         float(result.times[-1]), robots, tuple(_rows(result)), len(result.collisions),
@@ -404,7 +411,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
             result, stopped | (result.holds if result.holds is not None else stopped), during),
         final_show_time=float(result.show_time[:, -1].min()) if len(result.times) else None,
         clock_stood=waits.stood, clock_stood_for_people=waits.for_people,
-        show_end=settle_from(plan, result.config.brain.follower))
+        show_end=settle_from(plan, result.config.brain.follower),
+        clock_restarts=restarts.restarts, clock_brief_runs=restarts.brief)
 
 
 class ClockWaits(NamedTuple):
@@ -456,6 +464,43 @@ def clock_waits(result: RunResult, near: float = PERSON_NEAR) -> ClockWaits:
             gaps = gaps - result.spectator_radii[:, None]  # (NaN: not in the room)
             explained[mine] |= (np.where(np.isnan(gaps), np.inf, gaps) < near).any(axis=0)
     return ClockWaits(float(stood.sum()) * period, float((stood & explained).sum()) * period)
+
+
+BRIEF_RUN = 0.35
+"""s: a run of the shared show clock between two stands this short or shorter is brief."""
+
+
+class ClockRestarts(NamedTuple):
+    """How often the formation's shared show clock ran again during the show after it had
+    stood (``restarts``: the formation starts off again, what the audience sees of a wait
+    ending), and of those how many ran :data:`BRIEF_RUN` s or less before it stood again
+    (``brief``: the formation lurches on a few cm and stops, a hold let go and taken again)."""
+
+    restarts: int
+    brief: int
+
+
+def clock_restarts(result: RunResult, brief: float = BRIEF_RUN) -> ClockRestarts:
+    """The run's :class:`ClockRestarts`, on the formation's show time (the earliest robot's,
+    ``RunResult.show_time`` (R, T)) while it is in [0, the show's end) as for
+    :func:`clock_waits`; a run still going at the run's end is not brief. (0, 0) without a
+    shared clock."""
+    times = result.times
+    if len(times) < 2 or result.holds is None:
+        return ClockRestarts(0, 0)
+    clock = result.show_time.min(axis=0)  # (T,)
+    end = settle_from(result.plan, result.config.brain.follower)
+    within = (clock[1:] >= 0.0) & (clock[1:] < end - 1e-9)
+    runs = np.diff(clock) > 0.0  # (T-1,): the clock advanced into tick k + 1
+    stood = ~runs & within
+    starts = np.flatnonzero(runs[1:] & stood[:-1]) + 1  # the first step of a run
+    stops = np.flatnonzero(stood)
+    brief_runs = 0
+    for k in starts.tolist():
+        after = stops[stops > k]
+        if len(after) and times[after[0]] - times[k] <= brief + 1e-9:
+            brief_runs += 1
+    return ClockRestarts(len(starts), brief_runs)
 
 
 def held_place_error(result: RunResult, stopped: BoolArray, during: BoolArray,
