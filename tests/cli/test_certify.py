@@ -106,6 +106,11 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     assert round(seed5["held_place_error"], 4) == metrics["held_place_error_m"]
     assert seed5["angular_sign_flips"] == metrics["angular_sign_flips"]
     assert round(seed5["reverse_fraction"], 4) == metrics["reverse_fraction"]
+    assert seed5["clock_brief_runs"] == metrics["clock_brief_runs"]
+    brief = [r["clock_brief_runs"] for r in cert["per_run"]]
+    assert (f"the formation lurched on (its clock ran 0.35 s or less between two stands), "
+            f"times per run: median {statistics.median(brief):.0f}, max {max(brief)}"
+            ) in done.stdout
     assert cert["stops"]["max"] == max(r["stops"] for r in cert["per_run"])
     flips = [r["angular_sign_flips"] for r in cert["per_run"]]
     assert cert["angular_sign_flips"]["max"] == max(flips)

@@ -355,6 +355,11 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
               f"{flips['median']:.0f}, max {flips['max']:.0f}; driving against the slot's "
               f"direction, share of the moving ticks: median {reverse['median']:.1%}, max "
               f"{reverse['max']:.1%}", highlight=False)
+    brief = data["clock_brief_runs"]
+    assert isinstance(brief, dict)
+    out.print(f"the formation lurched on (its clock ran 0.35 s or less between two stands), "
+              f"times per run: median {brief['median']:.0f}, max {brief['max']:.0f}",
+              highlight=False)
     apart = data["held_place_error_m"]
     assert isinstance(apart, dict)
     if apart["max"] is not None:

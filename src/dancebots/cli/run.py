@@ -321,7 +321,9 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     if metrics.clock_stood > 0.0:
         out.print(f"the shared show clock stood {metrics.clock_stood:.1f} s, "
                   f"{metrics.clock_stood_for_people:.1f} s of it with a person near a robot that "
-                  "held it", highlight=False)
+                  f"held it; it started again {metrics.clock_restarts} times, "
+                  f"{metrics.clock_brief_runs} of them for 0.35 s or less (the formation "
+                  "lurching on)", highlight=False)
     style = "bold red" if metrics.collisions else "green"
     out.print(f"collisions: {metrics.collisions}", style=style, highlight=False)
     out.print(f"wrote {target}/: {', '.join(written)}", highlight=False)

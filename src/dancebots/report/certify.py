@@ -63,8 +63,10 @@ class RunSummary:
     formation's shared show clock stood during the show, clock_stood_for_people: s of it with
     a person near a robot that held it (``report.metrics.clock_waits``); how the robots
     looked: angular_sign_flips, the sign changes of their commanded turn rates (chatter),
-    summed over the robots, and reverse_fraction, the share of the ticks in which some
-    robot's slot moves that a robot drove against it (``report.metrics.RunMetrics``).
+    summed over the robots, reverse_fraction, the share of the ticks in which some robot's
+    slot moves that a robot drove against it, and clock_brief_runs, how often the formation
+    lurched on (the shared clock ran 0.35 s or less between two stands:
+    ``report.metrics.clock_restarts``) (``report.metrics.RunMetrics``).
     """
 
     seed: int
@@ -85,6 +87,7 @@ class RunSummary:
     clock_stood_for_people: float = 0.0
     angular_sign_flips: int = 0
     reverse_fraction: float = 0.0
+    clock_brief_runs: int = 0
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -172,7 +175,8 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.finished,
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
-        metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction)
+        metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction,
+        metrics.clock_brief_runs)
 
 
 @dataclass(frozen=True, slots=True)
@@ -257,6 +261,8 @@ class Certificate:
             "angular_sign_flips": stats(np.array([r.angular_sign_flips for r in self.runs],
                                                  dtype=float)),
             "reverse_fraction": stats(np.array([r.reverse_fraction for r in self.runs])),
+            "clock_brief_runs": stats(np.array([r.clock_brief_runs for r in self.runs],
+                                               dtype=float)),
             "wall_s": round(self.wall, 2),
             "processes": self.processes,
             "per_run": [{**asdict(r), "failures": list(r.failures),
