@@ -446,10 +446,13 @@ def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_
     it would fall behind and hold again, and its mates lurched on at every let-go (thesis
     7.1's row with a visitor in R1's lane: R2 drove 3.5 cm at a time, and on ROS once 0.37 m
     as R1's cable was pulled just after a let-go). It keeps holding while the person would
-    cut the motion the show asks; with the person a little farther, a paced robot says the
-    pace it could follow instead; with the person gone it lets go."""
+    cut the motion the show asks, and says so (held: its stop sentence, so that the person
+    hears they should make room); with the person a little farther, a paced robot says the
+    pace it could follow instead; with the person gone it lets go. Running, a paced robot
+    that paced and has caught up with its (slowed) place goes on pacing, at no less than
+    PACE_MIN, instead of saying 1 for a tick."""
     from dancebots.perception.cloud import PointCloud
-    from dancebots.robot import HOLD_LAG, PACE_MIN, SensingConfig
+    from dancebots.robot import HOLD_LAG, PACE_MARGIN, PACE_MIN, SensingConfig
 
     plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
     brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(), follower="path",
@@ -459,18 +462,17 @@ def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_
     def person(gap: float) -> np.ndarray:
         return np.array([[front + gap, y, 0.0, 1.7] for y in np.linspace(-0.1, 0.1, 5)])
 
-    place = brain.slot_at(2.0).pose
-
-    def short_of_place(by: float) -> tuple[float, float, float]:
+    def short_of_place(show_time: float, by: float) -> tuple[float, float, float]:
+        place = brain.slot_at(show_time).pose
         return (place[0] - by * math.cos(place[2]), place[1] - by * math.sin(place[2]),
                 place[2])
 
-    def holds(gap: float | None) -> tuple[bool, float]:
+    def holds(gap: float | None) -> tuple[bool, bool, float]:
         state = brain.initial_state()
-        steps = ((1.9, 1.9, short_of_place(0.12), 0.03),  # running, left behind: it holds
-                 (2.0, 2.0, short_of_place(0.1), 0.03),
-                 (2.1, 2.0, short_of_place(0.1), 0.03),  # the show stands
-                 (2.2, 2.0, short_of_place(0.5 * HOLD_LAG), gap))  # crept up to its place
+        steps = ((1.9, 1.9, short_of_place(1.9, 0.12), 0.03),  # running, left behind: holds
+                 (2.0, 2.0, short_of_place(2.0, 0.1), 0.03),
+                 (2.1, 2.0, short_of_place(2.0, 0.1), 0.03),  # the show stands
+                 (2.2, 2.0, short_of_place(2.0, 0.5 * HOLD_LAG), gap))  # crept up to its place
         for now, show_time, pose, ahead in steps:
             columns = np.zeros((0, 4)) if ahead is None else person(ahead)
             state, _, _ = brain.step(state, show_time, pose, PointCloud(now, columns),
@@ -478,16 +480,28 @@ def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_
             if show_time == 2.0 and now < 2.2:
                 assert state.holds_show  # the lag rule's hold
                 assert not state.held
-        return state.holds_show, state.pace
+        return state.holds_show, state.held, state.pace
 
-    assert holds(0.03) == (True, 1.0)  # the person would cut the show's motion to a crawl
-    assert holds(None) == (False, 1.0)  # gone: the show goes on
-    farther, pace = holds(0.15)
+    assert holds(0.03) == (True, True, 1.0)  # the person would cut the show to a crawl
+    assert holds(None) == (False, False, 1.0)  # gone: the show goes on
+    farther = holds(0.15)
     if paced:  # it could follow a share of the show's speed: it says so
-        assert not farther
-        assert PACE_MIN * 0.9 < pace < 0.9
+        assert farther[:2] == (False, False)
+        assert PACE_MIN * PACE_MARGIN < farther[2] < PACE_MARGIN
     else:
-        assert (farther, pace) == (True, 1.0)
+        assert farther == (True, True, 1.0)
+
+    # running: it paced (left behind at 1.9 s), then caught up with its place at 2.0 s
+    state = brain.initial_state()
+    for now, pose, gap in ((1.9, short_of_place(1.9, 0.12), 0.15),
+                           (2.0, short_of_place(2.0, 0.5 * HOLD_LAG), 0.03)):
+        state, _, _ = brain.step(state, now, pose, PointCloud(now, person(gap)), clock=now,
+                                 rate=0.5)
+    if paced:
+        assert not state.holds_show
+        assert state.pace == pytest.approx(PACE_MIN * PACE_MARGIN)  # the crawl's floor
+    else:
+        assert (state.holds_show, state.pace) == (False, 1.0)  # nothing to pace
 
 
 def test_a_robot_that_does_not_know_where_it_is_stands_and_holds_the_show() -> None:
