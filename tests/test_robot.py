@@ -448,9 +448,7 @@ def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_
     as R1's cable was pulled just after a let-go). It keeps holding while the person would
     cut the motion the show asks, and says so (held: its stop sentence, so that the person
     hears they should make room); with the person a little farther, a paced robot says the
-    pace it could follow instead; with the person gone it lets go. Running, a paced robot
-    that paced and has caught up with its (slowed) place goes on pacing, at no less than
-    PACE_MIN, instead of saying 1 for a tick."""
+    pace it could follow instead; with the person gone it lets go."""
     from dancebots.perception.cloud import PointCloud
     from dancebots.robot import HOLD_LAG, PACE_MARGIN, PACE_MIN, SensingConfig
 
@@ -491,17 +489,6 @@ def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_
     else:
         assert farther == (True, True, 1.0)
 
-    # running: it paced (left behind at 1.9 s), then caught up with its place at 2.0 s
-    state = brain.initial_state()
-    for now, pose, gap in ((1.9, short_of_place(1.9, 0.12), 0.15),
-                           (2.0, short_of_place(2.0, 0.5 * HOLD_LAG), 0.03)):
-        state, _, _ = brain.step(state, now, pose, PointCloud(now, person(gap)), clock=now,
-                                 rate=0.5)
-    if paced:
-        assert not state.holds_show
-        assert state.pace == pytest.approx(PACE_MIN * PACE_MARGIN)  # the crawl's floor
-    else:
-        assert (state.holds_show, state.pace) == (False, 1.0)  # nothing to pace
 
 
 def test_a_robot_that_does_not_know_where_it_is_stands_and_holds_the_show() -> None:

@@ -138,9 +138,9 @@ def test_a_visitor_who_stays_in_a_lane_stops_the_row_once(examples: Path,
                                                           config: SimConfig) -> None:
     """Thesis 7.1's row with a visitor standing in R1's lane for good: R1 creeps up to the
     visitor on its approach limit and paces (``paced``: the show slows) or holds the show;
-    from then on R2 slows with the show and stands where it stopped (before, R1 let go each
-    time it had crept up to its place, the show ran a tick at full pace and R2 lurched on
-    3.5 cm: ``RobotBrain.step``'s rule on the motion the show would ask at its full pace).
+    once the show stands it stands for good, R1 holds it and R2 stands where it stopped
+    (before, R1 let go each time it had crept up to its standing place, the show ran a tick
+    and R2 lurched on 3.5 cm: ``RobotBrain.step``'s hold on the motion the show would ask).
     The batch decides as the brains do."""
     reference, batched = both(examples / "thesis_7_1.dance",
                               ROOT / "tests" / "data" / "worlds" / "visitor_in_lane.toml",
@@ -148,20 +148,21 @@ def test_a_visitor_who_stays_in_a_lane_stops_the_row_once(examples: Path,
     assert_same_run(reference, batched)
     assert batched.holds is not None
     r1, r2 = batched.placement.robots.index("R1"), batched.placement.robots.index("R2")
-    first = int(np.argmax(batched.holds[r1]))
-    assert batched.holds[r1, first:].all()  # once held (or pacing), R1 holds for good
-    # R2 slows with the show and never speeds up again (before: 0.13, 0.12, then 0.36 m/s)
-    assert np.diff(batched.commands[r2, first:, 0]).max() < 0.01
     clock = batched.show_time[r2]
-    stood = int(np.flatnonzero(np.diff(clock) > 1e-9)[-1]) + 1  # the show time stands
-    assert batched.times[-1] > batched.times[stood] + 10.0  # and was watched for 10 s
+    first = int(np.argmax(batched.holds[r1]))  # R1 slowed: it paces or holds
+    stood = first + int(np.argmax(np.diff(clock[first:]) <= 0.0))  # the show first stands
+    assert np.ptp(batched.show_time[:, stood:]) < 1e-9  # and never runs on (before: 2-5 times)
+    assert batched.holds[r1, stood:].all()  # R1 holds it for good
+    assert batched.times[-1] > batched.times[stood] + 10.0  # watched for 10 s
+    # R2 slows with the show and never speeds up again once it stands
+    assert np.diff(batched.commands[r2, stood:, 0]).max() < 0.01
     settled = stood + 20  # R2 brakes (the realistic profile's lag) within 2 s
     drift = np.hypot(*(batched.poses[r2, settled:, :2] - batched.poses[r2, settled, :2]).T)
     assert drift.max() < 0.005
 
 
 @pytest.mark.parametrize(("world", "seed"), [("open_day_crowd.toml", 13),
-                                             ("open_day_children.toml", 9),
+                                             ("open_day_children.toml", 7),
                                              ("open_day_runners.toml", 9)])
 def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         world: str, seed: int, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -838,36 +838,27 @@ class RobotBrain:
                     holds_show = pace < PACE_MIN * PACE_MARGIN
                     if holds_show:
                         pace = 1.0  # (it holds the show: no pace to say)
-            # the motion the show would ask at its full pace: while it stands, ``going``;
-            # while it runs slowed by this robot's pace, the plan's speed at the place
-            asked = (go_linear if going is not None else
-                     full_speed if self.paced and state.pace < 1.0 else 0.0)
-            if (not held and not holds_show and pace >= 1.0 and asked != 0.0
-                    and (state.holds_show or state.pace < 1.0)):
-                # it held or paced the show and has crept up to its place (the approach
-                # limit to a person who stays): judged on that place it would let go, the
-                # show would run a tick at full pace, it would fall behind and hold again,
-                # and its mates lurched on at every let-go (a visitor in R1's lane: 3.5 cm at
-                # a time). While a stranger would cut that motion (as the lag rule above
-                # judges a cut) a robot that held the standing show keeps holding it, and
-                # says so (thesis 5.2's stop sentence and beeps: the formation stands for
-                # the person in its way, who hears that they should make room; held
-                # silently, people stood on and shows waited to the run's limit); a robot
-                # that paced the running show goes on pacing it, at no less than PACE_MIN
-                # (it holds it only once it falls behind again, by the lag rule)
-                asked_limit = self._approach_limit(
-                    near.front_free if asked > 0.0 else near.rear_free, None, 0.0)
-                if asked_limit < abs(asked) - SLOWED:
-                    if going is None:
-                        pace = max(_pace_left(asked_limit, 0.0, full_speed, 0.0, asked, 0.0),
-                                   PACE_MIN * PACE_MARGIN)
-                    else:
-                        held = holds_show = True
-                        if self.paced:
-                            pace = _pace_left(asked_limit, 0.0, full_speed, 0.0, asked, 0.0)
-                            held = holds_show = pace < PACE_MIN * PACE_MARGIN
-                            if holds_show:
-                                pace = 1.0
+            if (going is not None and (state.holds_show or state.pace < 1.0) and not held
+                    and not holds_show and pace >= 1.0 and go_linear != 0.0):
+                # it held or paced the show and has crept up to its standing place (the
+                # approach limit to a person who stays): judged on that place it would let
+                # go, the show would run a tick at full pace, it would fall behind and hold
+                # again, and its mates lurched on at every let-go (a visitor in R1's lane:
+                # 3.5 cm at a time). While a stranger would cut the motion the show would
+                # ask (``going``, as the lag rule above judges a cut) it keeps holding, and
+                # says so (thesis 5.2's stop sentence and beeps: the formation stands for the
+                # person in its way, who hears that they should make room; held silently,
+                # people stood on and shows waited to the run's limit); paced, it says the
+                # pace it could follow where that is PACE_MIN or more
+                go_limit = self._approach_limit(
+                    near.front_free if go_linear > 0.0 else near.rear_free, None, 0.0)
+                if go_limit < abs(go_linear) - SLOWED:
+                    held = holds_show = True
+                    if self.paced:
+                        pace = _pace_left(go_limit, 0.0, full_speed, 0.0, go_linear, 0.0)
+                        held = holds_show = pace < PACE_MIN * PACE_MARGIN
+                        if holds_show:
+                            pace = 1.0
             command = Command(linear, angular)
         else:
             follower = state.follower

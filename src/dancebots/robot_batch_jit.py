@@ -791,27 +791,21 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     holds_show = pace < rules[PACE_MIN] * rules[PACE_MARGIN]
                     if holds_show:
                         pace = 1.0
-            # ``RobotBrain.step``: held or paced at its last tick and crept up to its place,
-            # it keeps holding the standing show (and says so), or pacing the running one,
-            # while a stranger would cut the motion the show would ask at its full pace
-            asked = go_linear if going else (
-                full_speed if paced and paces[r] < 1.0 else 0.0)
-            if (not held and not holds_show and pace >= 1.0 and asked != 0.0
-                    and (flags[r, 1] or paces[r] < 1.0)):
-                asked_limit = _approach_limit(rules, stop, n_front if asked > 0.0 else n_rear,
-                                              0.0, False, 0.0, False)
-                if asked_limit < abs(asked) - rules[SLOWED]:
-                    planned = full_speed if full_speed != 0.0 else asked
-                    share = rules[PACE_MARGIN] * min(1.0, asked_limit / abs(planned))
-                    if not going:  # ``robot._pace_left`` of the linear speed alone
-                        pace = max(share, rules[PACE_MIN] * rules[PACE_MARGIN])
-                    else:
-                        held = holds_show = True
-                        if paced:
-                            pace = share
-                            held = holds_show = pace < rules[PACE_MIN] * rules[PACE_MARGIN]
-                            if holds_show:
-                                pace = 1.0
+            # ``RobotBrain.step``: held or paced at its last tick and crept up to its standing
+            # place, it keeps holding (and says so) while a stranger would cut the motion the
+            # show would ask
+            if (going and (flags[r, 1] or paces[r] < 1.0) and not held and not holds_show
+                    and pace >= 1.0 and go_linear != 0.0):
+                go_limit = _approach_limit(rules, stop, n_front if go_linear > 0.0 else n_rear,
+                                           0.0, False, 0.0, False)
+                if go_limit < abs(go_linear) - rules[SLOWED]:
+                    held = holds_show = True
+                    if paced:  # ``robot._pace_left`` of the linear speed alone
+                        planned = full_speed if full_speed != 0.0 else go_linear
+                        pace = rules[PACE_MARGIN] * min(1.0, go_limit / abs(planned))
+                        held = holds_show = pace < rules[PACE_MIN] * rules[PACE_MARGIN]
+                        if holds_show:
+                            pace = 1.0
         else:  # ``RobotBrain.step``: no pose during the show, it stands and holds the show
             holds_show = not known and show_time >= 0.0
         # ``safety.monitor.safety_step``
