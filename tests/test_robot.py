@@ -317,7 +317,6 @@ def test_near_a_stranger_a_robot_turns_slowly_enough_for_its_corners() -> None:
     assert not turn_with_person_at(0.8 * NEAR_GAP, start=0)[1]
 
 
-
 def test_a_turn_cut_for_a_stranger_slows_the_robot_along_the_same_arc(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """A robot 0.3 m to the left of its place, which drives on at 0.35 m/s: the tracking
@@ -488,32 +487,6 @@ def test_a_robot_that_crept_up_to_its_standing_place_keeps_holding_for_a_person_
         assert PACE_MIN * PACE_MARGIN < farther[2] < PACE_MARGIN
     else:
         assert farther == (True, True, 1.0)
-
-
-
-def test_a_robot_that_does_not_know_where_it_is_stands_and_holds_the_show() -> None:
-    """A failed pose look-up during the show: the robot stands (no command) and holds the
-    formation's show clock until it knows its pose again, so that its mates do not drive on
-    while it stands (on ROS a pulled cable stops its poses first: it let go of a hold it
-    had for a visitor, and the show went on for a second). Before the start there is no
-    show to hold."""
-    from dancebots.robot import STOP, SensingConfig
-
-    plan = plan_of("robots R1\nrow R1 0 0\nmove 4 0\n")
-    brain = RobotBrain(plan, "R1", FollowerParams(), sensing=SensingConfig(lidar=False),
-                       follower="path")
-
-    def run(*ticks: tuple[float, bool]) -> list[tuple[bool, bool]]:
-        state, seen = brain.initial_state(), []
-        for now, known in ticks:
-            pose = brain.slot_at(max(now, 0.0)).pose if known else None
-            state, command, _ = brain.step(state, now, pose, None, clock=now)
-            seen.append((state.holding_the_show, command == STOP))
-        return seen
-
-    assert run((1.0, True), (1.1, False), (1.2, False), (1.3, True)) == [
-        (False, False), (True, True), (True, True), (False, False)]
-    assert run((-0.6, True), (-0.5, False)) == [(False, True), (False, True)]
 
 
 def test_after_the_show_a_robot_goes_to_its_final_slot_only_with_no_stranger_near() -> None:

@@ -862,10 +862,6 @@ class RobotBrain:
             command = Command(linear, angular)
         else:
             follower = state.follower
-            # a robot that does not know where it is during the show stands (no command):
-            # it holds the show, as a robot lost to the network does (``sync.hold``), so its
-            # mates do not drive on while it stands (a pulled cable: its poses stop first)
-            holds_show = pose is None and show_time >= 0.0
         safety, events, may_move = safety_step(
             sensing.safety, state.safety, now, pose is not None,
             cloud is not None or not sensing.lidar, held)

@@ -806,8 +806,6 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                         held = holds_show = pace < rules[PACE_MIN] * rules[PACE_MARGIN]
                         if holds_show:
                             pace = 1.0
-        else:  # ``RobotBrain.step``: no pose during the show, it stands and holds the show
-            holds_show = not known and show_time >= 0.0
         # ``safety.monitor.safety_step``
         events[r], event_values[r] = EVENT_NONE, 0.0
         may_move = False
