@@ -128,6 +128,16 @@ def test_clock_restarts_counts_every_start_after_a_stand_and_the_brief_ones() ->
     assert clock_restarts(faked) == (3, 1)
     assert clock_restarts(faked, brief=1.0) == (3, 2)
     assert clock_restarts(replace(faked, holds=None)) == (0, 0)
+    # a run that reaches the show's end and stands there (the after-show wait) is no brief
+    # run: the clock stands from 2 ticks before the end, runs 2 ticks onto it and stands
+    end = run_metrics(result).show_end
+    assert end is not None
+    at_end = np.minimum(np.concatenate([[0.0], np.cumsum(np.full(ticks - 1, 0.1))]),
+                        end - 0.2)
+    k = int(np.argmax(at_end >= end - 0.2))
+    at_end[k + 5:] = np.minimum(at_end[k] + 0.1 * np.arange(1, ticks - k - 4), end)
+    ended = replace(result, show_times=np.tile(at_end, (len(result.robots), 1)))
+    assert clock_restarts(ended) == (1, 0)
 
 
 def test_a_formation_that_stands_for_a_failed_robot_with_nobody_near_is_a_stall() -> None:
