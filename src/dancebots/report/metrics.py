@@ -441,10 +441,7 @@ def clock_waits(result: RunResult, near: float = PERSON_NEAR) -> ClockWaits:
     if len(times) < 2 or result.holds is None:
         return ClockWaits(0.0, 0.0)
     period = float(np.median(np.diff(times)))
-    clock = result.show_time.min(axis=0)  # (T,)
-    stood = np.zeros(len(times), dtype=bool)
-    end = settle_from(result.plan, result.config.brain.follower)
-    stood[1:] = (np.diff(clock) <= 0.0) & (clock[1:] >= 0.0) & (clock[1:] < end - 1e-9)
+    stood = _clock_stood(result)
     if not stood.any():
         return ClockWaits(0.0, 0.0)
     lag = 1 + math.ceil(result.config.hold_delay / period - 1e-9)
@@ -488,19 +485,26 @@ def clock_restarts(result: RunResult, brief: float = BRIEF_RUN) -> ClockRestarts
     times = result.times
     if len(times) < 2 or result.holds is None:
         return ClockRestarts(0, 0)
+    stood = _clock_stood(result)  # (T,)
+    runs = np.diff(result.show_time.min(axis=0)) > 0.0  # (T-1,): advanced into tick k + 1
+    starts = np.flatnonzero(runs & stood[:-1]) + 1  # the first tick a run reaches
+    stops = np.flatnonzero(stood)  # (ticks at which it stood)
+    after = np.searchsorted(stops, starts)  # the first stand after each start
+    ended = after < len(stops)
+    # it ran from the tick before its start to the tick before that stand
+    lasted = times[stops[after[ended]] - 1] - times[starts[ended] - 1]
+    return ClockRestarts(len(starts), int(np.count_nonzero(lasted <= brief + 1e-9)))
+
+
+def _clock_stood(result: RunResult) -> NDArray[np.bool_]:
+    """(T,) the ticks at which the formation's shared show clock stood during the show: its
+    show time (the earliest robot's) in [0, the show's end) (``shows.formation.
+    settle_from``) and not advanced since the tick before (never at the first tick)."""
     clock = result.show_time.min(axis=0)  # (T,)
     end = settle_from(result.plan, result.config.brain.follower)
-    within = (clock[1:] >= 0.0) & (clock[1:] < end - 1e-9)
-    runs = np.diff(clock) > 0.0  # (T-1,): the clock advanced into tick k + 1
-    stood = ~runs & within
-    starts = np.flatnonzero(runs[1:] & stood[:-1]) + 1  # the first step of a run
-    stops = np.flatnonzero(stood)
-    brief_runs = 0
-    for k in starts.tolist():
-        after = stops[stops > k]
-        if len(after) and times[after[0]] - times[k] <= brief + 1e-9:
-            brief_runs += 1
-    return ClockRestarts(len(starts), brief_runs)
+    stood = np.zeros(len(clock), dtype=bool)
+    stood[1:] = (np.diff(clock) <= 0.0) & (clock[1:] >= 0.0) & (clock[1:] < end - 1e-9)
+    return stood
 
 
 def held_place_error(result: RunResult, stopped: BoolArray, during: BoolArray,
