@@ -48,8 +48,11 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
     recorded as MCAP (--record FILE.mcap: the bridge writes it as the run goes; the other
     tests here read the bridge's .npz); meanwhile formation_member puts the thesis's
     virtual-leader frames on TF: R1/map -> R1/vl_map (the show frame seen from R1's first
-    slot) -> R1/virtual_leader (on the leader's planned path, moving)."""
+    slot) -> R1/virtual_leader (on the leader's planned path, moving). The run leaves no
+    file in its temporary directory (roslaunch reads the launch XML from stdin)."""
     record_path = tmp_path / "record.mcap"
+    scratch = tmp_path / "tmpdir"
+    scratch.mkdir()
     dancebots = Path(sys.executable).parent / "dancebots"
     plan = plan_of(SCENARIO_7_1)
     duration = plan.duration
@@ -64,7 +67,8 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
         with open(tmp_path / "simulate.log", "wb") as log:
             finished = subprocess.run(
                 [str(dancebots), "ros", "simulate", str(SCENARIO_7_1), "--record",
-                 str(record_path)], env=roscore.env, stdout=log, stderr=subprocess.STDOUT,
+                 str(record_path)], env={**roscore.env, "TMPDIR": str(scratch)},
+                stdout=log, stderr=subprocess.STDOUT,
                 timeout=duration + START_ALLOWANCE + 60, check=False)
         probe.terminate()
         said = probe.communicate(timeout=60)[0].strip().splitlines()
@@ -75,6 +79,7 @@ def test_scenario_7_1_through_ros_matches_the_pure_simulation(roscore: Master,
         probe.wait()
     output = (tmp_path / "simulate.log").read_text(errors="replace")
     assert finished.returncode == 0, output[-3000:]
+    assert sorted(scratch.iterdir()) == []
     assert (frames["R1/vl_map"]["parent"], frames["R1/virtual_leader"]["parent"]) == (
         "R1/map", "R1/vl_map")
     slot = plan.desired_poses("R1", np.zeros(1))[0]

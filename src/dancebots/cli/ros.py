@@ -172,11 +172,14 @@ def run(args: argparse.Namespace) -> int:
     roslaunch = _roslaunch()
     if roslaunch is None:
         return EXIT_INVALID
-    folder = Path(tempfile.mkdtemp(prefix="dancebots-ros-"))
-    launch = folder / "simulation.launch"
-    launch.write_text(text)
+    # roslaunch reads the launch XML from its standard input ("-"): an unnamed temporary
+    # file that is gone with the last process holding it, so a run leaves no file behind
+    with tempfile.TemporaryFile() as launch:
+        launch.write(text.encode())
+        launch.seek(0)
+        os.dup2(launch.fileno(), 0)
     sys.stdout.flush()
-    os.execve(roslaunch, [roslaunch, str(launch)], ros_environment())
+    os.execve(roslaunch, [roslaunch, "-"], ros_environment())
     return EXIT_OK  # not reached
 
 
