@@ -1,8 +1,9 @@
 """Speech and beeps for sound_play (thesis 5.2), whose message package Debian does not ship.
 
 The sound_play/SoundRequest class is generated at run time by genpy from the message's
-definition (the fields of ROS 1 sound_play's SoundRequest.msg), so a sound_play node on a
-robot receives it like its own: ``say_request`` speaks a sentence, ``beep_request`` plays
+definition (the fields of ROS 1 sound_play's SoundRequest.msg; ``report.mcap_log.
+message_classes``, which leaves no temporary files), so a sound_play node on a robot
+receives it like its own: ``say_request`` speaks a sentence, ``beep_request`` plays
 the built-in BACKINGUP beep.
 """
 
@@ -10,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import genpy.dynamic
+from dancebots.report.mcap_log import message_classes
 
 __all__ = ["SoundRequest", "beep_request", "say_request"]
 
@@ -34,8 +35,8 @@ string arg
 string arg2
 """
 
-SoundRequest: Any = genpy.dynamic.generate_dynamic("sound_play/SoundRequest",
-                                                   _DEFINITION)["sound_play/SoundRequest"]
+SoundRequest: Any = message_classes({"sound_play/SoundRequest": _DEFINITION})[
+    "sound_play/SoundRequest"]
 
 
 def say_request(text: str, volume: float = 1.0) -> Any:
