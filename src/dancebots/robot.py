@@ -189,6 +189,9 @@ that held R1 short of it); strangers keep the stop distance."""
 MAKE_ROOM_SPEED = 0.15
 """m/s: how fast a robot drives straight to make room for a turn it may not make where it
 stands (an addition; ``RobotBrain._make_room``)."""
+FINAL_NO_ROOM = 0.15
+"""m: a robot this near its final slot does not make room for the turn onto it (the turn is a
+correction of centimetres; making room drove it off the slot and back, for good)."""
 MAKE_ROOM_FLOOR = 0.05
 """m: a robot makes room only while nothing is nearer than this to its footprint: each of
 two robots making room side by side at once takes the other for standing, and if they are
@@ -646,10 +649,12 @@ class RobotBrain:
                                       seen.nearest, strangers.force)
             reference_speed = 0.0
             behind = 0.0  # m from its place (the tracking and path followers)
+            final = False  # its place stands on its final slot (the same)
             going: tuple[float, float] | None = None  # paused: what the show would ask
             if self.follower != "thesis":
                 follower = state.follower
                 reference = self._reference(show_time)
+                final = reference.final
                 full_speed, full_angular = reference.speed, reference.angular_speed
                 if paused and not reference.final:
                     going = tracking_step(self.tracking, pose, reference, seen.force)
@@ -805,10 +810,14 @@ class RobotBrain:
             if angular != 0.0 and seen.nearest < turn_reach(
                     sensing.length, sensing.width, linear, sensing.detection,
                     sensing.detection.turn_share if len(mates_now) else 1.0):
-                # it may make room for a turn only among mates (not held; no stranger near)
+                # it may make room for a turn only among mates (not held; no stranger near),
+                # and not for the last centimetres onto its final slot (a SIM robot 7 cm
+                # beside it, a mate at its side, hunted to and fro at 0.15 m/s to the run's
+                # end in the physics profiles)
                 may_make_room = (not held and knows_strangers and near.nearest >= turn_reach(
                     sensing.length, sensing.width, MAKE_ROOM_SPEED, sensing.detection)
-                    and seen.nearest >= MAKE_ROOM_FLOOR)
+                    and seen.nearest >= MAKE_ROOM_FLOOR
+                    and not (final and behind <= FINAL_NO_ROOM))
                 linear, angular, making_room = self._guard_turn(
                     obstacles, height_step, seen_from or pose, pose, linear, angular,
                     mates_now, state.making_room if may_make_room else None)

@@ -56,7 +56,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
- PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER) = range(30)
+ PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER, FINAL_NO_ROOM) = range(31)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -87,6 +87,16 @@ def _saturate(linear: float, angular: float, max_linear: float,
     if abs(angular) * scale > max_angular:
         scale = max_angular / abs(angular)
     return linear * scale, angular * scale
+
+
+@njit(cache=True)
+def _settle(gains: FloatArray, ex: float, heading_error: float) -> tuple[float, float]:
+    """``control.tracking.settle_step``."""
+    linear = (gains[ARRIVAL_GAIN] * ex * max(math.cos(heading_error), 0.0)
+              if abs(ex) > gains[ARRIVAL_DISTANCE] else 0.0)
+    angular = (gains[TURN_GAIN] * heading_error
+               if abs(heading_error) > gains[HEADING_TOLERANCE] else 0.0)
+    return linear, angular
 
 
 @njit(cache=True)
@@ -139,14 +149,19 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     distance = math.hypot(ex, ey)
     backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
     push = (-1.0 if backwards else 1.0) * gains[FORCE_GAIN_STEER] * fy
-    if distance > gains[ARRIVAL_DISTANCE] and not final:
+    if distance > gains[SETTLE_DISTANCE] and not final:
         bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
         drive = min(gains[ARRIVAL_GAIN] * distance, max_linear) * max(math.cos(bearing), 0.0)
-        return _saturate(-drive if backwards else drive, gains[TURN_GAIN] * bearing + push,
-                         max_linear, max_angular)
+        linear, angular = (-drive if backwards else drive), gains[TURN_GAIN] * bearing
+        far = (distance - gains[SETTLE_DISTANCE]) / gains[SETTLE_DISTANCE]
+        if far < 1.0:  # blended into the settle law
+            settle_linear, settle_angular = _settle(gains, ex, heading_error)
+            linear = far * linear + (1.0 - far) * settle_linear
+            angular = far * angular + (1.0 - far) * settle_angular
+        return _saturate(linear, angular + push, max_linear, max_angular)
     if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
-        linear = gains[ARRIVAL_GAIN] * ex * max(math.cos(heading_error), 0.0)
-        return _saturate(linear, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+        settle_linear, settle_angular = _settle(gains, ex, heading_error)
+        return _saturate(settle_linear, settle_angular, max_linear, max_angular)
     if distance > gains[ARRIVAL_DISTANCE]:
         linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,
                                    backwards)
@@ -761,7 +776,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     detect[TURN_SHARE] if centres.shape[0] > 0 else 1.0):
                 may_make_room = (not held and n_nearest >= _turn_reach(
                     length, width, rules[MAKE_ROOM_SPEED], detect, 1.0)
-                    and nearest >= rules[MAKE_ROOM_FLOOR])
+                    and nearest >= rules[MAKE_ROOM_FLOOR]
+                    and not (finals[r] and behind <= rules[FINAL_NO_ROOM]))
                 linear, angular, room = _guard_turn(
                     cloud, height_step, detect, view, pose, length, width, linear, angular,
                     may_make_room, making_room[r], rules, to_local(centres, view),

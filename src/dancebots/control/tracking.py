@@ -54,7 +54,7 @@ from dancebots.plan.planner import Plan, slot_velocities
 __all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
            "choose_folds", "fold_reference", "follower_places", "follower_references",
            "parking_step", "path_places", "path_references", "paused_step",
-           "references_from_motion", "shared_pose_references", "slot_reference",
+           "references_from_motion", "settle_step", "shared_pose_references", "slot_reference",
            "slot_references", "tracking_step"]
 
 FloatArray = NDArray[np.float64]
@@ -338,6 +338,24 @@ def _saturate(linear: float, angular: float, params: TrackingParams) -> tuple[fl
     return linear * scale, angular * scale
 
 
+def settle_step(params: TrackingParams, ex: float, heading_error: float,
+                ) -> tuple[float, float]:
+    """(linear m/s, angular rad/s) of a robot a few centimetres (``settle_distance``) off a
+    standing slot, ``ex`` m ahead of it along its heading, ``heading_error`` rad from it: it
+    turns to the slot's heading (within ``heading_tolerance``) and closes the distance along
+    its own while more than ``arrival_distance`` is left along it (then it stops at once, so
+    that it stands still in finite time), without turning towards the slot (a
+    spin for millimetres); the sideways error is left. It stops where nothing is left to do
+    (else a slot 4 cm beside a robot keeps it creeping to and fro by millimetres in the
+    realistic profile's noise, to the run's limit, and a creep of a centimetre towards a
+    mate behind stopped R2 with the stop sentence at the open-day show's end)."""
+    linear = (params.arrival_gain * ex * max(math.cos(heading_error), 0.0)
+              if abs(ex) > params.arrival_distance else 0.0)
+    angular = (params.turn_gain * heading_error
+               if abs(heading_error) > params.heading_tolerance else 0.0)
+    return linear, angular
+
+
 def parking_step(params: TrackingParams, distance: float, bearing: float,
                  heading_error: float, backwards: bool) -> tuple[float, float]:
     """(linear m/s, angular rad/s) that bring a robot onto a standing slot ``distance`` m
@@ -380,9 +398,11 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     (``reference.paused``): the paused law (:func:`paused_step`). While it stands a moment
     on its path: drive to it (forwards, or backwards when it is less than
     ``reverse_distance`` behind). Once it
-    stands for good (``reference.final``): park on it (:func:`parking_step`); within
-    ``settle_distance``, turn to its heading and close the distance along it. Within
-    ``arrival_distance`` of a standing slot: only turn to its heading.
+    stands for good (``reference.final``): park on it (:func:`parking_step`). Within
+    ``settle_distance`` of any standing slot, final or not, turn to its heading and close
+    the distance along it (:func:`settle_step`; driven onto, a place that stood 4 cm behind
+    and beside R2 at the open-day show's end turned it 50 deg and back). Within
+    ``arrival_distance``: only turn to its heading.
     """
     ex, ey = Pose(*pose).to_local(reference.pose[0], reference.pose[1])
     heading_error = wrap_angle(reference.pose[2] - pose[2])
@@ -408,19 +428,25 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     distance = math.hypot(ex, ey)
     backwards = ex < 0.0 and distance < params.reverse_distance
     push = (-1.0 if backwards else 1.0) * params.force_gain * fy  # away from what pushes
-    if distance > params.arrival_distance and not reference.final:
+    if distance > params.settle_distance and not reference.final:
         # a slot that stands a moment (a place waiting on its path): drive to it, turning
-        # towards it first (forwards, or backwards when it is less than reverse_distance behind)
+        # towards it first (forwards, or backwards when it is less than reverse_distance
+        # behind)
         bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
         speed = min(params.arrival_gain * distance, params.max_linear) * max(
             math.cos(bearing), 0.0)
-        return _saturate(-speed if backwards else speed, params.turn_gain * bearing + push,
-                         params)
+        linear, angular = (-speed if backwards else speed), params.turn_gain * bearing
+        far = (distance - params.settle_distance) / params.settle_distance
+        if far < 1.0:
+            # within twice settle_distance it blends into the settle law below, so that the
+            # command does not jump where that takes over (a robot turning on the spot at
+            # the border steps across it and back, turning left and right)
+            settle_linear, settle_angular = settle_step(params, ex, heading_error)
+            linear = far * linear + (1.0 - far) * settle_linear
+            angular = far * angular + (1.0 - far) * settle_angular
+        return _saturate(linear, angular + push, params)
     if params.arrival_distance < distance <= params.settle_distance:
-        # a few centimetres off its final slot: face the slot's heading and close the
-        # distance along it (no turn towards a slot beside the robot: a spin for millimetres)
-        linear = params.arrival_gain * ex * max(math.cos(heading_error), 0.0)
-        return _saturate(linear, params.turn_gain * heading_error, params)
+        return _saturate(*settle_step(params, ex, heading_error), params)
     if distance > params.arrival_distance:
         linear, angular = parking_step(params, distance, math.atan2(ey, ex), heading_error,
                                        backwards)
