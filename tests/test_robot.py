@@ -800,3 +800,39 @@ def test_a_turn_about_a_point_within_the_footprint_is_on_the_spot() -> None:
     assert not turns_on_the_spot(0.35, 0.2, 0.67)
     assert not turns_on_the_spot(0.35, 0.0, 0.67)
     assert not turns_on_the_spot(0.0, 0.0, 0.67)
+
+
+@pytest.mark.parametrize("no_room_within", [None, 0.0])
+def test_a_robot_a_few_centimetres_off_its_final_slot_does_not_make_room(
+        no_room_within: float | None, monkeypatch: pytest.MonkeyPatch) -> None:
+    """After the show, R2 of a row 0.8 m apart stands 7 cm to the right of its final slot,
+    R1 on its own beside it: the parking law would turn it left towards the slot, the turn
+    guard allows none of that turn (R1's side is within its corners' swing), and making room
+    for it drove a SIM robot 0.15 m/s ahead and back again to the run's end (listing 7.1 in
+    the physics profiles). Within FINAL_NO_ROOM of its final slot it stands instead; with
+    that rule off (0 m) the same robot makes room, so the guard does block here."""
+    import dancebots.robot as robot_module
+    from dancebots.perception.cloud import PointCloud
+    from dancebots.robot import MAKE_ROOM_SPEED, SensingConfig
+
+    if no_room_within is not None:
+        monkeypatch.setattr(robot_module, "FINAL_NO_ROOM", no_room_within)
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 0.8\nmove 2 0\n")
+    brain = RobotBrain(plan, "R2", FollowerParams(), sensing=SensingConfig(), follower="path")
+    after = brain.rest_from + 1.0
+    slot = brain.slot_at(after)
+    assert slot.final
+    x, y, heading = slot.pose
+    pose = (x + 0.07 * math.sin(heading), y - 0.07 * math.cos(heading), heading)  # to its right
+    beside = _side_by_side_cloud(0.8 + 0.07 - 0.6)  # R1's right side, on its final place
+    state = brain.initial_state()
+    commands = []
+    for k in range(5):
+        now = after + 0.1 * k
+        state, command, _ = brain.step(state, now, pose, PointCloud(now, beside), clock=now)
+        commands.append(command)
+    if no_room_within is None:
+        assert all(abs(c.linear) < 0.01 and c.angular == 0.0 for c in commands)
+        assert state.making_room == 0.0
+    else:
+        assert any(abs(c.linear) == pytest.approx(MAKE_ROOM_SPEED) for c in commands)

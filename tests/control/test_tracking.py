@@ -17,6 +17,7 @@ from dancebots.control.tracking import (
     parking_step,
     path_references,
     references_from_motion,
+    settle_step,
     slot_reference,
     slot_references,
     tracking_step,
@@ -104,6 +105,53 @@ def test_a_standing_slot_is_reached_then_faced() -> None:
     distance, heading = _track(lambda t: standing, (0.0, 0.0, 0.0), 20.0)
     assert distance[-1] <= PARAMS.arrival_distance
     assert heading[-1] <= PARAMS.heading_tolerance
+
+
+@pytest.mark.parametrize("final", [False, True])
+def test_a_standing_place_a_few_centimetres_aside_is_not_turned_to(final: bool) -> None:
+    """A place that stands 2 cm behind and 3.5 cm to the left of a robot facing its heading
+    (R2 at the open-day show's end, its place waiting on its path): the robot neither turns
+    towards it nor creeps (nothing is left along its heading); it stands. Before, as for any
+    place that stood a moment, it turned its back to the place at 1.6 rad/s and back."""
+    place = SlotReference((-0.02, 0.035, 0.0), 0.0, 0.0, final)
+    assert tracking_step(PARAMS, (0.0, 0.0, 0.0), place) == (0.0, 0.0)
+    turned = SlotReference((-0.02, 0.035, 0.3), 0.0, 0.0, final)  # its heading turned
+    v, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), turned)
+    assert (v, w) == (0.0, pytest.approx(PARAMS.turn_gain * 0.3))  # only turns to it
+    distance, heading = _track(lambda t: turned, (0.0, 0.0, 0.0), 5.0)
+    assert distance.max() <= math.hypot(0.02, 0.035) + 1e-9  # it never moved away
+    assert heading[-1] <= PARAMS.heading_tolerance
+
+
+def test_the_settle_law_stops_once_nothing_is_left_along_the_heading() -> None:
+    """settle_step closes the distance along the robot's heading until arrival_distance is
+    left along it, then stops at once (not creeping for ever by millimetres)."""
+    assert settle_step(PARAMS, 0.05, 0.0) == (pytest.approx(PARAMS.arrival_gain * 0.05), 0.0)
+    assert settle_step(PARAMS, -0.05, 0.0)[0] == pytest.approx(-PARAMS.arrival_gain * 0.05)
+    assert settle_step(PARAMS, PARAMS.arrival_distance, 0.0) == (0.0, 0.0)
+    assert settle_step(PARAMS, 0.05, math.radians(1.0)) == (pytest.approx(
+        PARAMS.arrival_gain * 0.05 * math.cos(math.radians(1.0))), 0.0)  # within tolerance
+    assert settle_step(PARAMS, 0.05, 2.0)[0] == 0.0  # facing away: it turns first
+
+
+def test_the_drive_onto_a_waiting_place_blends_into_the_settle_law() -> None:
+    """Just outside settle_distance the drive onto a place that stands a moment gives the
+    settle law's command (no jump where that law takes over: a robot turning on the spot at
+    the border stepped across it and back); from twice settle_distance on, the drive alone
+    (turning towards the place)."""
+    settle = PARAMS.settle_distance
+    def place(distance: float, angle: float) -> SlotReference:
+        return SlotReference((distance * math.cos(angle), distance * math.sin(angle), 0.4),
+                             0.0, 0.0)
+
+    for angle in (0.5, 1.5, 2.5):
+        outside = tracking_step(PARAMS, (0.0, 0.0, 0.0), place(settle + 1e-9, angle))
+        inside = tracking_step(PARAMS, (0.0, 0.0, 0.0), place(settle - 1e-9, angle))
+        assert outside == pytest.approx(inside, abs=1e-6)
+    far = SlotReference((2.5 * settle, 0.0, 0.4), 0.0, 0.0)
+    v, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), far)
+    assert v == pytest.approx(PARAMS.arrival_gain * 2.5 * settle)  # straight at it
+    assert w == 0.0  # turning towards the place, not its heading
 
 
 def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:

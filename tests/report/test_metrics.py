@@ -86,7 +86,8 @@ def test_metrics_json_of_scenario_7_1(examples: Path) -> None:
         "reverse_fraction", "max_reverse_distance_m", "reverse_distance_m",
         "angular_sign_flips", "rms_formation_error_m", "max_formation_error_m",
         "final_heading_error_deg", "max_off_formation_m", "off_formation_s",
-        "wheel_turn_ratio"}
+        "wheel_turn_ratio", "excess_turn_deg"}
+    assert data["max_excess_turn_deg"] == max(r["excess_turn_deg"] for r in per_robot.values())
     assert per_robot["R1"]["wheel_turn_ratio"] is None  # the ideal profile has no wheels
     # two robots: the formation error is their one pair's, the rows' spacing change its max
     assert data["max_formation_error_m"] == per_robot["R1"]["max_formation_error_m"]
@@ -278,3 +279,41 @@ def test_a_slow_way_against_is_not_cut_in_pieces_by_noise() -> None:
     shuttle = np.tile([-0.2, -0.2, 0.2, 0.2], 10)
     ways = [way for _, _, way in reverse_runs(shuttle, np.full(40, 0.3), 0.1)]
     assert ways == pytest.approx([0.04] * 10)
+
+
+def test_excess_turn_counts_the_turns_the_reference_does_not_ask_for() -> None:
+    """A robot that turns with its reference adds nothing; a wiggle of 50 deg out and back
+    adds 100 deg, a turn round and back 360; a wrap at +-pi is no turn."""
+    from dancebots.report.metrics import excess_turn
+
+    ramp = np.linspace(0.0, math.pi / 2, 50)
+    assert excess_turn(ramp, ramp) == pytest.approx(0.0)
+    wiggle = np.concatenate([np.zeros(10), np.linspace(0.0, -math.radians(50), 10),
+                             np.linspace(-math.radians(50), 0.0, 10)])
+    assert math.degrees(excess_turn(wiggle, np.zeros(30))) == pytest.approx(100.0)
+    round_and_back = np.concatenate([np.linspace(0.0, math.pi, 20), np.linspace(
+        math.pi, 0.0, 20)])
+    assert math.degrees(excess_turn(round_and_back, np.zeros(40))) == pytest.approx(
+        360.0, rel=0.06)  # (the repeated sample at pi: the 20-step ramps' own rounding)
+    across = np.array([math.pi - 0.01, -math.pi + 0.01])  # 0.02 rad across the wrap
+    assert excess_turn(across, np.zeros(2)) == pytest.approx(0.02)
+    assert excess_turn(np.zeros(1), np.zeros(1)) == 0.0
+    assert excess_turn(np.zeros(5), ramp[:5]) == 0.0  # turning less than asked is no excess
+
+
+def test_the_thesis_followers_weaving_shows_as_excess_turn(examples: Path) -> None:
+    """Listing 7.1: the path follower turns as its places do (a few degrees more, settling);
+    eq. 4.4 as written steers at the leader and weaves about its path, hundreds of degrees
+    of turning the plan does not ask for (measured: 431 and 543 deg)."""
+    from dancebots.robot import BrainOptions
+
+    _, plan, _ = compile_scenario((examples / "thesis_7_1.dance").read_text(), "t.dance")
+    assert plan is not None
+    arena, placement = prepare_show(place_show(plan, None))
+    turned = {}
+    for follower in ("path", "thesis"):
+        result = simulate(plan, arena, placement,
+                          SimConfig(lidar=None, brain=BrainOptions(follower=follower)))
+        turned[follower] = run_metrics(result).max_excess_turn
+    assert turned["path"] < 10.0
+    assert turned["thesis"] > 100.0

@@ -303,6 +303,9 @@ def _summary(result: RunResult, metrics: RunMetrics, verdict: Verdict, wall: flo
     out.print("angular speed sign flips (chatter): " + ", ".join(
         f"{robot.robot} {robot.angular_sign_flips}" for robot in metrics.robots),
         highlight=False)
+    out.print("turned beyond what it tracks (spins, wiggles): " + ", ".join(
+        f"{robot.robot} {robot.excess_turn:.0f}°" for robot in metrics.robots),
+        highlight=False)
     out.print("driven against the slot's direction, longest way / all ways: " + ", ".join(
         f"{robot.robot} {robot.max_reverse_distance:.2f} / {robot.reverse_distance:.2f} m"
         for robot in metrics.robots), highlight=False)

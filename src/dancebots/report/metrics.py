@@ -50,6 +50,7 @@ __all__ = [
     "against_desired",
     "clock_restarts",
     "clock_waits",
+    "excess_turn",
     "formation_error",
     "heading_errors",
     "held_place_error",
@@ -122,7 +123,9 @@ class RobotMetrics:
     to its place in a formation it has just joined. wheel_turn_ratio: in the physics profiles, the
     median over the ticks its wheels turn it at WHEEL_TURN_MIN or more of its achieved yaw
     rate over the wheels' (1: no slip; a skid-steer robot's wheels slip sideways in a turn);
-    None in the other profiles or without such ticks.
+    None in the other profiles or without such ticks. excess_turn: how much more the robot
+    turned than its reference over the whole run, the settling after the show included
+    (:func:`excess_turn`), deg: spins, wiggles and hunting that the plan does not ask for.
     """
 
     robot: str
@@ -147,6 +150,7 @@ class RobotMetrics:
     max_off_formation: float = 0.0
     off_formation_time: float = 0.0
     wheel_turn_ratio: float | None = None
+    excess_turn: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -228,6 +232,11 @@ class RunMetrics:
         return max((r.max_heading_error for r in self.robots), default=0.0)
 
     @property
+    def max_excess_turn(self) -> float:
+        """deg: the most any robot turned beyond its reference (:func:`excess_turn`)."""
+        return max((r.excess_turn for r in self.robots), default=0.0)
+
+    @property
     def max_reverse_distance(self) -> float:
         """m: the longest way any robot drove against its slot's direction in one go."""
         return max((r.max_reverse_distance for r in self.robots), default=0.0)
@@ -298,6 +307,7 @@ class RunMetrics:
             "max_reverse_distance_m": r3(self.max_reverse_distance),
             "reverse_distance_m": r3(self.reverse_distance),
             "angular_sign_flips": self.angular_sign_flips,
+            "max_excess_turn_deg": r3(self.max_excess_turn),
             "rms_formation_error_m": r3(self.rms_formation_error),
             "max_formation_error_m": r3(self.max_formation_error),
             "max_off_formation_m": r3(self.max_off_formation),
@@ -319,6 +329,7 @@ class RunMetrics:
                     "max_reverse_distance_m": r3(m.max_reverse_distance),
                     "reverse_distance_m": r3(m.reverse_distance),
                     "angular_sign_flips": m.angular_sign_flips,
+                    "excess_turn_deg": r3(m.excess_turn),
                     "rms_formation_error_m": r3(m.rms_formation_error),
                     "max_formation_error_m": r3(m.max_formation_error),
                     "final_heading_error_deg": r3(m.final_heading_error),
@@ -386,7 +397,9 @@ def run_metrics(result: RunResult) -> RunMetrics:
                          default=0.0),
                      wheel_turn_ratio(result.velocities[i, during, 1],
                                       result.wheel_rates[i, during])
-                     if result.wheel_rates is not None else None)
+                     if result.wheel_rates is not None else None,
+                     math.degrees(excess_turn(result.poses[i, :, 2],
+                                              result.reference[i, :, 2])))
         for i, name in enumerate(result.robots))
     waits = clock_waits(result)
     restarts = clock_restarts(result)
@@ -684,6 +697,21 @@ def _before(values: FloatArray, tick: int) -> FloatArray:
 def samples_per_tick(result: RunResult) -> int:
     """How many of the run's samples make one control tick (1 with the default step)."""
     return max(1, round(result.config.control_period / result.config.dt))
+
+
+def excess_turn(yaw: FloatArray, reference_heading: FloatArray) -> float:
+    """How much more (rad, 0 or more) a robot turned than what it tracks: the summed
+    |change| of its yaw (T,) over the run less that of its reference's heading (T,)
+    (``RunResult.reference``, continuous), both unwrapped. A robot that follows its reference
+    turns as much as it does; one that spins onto a slot a few centimetres aside, wiggles
+    left and right, or turns round and back adds the turns the audience sees and the plan
+    does not ask for (the open-day show's R1 and R2 turned 50 deg and back onto places 4 cm
+    away at its end)."""
+    if len(yaw) < 2:
+        return 0.0
+    turned = float(np.abs(np.diff(np.unwrap(yaw))).sum())
+    asked = float(np.abs(np.diff(np.unwrap(reference_heading))).sum())
+    return max(turned - asked, 0.0)
 
 
 def sign_flips(angular: FloatArray, deadband: float = ANGULAR_DEADBAND) -> int:
