@@ -107,6 +107,11 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     assert seed5["angular_sign_flips"] == metrics["angular_sign_flips"]
     assert round(seed5["reverse_fraction"], 4) == metrics["reverse_fraction"]
     assert seed5["clock_brief_runs"] == metrics["clock_brief_runs"]
+    assert round(seed5["max_excess_turn"], 4) == metrics["max_excess_turn_deg"]
+    turned = [r["max_excess_turn"] for r in cert["per_run"]]
+    assert cert["max_excess_turn_deg"]["max"] == pytest.approx(max(turned), abs=1e-3)
+    assert (f"turned beyond what it tracks, the most of any robot, deg per run: median "
+            f"{statistics.median(turned):.0f}, max {max(turned):.0f}") in done.stdout
     brief = [r["clock_brief_runs"] for r in cert["per_run"]]
     assert (f"the formation lurched on (its clock ran 0.35 s or less between two stands), "
             f"times per run: median {statistics.median(brief):.0f}, max {max(brief)}"

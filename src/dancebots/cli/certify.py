@@ -349,12 +349,16 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
               f"{stood['max']:.1f}; of it with nobody near the robots that held it: median "
               f"{otherwise['median']:.1f}, max {otherwise['max']:.1f}", highlight=False)
     flips, reverse = data["angular_sign_flips"], data["reverse_fraction"]
+    turned = data["max_excess_turn_deg"]
     assert isinstance(flips, dict)
     assert isinstance(reverse, dict)
+    assert isinstance(turned, dict)
     out.print(f"how the robots looked: turn-rate sign flips per run median "
               f"{flips['median']:.0f}, max {flips['max']:.0f}; driving against the slot's "
               f"direction, share of the moving ticks: median {reverse['median']:.1%}, max "
-              f"{reverse['max']:.1%}", highlight=False)
+              f"{reverse['max']:.1%}; turned beyond what it tracks, the most of any robot, "
+              f"deg per run: median {turned['median']:.0f}, max {turned['max']:.0f}",
+              highlight=False)
     brief = data["clock_brief_runs"]
     assert isinstance(brief, dict)
     out.print(f"the formation lurched on (its clock ran 0.35 s or less between two stands), "

@@ -66,7 +66,9 @@ class RunSummary:
     summed over the robots, reverse_fraction, the share of the ticks in which some robot's
     slot moves that a robot drove against it, and clock_brief_runs, how often the formation
     lurched on (the shared clock ran 0.35 s or less between two stands:
-    ``report.metrics.clock_restarts``) (``report.metrics.RunMetrics``).
+    ``report.metrics.clock_restarts``), and max_excess_turn, the most any robot turned beyond
+    what it tracks, deg (spins and wiggles: ``report.metrics.excess_turn``)
+    (``report.metrics.RunMetrics``).
     """
 
     seed: int
@@ -88,6 +90,7 @@ class RunSummary:
     angular_sign_flips: int = 0
     reverse_fraction: float = 0.0
     clock_brief_runs: int = 0
+    max_excess_turn: float = 0.0
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -176,7 +179,7 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
         metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction,
-        metrics.clock_brief_runs)
+        metrics.clock_brief_runs, metrics.max_excess_turn)
 
 
 @dataclass(frozen=True, slots=True)
@@ -263,6 +266,7 @@ class Certificate:
             "reverse_fraction": stats(np.array([r.reverse_fraction for r in self.runs])),
             "clock_brief_runs": stats(np.array([r.clock_brief_runs for r in self.runs],
                                                dtype=float)),
+            "max_excess_turn_deg": stats(np.array([r.max_excess_turn for r in self.runs])),
             "wall_s": round(self.wall, 2),
             "processes": self.processes,
             "per_run": [{**asdict(r), "failures": list(r.failures),
