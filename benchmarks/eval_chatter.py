@@ -10,7 +10,8 @@ Prints per seed and summed over the seeds: the commanded turn rates' sign change
 spectator sees), spins (robot-ticks commanded 1 rad/s or more below 5 cm/s during the show:
 turns on the spot), the time the shared show clock stood, how often it started again and how
 often it ran 0.35 s or less before it stood again (``clock_restarts``, ``clock_brief_runs``:
-the formation lurching on a few cm), and the run's length (s), the
+the formation lurching on a few cm), the turning beyond what the robots track (the most of any
+robot, deg: ``max_excess_turn_deg``, spins and wiggles), and the run's length (s), the
 smallest robot-person gap (m) and the contacts. The runs are deterministic per seed; the
 figures are counts, not times, so the machine's load does not change them.
 """
@@ -74,7 +75,7 @@ def main() -> None:
     parser.add_argument("--seeds", default="0-9", help="first-last or a comma list (0-9)")
     args = parser.parse_args()
     job = CertifyJob(str(ROOT / "src" / "dancebots" / "data" / "open_day.dance"), args.world)
-    totals = np.zeros(6)
+    totals = np.zeros(7)
     contacts = 0
     gap = np.inf
     print(f"{Path(args.world).name}, realistic profile: per seed")
@@ -87,18 +88,20 @@ def main() -> None:
                            & (np.abs(commands[..., 0]) < SPIN_SPEED)))
         row = np.array([metrics.angular_sign_flips, spins, metrics.clock_stood,
                         metrics.run_duration, metrics.clock_restarts,
-                        metrics.clock_brief_runs])
+                        metrics.clock_brief_runs, metrics.max_excess_turn])
         totals += row
         contacts += len(metrics.collision_events)
         if metrics.min_person_gap is not None:
             gap = min(gap, metrics.min_person_gap)
         print(f"  seed {seed:4d}: sign flips {row[0]:5.0f}, spins {row[1]:4.0f}, clock stood "
-              f"{row[2]:6.1f} s (restarts {row[4]:3.0f}, brief {row[5]:3.0f}), run "
+              f"{row[2]:6.1f} s (restarts {row[4]:3.0f}, brief {row[5]:3.0f}), turned beyond "
+              f"{row[6]:4.0f} deg, run "
               f"{row[3]:6.1f} s, smallest person gap "
               f"{metrics.min_person_gap or float('nan'):.3f} m, contacts "
               f"{len(metrics.collision_events)}", flush=True)
     print(f"summed: sign flips {totals[0]:.0f}, spins {totals[1]:.0f}, clock stood "
-          f"{totals[2]:.1f} s (restarts {totals[4]:.0f}, brief {totals[5]:.0f}), runs "
+          f"{totals[2]:.1f} s (restarts {totals[4]:.0f}, brief {totals[5]:.0f}), turned "
+          f"beyond {totals[6]:.0f} deg, runs "
           f"{totals[3]:.1f} s, smallest person gap {gap:.3f} m, "
           f"contacts {contacts}")
 
