@@ -152,13 +152,8 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if distance > gains[SETTLE_DISTANCE] and not final:
         bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
         drive = min(gains[ARRIVAL_GAIN] * distance, max_linear) * max(math.cos(bearing), 0.0)
-        linear, angular = (-drive if backwards else drive), gains[TURN_GAIN] * bearing
-        far = (distance - gains[SETTLE_DISTANCE]) / gains[SETTLE_DISTANCE]
-        if far < 1.0:  # blended into the settle law
-            settle_linear, settle_angular = _settle(gains, ex, heading_error)
-            linear = far * linear + (1.0 - far) * settle_linear
-            angular = far * angular + (1.0 - far) * settle_angular
-        return _saturate(linear, angular + push, max_linear, max_angular)
+        return _saturate(-drive if backwards else drive, gains[TURN_GAIN] * bearing + push,
+                         max_linear, max_angular)
     if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
         settle_linear, settle_angular = _settle(gains, ex, heading_error)
         return _saturate(settle_linear, settle_angular, max_linear, max_angular)

@@ -134,24 +134,17 @@ def test_the_settle_law_stops_once_nothing_is_left_along_the_heading() -> None:
     assert settle_step(PARAMS, 0.05, 2.0)[0] == 0.0  # facing away: it turns first
 
 
-def test_the_drive_onto_a_waiting_place_blends_into_the_settle_law() -> None:
-    """Just outside settle_distance the drive onto a place that stands a moment gives the
-    settle law's command (no jump where that law takes over: a robot turning on the spot at
-    the border stepped across it and back); from twice settle_distance on, the drive alone
-    (turning towards the place)."""
-    settle = PARAMS.settle_distance
-    def place(distance: float, angle: float) -> SlotReference:
-        return SlotReference((distance * math.cos(angle), distance * math.sin(angle), 0.4),
-                             0.0, 0.0)
-
-    for angle in (0.5, 1.5, 2.5):
-        outside = tracking_step(PARAMS, (0.0, 0.0, 0.0), place(settle + 1e-9, angle))
-        inside = tracking_step(PARAMS, (0.0, 0.0, 0.0), place(settle - 1e-9, angle))
-        assert outside == pytest.approx(inside, abs=1e-6)
-    far = SlotReference((2.5 * settle, 0.0, 0.4), 0.0, 0.0)
-    v, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), far)
-    assert v == pytest.approx(PARAMS.arrival_gain * 2.5 * settle)  # straight at it
-    assert w == 0.0  # turning towards the place, not its heading
+@pytest.mark.parametrize("beside", [0.07, 0.08, 0.115])
+@pytest.mark.parametrize("final", [False, True])
+def test_a_standing_place_a_little_farther_beside_is_reached_and_faced(beside: float,
+                                                                      final: bool) -> None:
+    """A place standing 7-11.5 cm straight beside a robot that faces its heading (beyond
+    settle_distance): the robot ends within settle_distance of it, facing its heading (no
+    resting point on the way, turned away from it)."""
+    place = SlotReference((0.0, beside, 0.0), 0.0, 0.0, final)
+    distance, heading = _track(lambda t: place, (0.0, 0.0, 0.0), 20.0)
+    assert distance[-1] <= PARAMS.settle_distance
+    assert heading[-1] <= PARAMS.heading_tolerance
 
 
 def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:
@@ -429,4 +422,29 @@ def test_the_compiled_tracking_law_is_the_reference(
                                                          paused, backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
                     speed, angular_speed, final, fy, paused, backwards)
+    assert got == pytest.approx(expected, abs=1e-9)
+
+
+@settings(max_examples=300, deadline=None)
+@given(pose=st.tuples(_FINITE, _FINITE, st.floats(-math.pi, math.pi)),
+       offset=st.tuples(st.floats(-0.15, 0.15), st.floats(-0.15, 0.15),
+                        st.floats(-math.pi, math.pi)),
+       speed=st.sampled_from([0.0, 0.3, -0.2]), final=st.booleans(), paused=st.booleans(),
+       backwards=st.booleans(), fy=st.floats(-2.0, 2.0))
+def test_the_compiled_law_is_the_reference_near_a_place(
+        pose: tuple[float, float, float], offset: tuple[float, float, float], speed: float,
+        final: bool, paused: bool, backwards: bool, fy: float) -> None:
+    """The same within 15 cm of the place (the arrival, settle and parking laws), where the
+    draws over +-3 m above seldom come."""
+    from dancebots.robot_batch import _gains
+    from dancebots.robot_batch_jit import _tracking
+
+    class _Brain:
+        tracking = PARAMS
+
+    place = (pose[0] + offset[0], pose[1] + offset[1], offset[2])
+    expected = tracking_step(PARAMS, pose, SlotReference(place, speed, 0.0, final, paused,
+                                                         backwards), (0.0, fy))
+    got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
+                    speed, 0.0, final, fy, paused, backwards)
     assert got == pytest.approx(expected, abs=1e-9)

@@ -435,16 +435,8 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
         bearing = math.atan2(-ey, -ex) if backwards else math.atan2(ey, ex)
         speed = min(params.arrival_gain * distance, params.max_linear) * max(
             math.cos(bearing), 0.0)
-        linear, angular = (-speed if backwards else speed), params.turn_gain * bearing
-        far = (distance - params.settle_distance) / params.settle_distance
-        if far < 1.0:
-            # within twice settle_distance it blends into the settle law below, so that the
-            # command does not jump where that takes over (a robot turning on the spot at
-            # the border steps across it and back, turning left and right)
-            settle_linear, settle_angular = settle_step(params, ex, heading_error)
-            linear = far * linear + (1.0 - far) * settle_linear
-            angular = far * angular + (1.0 - far) * settle_angular
-        return _saturate(linear, angular + push, params)
+        return _saturate(-speed if backwards else speed, params.turn_gain * bearing + push,
+                         params)
     if params.arrival_distance < distance <= params.settle_distance:
         return _saturate(*settle_step(params, ex, heading_error), params)
     if distance > params.arrival_distance:

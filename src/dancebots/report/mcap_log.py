@@ -38,20 +38,20 @@ installed, else the copy ``mcap-ros1-support`` carries) and written by ``mcap-ro
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from functools import cache
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from dancebots.genpy_types import genpy_module, message_classes
 from dancebots.shows.formation import RunResult
 from dancebots.shows.queue import QueueResult
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["DEFINITIONS", "RecordLog", "message_classes", "write_queue_mcap", "write_record_mcap",
-           "write_run_mcap"]
+__all__ = ["DEFINITIONS", "RecordLog", "write_queue_mcap", "write_record_mcap", "write_run_mcap"]
 
 _HEADER = "uint32 seq\ntime stamp\nstring frame_id"
 _POINT = "float64 x\nfloat64 y\nfloat64 z"
@@ -103,53 +103,6 @@ DEFINITIONS: dict[str, str] = {
 ``_full_text`` without the comments)."""
 
 
-def _genpy() -> Any:
-    """ROS's own genpy where ROS is installed (messages that are ``genpy.Message``), else the
-    copy mcap-ros1-support carries (as its decoder does)."""
-    try:
-        import genpy  # type: ignore[import-not-found,unused-ignore]
-    except ImportError:
-        from mcap_ros1._vendor import genpy  # type: ignore[import-untyped,unused-ignore]
-    return genpy
-
-
-def message_classes(definitions: Mapping[str, str]) -> dict[str, Any]:
-    """The message classes of ``definitions`` (type name -> ``.msg`` text with its
-    dependencies, as ``gendeps --cat`` gives it) by type name, sub-types included: genpy's
-    ``generate_dynamic``, which writes each type's code to a module in a new temporary
-    directory and removes that only when the process exits normally (a node killed with
-    SIGKILL, or ended by SIGTERM without a handler, left a ``genpy_*`` directory in /tmp at
-    every start). Here the modules are written into a directory of our own that is removed
-    once they are imported: a run leaves nothing behind, however it ends."""
-    import atexit
-    import sys
-    import tempfile
-    from importlib import import_module
-
-    dynamic = import_module(_genpy().__name__ + ".dynamic")
-    classes: dict[str, Any] = {}
-    with tempfile.TemporaryDirectory(prefix="dancebots-genpy-") as scratch:
-        previous, tempfile.tempdir = tempfile.tempdir, scratch
-        # (its exit-time removal of a directory already gone: no error at exit)
-        setattr(dynamic, "atexit", _NoExitCalls())  # noqa: B010 (a module's global)
-        try:
-            for name, text in definitions.items():
-                classes.update(dynamic.generate_dynamic(name, text))
-        finally:
-            tempfile.tempdir = previous
-            setattr(dynamic, "atexit", atexit)  # noqa: B010
-            sys.path[:] = [entry for entry in sys.path if not entry.startswith(scratch)]
-    return classes
-
-
-class _NoExitCalls:
-    """Stands in for :mod:`atexit` in genpy.dynamic while :func:`message_classes` runs."""
-
-    @staticmethod
-    def register(function: Any, *args: Any, **kwargs: Any) -> Any:
-        return function
-
-
 @cache
 def _types() -> dict[str, Any]:
     """The message classes of :data:`DEFINITIONS` by type name (and their sub-types)."""
@@ -164,7 +117,7 @@ class _Log:
         self.writer, self.count = writer, 0
         types = _types()
         self.types = types
-        self.time = _genpy().Time
+        self.time = genpy_module().Time
         self._header, self._point = types["std_msgs/Header"], types["geometry_msgs/Point"]
         self._pose = types["geometry_msgs/Pose"]
         self._quaternion = types["geometry_msgs/Quaternion"]

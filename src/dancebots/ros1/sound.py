@@ -1,7 +1,7 @@
 """Speech and beeps for sound_play (thesis 5.2), whose message package Debian does not ship.
 
 The sound_play/SoundRequest class is generated at run time by genpy from the message's
-definition (the fields of ROS 1 sound_play's SoundRequest.msg; ``report.mcap_log.
+definition (the fields of ROS 1 sound_play's SoundRequest.msg; ``genpy_types.
 message_classes``, which leaves no temporary files), so a sound_play node on a robot
 receives it like its own: ``say_request`` speaks a sentence, ``beep_request`` plays
 the built-in BACKINGUP beep.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from dancebots.report.mcap_log import message_classes
+from dancebots.genpy_types import message_classes
 
 __all__ = ["SoundRequest", "beep_request", "say_request"]
 
