@@ -15,21 +15,26 @@ from dancebots.report.metrics import RunMetrics, run_metrics
 from dancebots.report.verdict import run_verdict
 from dancebots.robot import BrainOptions, Follower
 from dancebots.shows.formation import SimConfig, simulate
+from dancebots.sim.kinematics import PROFILES
 from dancebots.sim.setup import prepare_show
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+DATA = Path(__file__).resolve().parents[1] / "src" / "dancebots" / "data"
 
 
 def judged(name: str, follower: Follower, timing: Timing,
-           world: str | None = None) -> tuple[RunMetrics, bool]:
-    show = load_show(str(EXAMPLES / f"{name}.dance"),
-                     str(EXAMPLES / "worlds" / world) if world else None,
-                     check=CheckOptions(), timing=timing)
+           world: str | None = None, profile: str = "ideal",
+           seed: int = 0) -> tuple[RunMetrics, bool]:
+    scenario = DATA / "open_day.dance" if name == "open_day" else EXAMPLES / f"{name}.dance"
+    where = (DATA / world if name == "open_day" else EXAMPLES / "worlds" / world) if world else None
+    show = load_show(str(scenario), str(where) if where else None, check=CheckOptions(),
+                     timing=timing)
     assert show.report is not None
     assert show.report.placement is not None
     assert show.plan is not None
     result = simulate(show.plan, *prepare_show(show.report.placement),
-                      SimConfig(brain=BrainOptions(follower=follower)))
+                      SimConfig(profile=PROFILES[profile], seed=seed,
+                                brain=BrainOptions(follower=follower)))
     metrics = run_metrics(result)
     return metrics, run_verdict(metrics).clean
 
@@ -61,11 +66,41 @@ def test_listing_7_4_with_a_husky_and_a_tradr_splits_without_a_stall() -> None:
     lane while R2 turns away. The turn guard used to forbid both robots every turn while
     they were beside each other, and they drove on straight side by side until their places
     were behind them (1.07 m off, 133 deg). Now R2's turn is cut only as far as its tail
-    would swing into R1, R1 gives way, and both end on their slots."""
+    would swing into R1, R1 gives way, and both end at their slots (R2 8 cm beside its own,
+    facing its heading: the approach onto a final slot leaves what the robot cannot close
+    along its heading, ``control.tracking.approach_step``; 4.8 cm before, after a 125 deg
+    swing out and back)."""
     metrics, clean = judged("thesis_7_4", "path", "feasible", "thesis_7_4_husky_tradr.toml")
     assert clean
     assert metrics.collisions == 0
+    assert metrics.max_final_error < 0.1
+    assert metrics.max_final_heading_error < 5.0
+
+
+def test_the_open_day_shows_robots_turn_no_more_than_their_places() -> None:
+    """The Quick start's show (the defaults, ideal profile): no robot turns more than 10 deg
+    beyond what its place turns (``excess_turn``), and each ends within 5 cm and 5 deg of its
+    slot. R3 and R4 turned 114 and 283 deg more: 0.2 m short of a corner where their places
+    stood 0.4 s (t = 65 s) they reversed onto the places beside them, 55 deg past the new
+    heading and back; at the end R4 turned with its place 0.2 m short of it and the posture
+    law swung it 90 deg out and back onto its slot."""
+    metrics, clean = judged("open_day", "path", "feasible", "open_day.toml")
+    assert clean
+    assert max(r.excess_turn for r in metrics.robots) < 10.0
     assert metrics.max_final_error < 0.05
+    assert metrics.max_final_heading_error < 5.0
+
+
+def test_no_full_turn_onto_a_final_slot_beside_the_robot() -> None:
+    """The music show in the realistic profile (seed 0): R4 ends its arc 0.17 m beside its
+    final slot, facing its heading. It now closes what it can along its heading and stands,
+    turning less than 60 deg more than its place over the whole show; the posture law, under
+    the profile's 0.25 s actuator lag, turned it a full circle onto the slot (332 deg more
+    than its place)."""
+    metrics, clean = judged("to_music", "path", "feasible", profile="realistic")
+    assert clean
+    assert max(r.excess_turn for r in metrics.robots) < 60.0
+    assert metrics.max_final_error < 0.2
     assert metrics.max_final_heading_error < 5.0
 
 

@@ -33,10 +33,12 @@ from dancebots.control.tracking import (
     REFERENCE_TURN,
     SlotReference,
     TrackingParams,
+    brief_stand,
     fold_reference,
     follower_places,
     follower_references,
     references_from_motion,
+    stand_ends,
     tracking_step,
 )
 from dancebots.geometry import Pose, compose_points, points_to_local, points_to_world, wrap_angle
@@ -409,6 +411,8 @@ class RobotBrain:
         # the same rows as Python floats (a row of them is read at every tick; made at the
         # first: the batched brains read the array)
         self._slot_list: list[list[float]] | None = None
+        # where each row's stand ends (``control.tracking.stand_ends``; made at first use)
+        self._stand_ends: np.ndarray | None = None
         # the other robots' places on the same grid (show frame), for the tracking and path
         # followers' force field, which ignores what a formation mate on its place explains
         self._mates: np.ndarray | None = None
@@ -546,6 +550,20 @@ class RobotBrain:
             rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
         return rows
 
+    def _brief_stand(self, show_time: float) -> float:
+        """``control.tracking.brief_stand`` of the place at ``show_time`` s (0.0 off the
+        grid, where the plan ended: it stands for good)."""
+        grid = self._slot_grid
+        assert grid is not None, "serves the tracking and path followers"
+        k = self._grid_index(show_time, len(grid))
+        if k is None:
+            if not 0.0 <= show_time < self.grid_end:
+                return 0.0
+            k = min(math.floor(show_time / self.grid_period), len(grid) - 1)
+        if self._stand_ends is None:
+            self._stand_ends = stand_ends(grid)
+        return brief_stand(grid, self._stand_ends, k, show_time, self.grid_period)
+
     def _reference(self, show_time: float) -> SlotReference:
         """What the tracking and path followers track at ``show_time`` s: the reference's
         pose then, its speeds ``feedforward_lead`` s later (interpolated on the grid: a robot
@@ -661,6 +679,10 @@ class RobotBrain:
                 if paused:  # the shared show clock stopped: the place stands where it is
                     reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True,
                                         backwards=reference.speed < 0.0)
+                elif not final and not reference.moving:
+                    way = self._brief_stand(show_time)
+                    if way:  # it stands a moment on its path: as if the clock stood
+                        reference = replace(reference, paused=True, backwards=way < 0.0)
                 elif self.paced and rate < 1.0:  # the clock runs slow: so does the place
                     reference = replace(reference, speed=reference.speed * rate,
                                         angular_speed=reference.angular_speed * rate)

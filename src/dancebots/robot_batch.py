@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots import robot
+from dancebots.control.tracking import BRIEF_STAND, stand_ends
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.tracks import TrackParams
 from dancebots.robot import RobotBrain
@@ -78,7 +79,7 @@ def _gains(brain: RobotBrain) -> FloatArray:
     return np.array([t.gain_x, t.gain_y, t.gain_theta, t.arrival_distance, t.settle_distance,
                      t.heading_tolerance, t.arrival_gain, t.turn_gain, t.reverse_distance,
                      t.force_gain, t.heading_speed, t.park_gain_alpha, t.park_gain_theta,
-                     t.wait_speed])
+                     t.wait_speed, t.approach_distance, t.approach_heading])
 
 
 def _wrap_exact(angles: FloatArray) -> FloatArray:
@@ -115,6 +116,7 @@ class BatchBrains:
         assert len(grids) == count  # the tracking and path followers' grids
         self.grid = np.stack(grids)  # (R, T, 5)
         self.grid[..., 2] = _wrap_exact(self.grid[..., 2])
+        self.stand_ends = np.stack([stand_ends(grid) for grid in grids])  # (R, T)
         if count > 1:
             # every brain's mates' places (R, M, T, 2), its own frame; the brains read views
             # (filled brain by brain, each brain's own array dropped at once: a 20-robot,
@@ -191,17 +193,20 @@ class BatchBrains:
 
     def references(self, show_times: FloatArray,
                    ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
-        """What each follower tracks (R, 5) at its show time (R,) s, whether its slot stands
+        """What each follower tracks (R, 6: ``robot_batch_jit.grid_lookups``) at its show
+        time (R,) s, whether its slot stands
         for good (R,) and where its mates should be (R, M, 2): ``RobotBrain._reference``,
         from the grid for all robots at once (``robot_batch_jit.grid_lookups``) and from the
         brain where a time falls off it."""
         rows, on, mates = self._jit.grid_lookups(
             self.grid, self.mates, self.period, self.grid_end, self.lead,
-            np.ascontiguousarray(show_times, dtype=np.float64))
+            np.ascontiguousarray(show_times, dtype=np.float64), self.stand_ends, BRIEF_STAND)
         if not on.all():
             for i in np.flatnonzero(~on).tolist():
-                exact = self.brains[i]._reference(float(show_times[i]))
-                rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
+                brain, show_time = self.brains[i], float(show_times[i])
+                exact = brain._reference(show_time)
+                rows[i] = (*exact.pose, exact.speed, exact.angular_speed,
+                           brain._brief_stand(show_time))
         return rows, show_times >= self.rest_from, mates
 
     def step(self, now: float, show_times: FloatArray, poses: FloatArray,
@@ -232,7 +237,8 @@ class BatchBrains:
         references, finals, mates = self.references(show_times)
         if override is not None:
             given = ~np.isnan(override[:, 0])
-            references[given] = override[given]
+            references[given, :5] = override[given]
+            references[given, 5] = 0.0
             finals = finals & ~given
         self._jit.brains_tick(
             now, np.ascontiguousarray(show_times, dtype=np.float64),

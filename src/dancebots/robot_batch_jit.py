@@ -47,7 +47,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
 # indices of the tracking parameters (``control.tracking.TrackingParams``) in ``gains``
 (GAIN_X, GAIN_Y, GAIN_THETA, ARRIVAL_DISTANCE, SETTLE_DISTANCE, HEADING_TOLERANCE,
  ARRIVAL_GAIN, TURN_GAIN, REVERSE_DISTANCE, FORCE_GAIN_STEER, HEADING_SPEED, PARK_ALPHA,
- PARK_THETA, WAIT_SPEED) = range(14)
+ PARK_THETA, WAIT_SPEED, APPROACH_DISTANCE, APPROACH_HEADING) = range(16)
 # indices of the detection parameters (``perception.obstacles.DetectorParams``) in ``detect``
 (CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON,
  TURN_SHARE) = range(8)
@@ -114,6 +114,21 @@ def _parking(gains: FloatArray, distance: float, bearing: float, heading_error: 
 
 
 @njit(cache=True)
+def _paused(gains: FloatArray, max_linear: float, ex: float, ey: float, heading_error: float,
+            fy: float, backwards: bool) -> tuple[float, float]:
+    """``control.tracking.paused_step`` (unsaturated)."""
+    direction = -1.0 if backwards else 1.0
+    linear = direction * min(gains[ARRIVAL_GAIN] * max(direction * ex, 0.0),
+                             max_linear) * max(math.cos(heading_error), 0.0)
+    angular = (linear * gains[GAIN_Y] * ey
+               + max(abs(linear), gains[HEADING_SPEED]) * gains[GAIN_THETA]
+               * math.sin(heading_error))
+    if linear != 0.0:
+        angular += direction * gains[FORCE_GAIN_STEER] * fy
+    return linear, angular
+
+
+@njit(cache=True)
 def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: float, py: float,
               ptheta: float, rx: float, ry: float, rtheta: float, speed: float,
               angular_speed: float, final: bool, fy: float, paused: bool,
@@ -130,6 +145,12 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         linear = vr * math.cos(heading_error) + gains[GAIN_X] * ex
         if linear * vr < 0.0 and abs(vr) >= gains[WAIT_SPEED]:
             return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+        if abs(vr) < gains[WAIT_SPEED]:  # ``control.tracking.turn_share``
+            span = gains[SETTLE_DISTANCE] - gains[ARRIVAL_DISTANCE]
+            if span <= 0.0:
+                wr = wr if ex <= gains[ARRIVAL_DISTANCE] else 0.0
+            else:
+                wr *= min(max(1.0 - (ex - gains[ARRIVAL_DISTANCE]) / span, 0.0), 1.0)
         angular = (wr + vr * gains[GAIN_Y] * ey
                    + max(abs(vr), gains[HEADING_SPEED]) * gains[GAIN_THETA]
                    * math.sin(heading_error))
@@ -137,14 +158,7 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         angular += direction * gains[FORCE_GAIN_STEER] * fy
         return _saturate(linear, angular, max_linear, max_angular)
     if paused and not final:  # ``control.tracking.paused_step``
-        direction = -1.0 if backwards else 1.0
-        linear = direction * min(gains[ARRIVAL_GAIN] * max(direction * ex, 0.0),
-                                 max_linear) * max(math.cos(heading_error), 0.0)
-        angular = (linear * gains[GAIN_Y] * ey
-                   + max(abs(linear), gains[HEADING_SPEED]) * gains[GAIN_THETA]
-                   * math.sin(heading_error))
-        if linear != 0.0:
-            angular += direction * gains[FORCE_GAIN_STEER] * fy
+        linear, angular = _paused(gains, max_linear, ex, ey, heading_error, fy, backwards)
         return _saturate(linear, angular, max_linear, max_angular)
     distance = math.hypot(ex, ey)
     backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
@@ -157,6 +171,15 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
         settle_linear, settle_angular = _settle(gains, ex, heading_error)
         return _saturate(settle_linear, settle_angular, max_linear, max_angular)
+    if (distance <= gains[APPROACH_DISTANCE]
+            and math.cos(heading_error) > math.cos(gains[APPROACH_HEADING])):
+        # ``control.tracking.approach_step``
+        if abs(ex) > gains[ARRIVAL_DISTANCE]:
+            linear, angular = _paused(gains, max_linear, ex, ey, heading_error, fy, ex < 0.0)
+            return _saturate(linear, angular, max_linear, max_angular)
+        if abs(heading_error) > gains[HEADING_TOLERANCE]:
+            return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+        return 0.0, 0.0
     if distance > gains[ARRIVAL_DISTANCE]:
         linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,
                                    backwards)
@@ -465,22 +488,29 @@ def _grid_index(show_time: float, period: float, grid_end: float,
 
 @njit(cache=True)
 def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: float,
-                 lead: float, show_times: FloatArray,
-                 ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
+                 lead: float, show_times: FloatArray, stand_ends: NDArray[np.int64],
+                 brief: float) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
     """What each follower tracks on the brains' grid at its show time (R,) s: the rows
-    (R, 5) (x, y, heading, speed, angular speed; with ``lead`` > 0 s the speeds
-    interpolated between the two grid ticks around the time ``lead`` s ahead), whether the
+    (R, 6) (x, y, heading, speed, angular speed; with ``lead`` > 0 s the speeds
+    interpolated between the two grid ticks around the time ``lead`` s ahead; and whether
+    the place stands only briefly there, ``control.tracking.brief_stand`` with the rows'
+    ``stand_ends`` (R, T) and ``brief`` s for ``BRIEF_STAND``), whether the
     row is the grid's (R,) (else the brain computes it: ``RobotBrain._reference``), and
     where each robot's mates should be (R, M, 2) (the nearest grid tick's). grid (R, T, 5),
     mates (R, M, T', 2), both in each robot's own frame (``BatchBrains``)."""
     count, length = grid.shape[0], grid.shape[1]
-    rows = np.empty((count, 5))
+    rows = np.empty((count, 6))
     on = np.empty(count, dtype=np.bool_)
     places = np.empty((count, mates.shape[1], 2))
     for r in range(count):
         show_time = show_times[r]
         k, found = _grid_index(show_time, period, grid_end, length)
-        rows[r, :] = grid[r, k, :]
+        rows[r, :5] = grid[r, k, :]
+        # ``control.tracking.brief_stand``
+        end = stand_ends[r, k]
+        rows[r, 5] = 0.0
+        if end != k and end < length and end * period - show_time < brief:
+            rows[r, 5] = -1.0 if grid[r, end, 3] < 0.0 else 1.0
         if lead > 0.0:
             steps = (show_time + lead) / period
             first = np.floor(steps)
@@ -525,8 +555,9 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
     valid where pose_known (R,); arrived (R,) whether a cloud reached the robot, taken at
     stamps (R,) s; columns (K, 4) each robot's latest cloud (``base_link`` at its stamp),
-    robot r's rows offsets[r]:offsets[r + 1], height_steps (R,) m; references (R, 5) what
-    each follower tracks (x, y, heading, speed, angular speed: ``RobotBrain._reference``),
+    robot r's rows offsets[r]:offsets[r + 1], height_steps (R,) m; references (R, 6) what
+    each follower tracks (x, y, heading, speed, angular speed: ``RobotBrain._reference``;
+    and ``control.tracking.brief_stand`` of its place: ``grid_lookups``),
     finals (R,); mates (R, M, 2) where each robot's mates should be (its own frame);
     heard (R, 2) where each robot said it stands (show frame, NaN: not heard), used where
     use_heard, with each robot's show frame in its own (own_frames (R, 3), their cos and sin
@@ -656,8 +687,13 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     references[r, 0], references[r, 1], references[r, 2], speed,
                     angular_speed, finals[r], fy, False, False)
             backwards = speed < 0.0  # (the slot's way when the clock stood)
+            standing_briefly = False  # (as if the clock stood: ``RobotBrain.step``)
             if paused:
                 speed, angular_speed = 0.0, 0.0
+            elif not finals[r] and not (abs(speed) > 1e-9 or abs(angular_speed) > 1e-9):
+                if references[r, 5] != 0.0:
+                    standing_briefly = True
+                    backwards = references[r, 5] < 0.0
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
                 speed, angular_speed = speed * rates[r], angular_speed * rates[r]
             reference_speed = abs(speed)
@@ -670,7 +706,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 linear, angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy, paused, backwards)
+                    angular_speed, finals[r], fy, paused or standing_briefly, backwards)
             wanted_linear, wanted_angular = linear, angular
             if not going:
                 go_linear, go_angular = linear, angular

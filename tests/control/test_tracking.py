@@ -11,8 +11,11 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from dancebots.control.tracking import (
+    BRIEF_STAND,
     SlotReference,
     TrackingParams,
+    approach_step,
+    brief_stand,
     choose_folds,
     parking_step,
     path_references,
@@ -20,7 +23,9 @@ from dancebots.control.tracking import (
     settle_step,
     slot_reference,
     slot_references,
+    stand_ends,
     tracking_step,
+    turn_share,
 )
 from dancebots.geometry import integrate_unicycle, wrap_angle
 
@@ -135,16 +140,127 @@ def test_the_settle_law_stops_once_nothing_is_left_along_the_heading() -> None:
 
 
 @pytest.mark.parametrize("beside", [0.07, 0.08, 0.115])
-@pytest.mark.parametrize("final", [False, True])
-def test_a_standing_place_a_little_farther_beside_is_reached_and_faced(beside: float,
-                                                                      final: bool) -> None:
-    """A place standing 7-11.5 cm straight beside a robot that faces its heading (beyond
-    settle_distance): the robot ends within settle_distance of it, facing its heading (no
-    resting point on the way, turned away from it)."""
-    place = SlotReference((0.0, beside, 0.0), 0.0, 0.0, final)
+def test_a_standing_place_a_little_farther_beside_is_reached_and_faced(beside: float) -> None:
+    """A place standing a while on its path 7-11.5 cm straight beside a robot that faces its
+    heading (beyond settle_distance): the robot ends within settle_distance of it, facing
+    its heading (no resting point on the way, turned away from it)."""
+    place = SlotReference((0.0, beside, 0.0), 0.0, 0.0)
     distance, heading = _track(lambda t: place, (0.0, 0.0, 0.0), 20.0)
     assert distance[-1] <= PARAMS.settle_distance
     assert heading[-1] <= PARAMS.heading_tolerance
+
+
+def _turned(reference_at, start: tuple[float, float, float], seconds: float,  # type: ignore[no-untyped-def]
+            dt: float = 0.1) -> tuple[float, float, float]:
+    """A unicycle driven by the tracking law at 1/dt Hz: how much it turned in all (rad,
+    summed |dtheta|), and its position and heading errors (m, rad) at the end."""
+    x, y, theta = start
+    turned = 0.0
+    for k in range(round(seconds / dt)):
+        v, w = tracking_step(PARAMS, (x, y, theta), reference_at(k * dt))
+        nx, ny, nt = integrate_unicycle(*(np.array([q]) for q in (x, y, theta, v, w, dt)))
+        turned += abs(w) * dt
+        x, y, theta = float(nx[0]), float(ny[0]), float(nt[0])
+    ref = reference_at(seconds)
+    return (turned, math.hypot(ref.pose[0] - x, ref.pose[1] - y),
+            abs(wrap_angle(ref.pose[2] - theta)))
+
+
+@pytest.mark.parametrize(("ahead", "beside", "heading"),
+                         [(0.0, 0.1, 0.0), (0.1, 0.17, 0.0), (0.0, -0.2, 0.3),
+                          (-0.1, 0.25, -0.4), (0.05, 0.28, 0.0), (-0.2, 0.1, 0.2)])
+def test_a_final_slot_nearby_is_approached_without_a_swing(ahead: float, beside: float,
+                                                           heading: float) -> None:
+    """A final slot within approach_distance, the robot facing within approach_heading of its
+    heading: the robot turns hardly more than the heading error (no swing out and back),
+    ends facing the slot's heading and no farther from it than it started. The posture law
+    turned such robots 90-180 deg out and back (to_music's R4, 0.17 m beside its slot: 330
+    deg under the realistic profile's lag)."""
+    slot = SlotReference((ahead, beside, heading), 0.0, 0.0, final=True)
+    turned, distance, error = _turned(lambda t: slot, (0.0, 0.0, 0.0), 20.0)
+    assert turned <= abs(heading) + math.radians(25.0)
+    assert error <= PARAMS.heading_tolerance
+    assert distance <= math.hypot(ahead, beside) + 1e-9
+    if abs(beside) < PARAMS.settle_distance:
+        assert distance <= PARAMS.settle_distance
+
+
+def test_the_approach_law_closes_along_its_heading_then_only_turns() -> None:
+    """approach_step: the paused law while more than arrival_distance is left along the
+    heading (forwards or backwards as the slot lies), then a turn to the heading, then
+    nothing."""
+    v, w = approach_step(PARAMS, 0.2, 0.1, 0.0, 0.0)
+    assert v == pytest.approx(PARAMS.arrival_gain * 0.2)
+    assert w == pytest.approx(v * PARAMS.gain_y * 0.1)  # it steers off the sideways error
+    assert approach_step(PARAMS, -0.2, 0.1, 0.0, 0.0)[0] < 0.0
+    assert approach_step(PARAMS, 0.01, 0.2, 0.3, 0.0) == (
+        0.0, pytest.approx(PARAMS.turn_gain * 0.3))
+    assert approach_step(PARAMS, 0.01, 0.2, 0.01, 0.0) == (0.0, 0.0)
+
+
+def test_a_robot_short_of_a_place_turning_on_the_spot_drives_to_it_first() -> None:
+    """A place 0.2 m ahead of a robot turns on the spot by 90 deg (1.5 rad/s) and then stands
+    for good (the open-day show's end, R4 0.2 m behind its place): the robot drives to where
+    the place turns and turns there, ending on it and facing its heading, turning no more
+    than the place. Turning with the place at once, it ended 0.2 m beside its slot and the
+    posture law swung it out and back (R4: 180 deg more than its place)."""
+    turn = math.pi / 2
+    span = turn / 1.5
+
+    def place(t: float) -> SlotReference:
+        if t < span:
+            return SlotReference((0.2, 0.0, 1.5 * t), 0.0, 1.5)
+        return SlotReference((0.2, 0.0, turn), 0.0, 0.0, final=True)
+
+    turned, distance, error = _turned(place, (0.0, 0.0, 0.0), 15.0)
+    assert turned <= turn + math.radians(10.0)
+    assert distance <= PARAMS.settle_distance
+    assert error <= PARAMS.heading_tolerance
+
+
+def test_the_turn_share_falls_from_all_to_none_between_arrival_and_settle() -> None:
+    assert turn_share(PARAMS, -0.5) == 1.0  # ahead of the turning point: all of it
+    assert turn_share(PARAMS, PARAMS.arrival_distance) == 1.0
+    middle = 0.5 * (PARAMS.arrival_distance + PARAMS.settle_distance)
+    assert turn_share(PARAMS, middle) == pytest.approx(0.5)
+    assert turn_share(PARAMS, PARAMS.settle_distance) == 0.0
+    assert turn_share(PARAMS, 0.2) == 0.0
+    _, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference((0.2, 0.0, 0.0), 0.0, 1.5))
+    assert w == 0.0  # 0.2 m short, heading right: no turn yet
+    _, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference((0.0, 0.0, 0.0), 0.0, 1.5))
+    assert w == pytest.approx(1.5)  # on the place: all of it
+
+
+def test_stand_ends_and_brief_stands() -> None:
+    """stand_ends: the first row at or after each row whose place moves (T: never);
+    brief_stand: a stand that ends within BRIEF_STAND s is brief (the way it moves on), one
+    that lasts longer or for good is not, a moving row is not."""
+    period = 0.1
+    speeds = np.zeros(60)
+    speeds[:10] = 0.3  # moves, stands 0.5 s, drives in reverse, stands 3 s, moves, stands
+    speeds[15:20] = -0.2
+    speeds[50:55] = 0.2
+    grid = np.zeros((60, 5))
+    grid[:, 3] = speeds
+    ends = stand_ends(grid)
+    assert ends[[0, 10, 14, 20, 55, 59]].tolist() == [0, 15, 15, 50, 60, 60]
+    assert brief_stand(grid, ends, 0, 0.0, period) == 0.0  # it moves
+    assert brief_stand(grid, ends, 10, 1.0, period) == -1.0  # on in reverse in 0.5 s
+    assert brief_stand(grid, ends, 20, 2.0, period) == 0.0  # 3 s to go
+    late = 50 - round(BRIEF_STAND / period) + 1
+    assert brief_stand(grid, ends, late, late * period, period) == 1.0
+    assert brief_stand(grid, ends, 56, 5.6, period) == 0.0  # for good
+
+
+def test_a_place_standing_a_moment_beside_is_not_turned_to() -> None:
+    """A place that stands a moment 0.2 m beside the robot (``paused``, as the brain marks a
+    brief stand): the robot turns at most gently (the paused law's heading term), where a
+    place that stands a while is turned to."""
+    beside = (0.0, 0.2, 0.1)
+    _, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference(beside, 0.0, 0.0, paused=True))
+    assert abs(w) <= PARAMS.heading_speed * PARAMS.gain_theta
+    _, w = tracking_step(PARAMS, (0.0, 0.0, 0.0), SlotReference(beside, 0.0, 0.0))
+    assert abs(w) > 1.0
 
 
 def test_a_standing_slot_just_behind_is_reached_in_reverse() -> None:
@@ -177,15 +293,16 @@ def test_a_robot_far_ahead_of_its_moving_reference_waits_for_it() -> None:
     assert math.hypot(x - 0.3 * 400 * 0.05, y) < 0.02
 
 
-@pytest.mark.parametrize("start", [(0.0, 0.15, 0.0), (0.0, -0.15, 0.3), (0.1, 0.1, -0.4),
-                                   (-0.05, 0.12, 0.0), (0.4, 0.3, 2.0)])
+@pytest.mark.parametrize("start", [(0.0, 0.35, 0.0), (0.0, -0.4, 0.3), (0.25, 0.25, -0.4),
+                                   (-0.05, 0.12, 2.0), (0.4, 0.3, 2.0), (-1.0, 0.5, 0.5)])
 def test_a_slot_beside_the_robot_is_parked_on_with_its_heading(
         start: tuple[float, float, float]) -> None:
-    """A standing slot some centimetres to the side (where a held robot ends): the parking
-    law (Aicardi et al. 1995) brings the robot within ``settle_distance`` and it ends with
-    the slot's heading (before: the robot turned to face the slot's bearing and was left
-    facing that way, 154 deg off in listing 7.4); within ``settle_distance`` it no longer
-    turns towards the slot (a spin for a few millimetres)."""
+    """A final slot beyond approach_distance, or nearer with the robot turned more than
+    approach_heading from it (where a held robot ends): the parking law (Aicardi et al.
+    1995) brings the robot within ``settle_distance`` and it ends with the slot's heading
+    (before: the robot turned to face the slot's bearing and was left facing that way, 154
+    deg off in listing 7.4); within ``settle_distance`` it no longer turns towards the slot
+    (a spin for a few millimetres)."""
     slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
     distance, heading = _track(lambda t: slot, start, 30.0)
     assert distance[-1] <= PARAMS.settle_distance
@@ -427,15 +544,16 @@ def test_the_compiled_tracking_law_is_the_reference(
 
 @settings(max_examples=300, deadline=None)
 @given(pose=st.tuples(_FINITE, _FINITE, st.floats(-math.pi, math.pi)),
-       offset=st.tuples(st.floats(-0.15, 0.15), st.floats(-0.15, 0.15),
+       offset=st.tuples(st.floats(-0.35, 0.35), st.floats(-0.35, 0.35),
                         st.floats(-math.pi, math.pi)),
-       speed=st.sampled_from([0.0, 0.3, -0.2]), final=st.booleans(), paused=st.booleans(),
-       backwards=st.booleans(), fy=st.floats(-2.0, 2.0))
+       speed=st.sampled_from([0.0, 0.3, -0.2]), angular=st.sampled_from([0.0, 1.5, -1.5]),
+       final=st.booleans(), paused=st.booleans(), backwards=st.booleans(),
+       fy=st.floats(-2.0, 2.0))
 def test_the_compiled_law_is_the_reference_near_a_place(
         pose: tuple[float, float, float], offset: tuple[float, float, float], speed: float,
-        final: bool, paused: bool, backwards: bool, fy: float) -> None:
-    """The same within 15 cm of the place (the arrival, settle and parking laws), where the
-    draws over +-3 m above seldom come."""
+        angular: float, final: bool, paused: bool, backwards: bool, fy: float) -> None:
+    """The same within 35 cm of the place (the arrival, settle, approach and parking laws,
+    the share of a turn on the spot), where the draws over +-3 m above seldom come."""
     from dancebots.robot_batch import _gains
     from dancebots.robot_batch_jit import _tracking
 
@@ -443,8 +561,8 @@ def test_the_compiled_law_is_the_reference_near_a_place(
         tracking = PARAMS
 
     place = (pose[0] + offset[0], pose[1] + offset[1], offset[2])
-    expected = tracking_step(PARAMS, pose, SlotReference(place, speed, 0.0, final, paused,
+    expected = tracking_step(PARAMS, pose, SlotReference(place, speed, angular, final, paused,
                                                          backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
-                    speed, 0.0, final, fy, paused, backwards)
+                    speed, angular, final, fy, paused, backwards)
     assert got == pytest.approx(expected, abs=1e-9)

@@ -51,11 +51,12 @@ from dancebots.geometry import (
 from dancebots.plan.places import path_places
 from dancebots.plan.planner import Plan, slot_velocities
 
-__all__ = ["FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference", "TrackingParams",
-           "choose_folds", "fold_reference", "follower_places", "follower_references",
-           "parking_step", "path_places", "path_references", "paused_step",
-           "references_from_motion", "settle_step", "shared_pose_references", "slot_reference",
-           "slot_references", "tracking_step"]
+__all__ = ["BRIEF_STAND", "FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference",
+           "TrackingParams", "approach_step", "brief_stand", "choose_folds", "fold_reference",
+           "follower_places", "follower_references", "parking_step", "path_places",
+           "path_references", "paused_step", "references_from_motion", "settle_step",
+           "shared_pose_references", "slot_reference", "slot_references", "stand_ends",
+           "tracking_step", "turn_share"]
 
 FloatArray = NDArray[np.float64]
 
@@ -87,6 +88,10 @@ class TrackingParams:
     wait_speed: a robot whose law would drive it against its reference's motion while the
         reference moves at least this fast (m/s) waits for it instead (it drives backwards
         only where its reference does).
+    approach_distance, approach_heading: nearer than this (m) to its final slot and facing
+        less than this (rad) from its heading, the robot approaches it with
+        :func:`approach_step` instead of the posture law (which brings a robot farther or
+        turned farther within them first).
     """
 
     gain_x: float = 1.5
@@ -105,6 +110,8 @@ class TrackingParams:
     park_gain_alpha: float = 3.0
     park_gain_theta: float = 1.5
     wait_speed: float = 0.05
+    approach_distance: float = 0.3
+    approach_heading: float = math.radians(45.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,9 +119,10 @@ class SlotReference:
     """Where a robot's slot is and how it moves: pose (x, y, theta) in the robot's map frame,
     signed speed along its heading, m/s, and angular speed, rad/s; final: the slot stands for
     good (the show is over), so the robot parks on it (:func:`parking_step`); paused: the
-    slot stands a moment because the formation's shared show clock stands (``sync.hold``), and
-    moves on along its heading when the clock runs (:func:`tracking_step`'s paused law),
-    backwards where ``backwards`` (a slot driven in reverse when the clock stood)."""
+    slot stands a moment, because the formation's shared show clock stands (``sync.hold``) or
+    because the plan stops it for less than :data:`BRIEF_STAND`, and moves on along its
+    heading when the clock runs (:func:`tracking_step`'s paused law), backwards where
+    ``backwards`` (a slot driven in reverse when the clock stood, or next)."""
 
     pose: tuple[float, float, float]
     speed: float
@@ -139,6 +147,37 @@ robot over 0.6 s of facing away."""
 REFERENCE_TURN = 1.5
 """rad/s: the rate at which the reference heading turns round at a fold change, and the rate
 counted for the turn's cost (below the robots' pi rad/s, so that they can follow it)."""
+BRIEF_STAND = 2.0
+"""s: a place that stands on its path (not for good) and moves on within this is tracked with
+the paused law (:func:`paused_step`), as when the shared clock stands: the robot closes on it
+along its own heading and turns gently to its heading, never towards a point beside it. The
+drive onto it (turning towards it first) turned the open-day show's rear robots, 0.2 m short
+of a corner when the place stood 0.4 s there after turning, 55 deg past the new heading
+(reversing onto the place beside them) and back when it moved on: 130 deg each, at every
+run (t = 65.4 s)."""
+
+
+def stand_ends(grid: FloatArray) -> NDArray[np.int64]:
+    """For each row of a reference grid (T, 5) (x, y, heading, speed, angular speed at ticks
+    of a fixed period), the index of the first row at or after it whose place moves (T where
+    none does): where a standing row's stand ends."""
+    moving = (np.abs(grid[:, 3]) > 1e-9) | (np.abs(grid[:, 4]) > 1e-9)
+    first = np.where(moving, np.arange(len(grid)), len(grid))
+    ends: NDArray[np.int64] = np.minimum.accumulate(first[::-1])[::-1].astype(np.int64)
+    return ends
+
+
+def brief_stand(grid: FloatArray, ends: NDArray[np.int64], row: int, show_time: float,
+                period: float) -> float:
+    """Whether the place of reference grid row ``row`` (of ``grid`` (T, 5), ``period`` s
+    apart; ``ends`` from :func:`stand_ends`) at ``show_time`` s stands only briefly: 0.0 if it
+    moves there, stands for good (it never moves again) or stands :data:`BRIEF_STAND` s or
+    more from ``show_time``; else the way it moves on: -1.0 where it is then driven in
+    reverse, 1.0 otherwise."""
+    end = int(ends[row])
+    if end == row or end >= len(grid) or end * period - show_time >= BRIEF_STAND:
+        return 0.0
+    return -1.0 if grid[end, 3] < 0.0 else 1.0
 
 
 def choose_folds(times: FloatArray, motion: FloatArray, leader_heading: FloatArray,
@@ -356,6 +395,20 @@ def settle_step(params: TrackingParams, ex: float, heading_error: float,
     return linear, angular
 
 
+def turn_share(params: TrackingParams, ex: float) -> float:
+    """The share (0-1) of a slot's turn on the spot that a robot ``ex`` m behind it along its
+    own heading turns along (an addition to Kanayama's feedforward): all of it within
+    ``arrival_distance`` (or ahead of the slot), none beyond ``settle_distance``, linearly
+    between. A robot further behind closes on the turning point first (Kanayama's ``Kx ex``)
+    and turns there: turning with the slot from 0.2 m short of it, the open-day show's rear
+    robots ended 0.12-0.2 m beside their places, at a corner and at the final turn, and the
+    drive onto them swung them 55-90 deg out and back (R4: 180 deg at the show's end)."""
+    span = params.settle_distance - params.arrival_distance
+    if span <= 0.0:
+        return 1.0 if ex <= params.arrival_distance else 0.0
+    return min(max(1.0 - (ex - params.arrival_distance) / span, 0.0), 1.0)
+
+
 def parking_step(params: TrackingParams, distance: float, bearing: float,
                  heading_error: float, backwards: bool) -> tuple[float, float]:
     """(linear m/s, angular rad/s) that bring a robot onto a standing slot ``distance`` m
@@ -394,12 +447,12 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     While the slot moves: Kanayama's law above, plus a turn away from obstacles
     (``force_gain * Fy``, in the direction of travel); where the law would drive against
     the slot's motion (the robot far ahead of a slot that moves towards it), the robot
-    waits, turning to the slot's heading. While the show's clock stands
-    (``reference.paused``): the paused law (:func:`paused_step`). While it stands a moment
-    on its path: drive to it (forwards, or backwards when it is less than
-    ``reverse_distance`` behind). Once it
-    stands for good (``reference.final``): park on it (:func:`parking_step`). Within
-    ``settle_distance`` of any standing slot, final or not, turn to its heading and close
+    waits, turning to the slot's heading. While the show's clock stands, or the slot stands
+    less than :data:`BRIEF_STAND` on its path (``reference.paused``): the paused law
+    (:func:`paused_step`). While it stands longer on its path: drive to it (forwards, or
+    backwards when it is less than ``reverse_distance`` behind). Once it stands for good
+    (``reference.final``): park on it (:func:`parking_step`). Within ``settle_distance`` of
+    a slot that stands so, final or not, turn to its heading and close
     the distance along it (:func:`settle_step`; driven onto, a place that stood 4 cm behind
     and beside R2 at the open-day show's end turned it 50 deg and back). Within
     ``arrival_distance``: only turn to its heading.
@@ -416,6 +469,8 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
             # reference's heading, until the law drives it the reference's way (a heuristic
             # outside Kanayama's proof: docs/control.md)
             return _saturate(0.0, params.turn_gain * heading_error, params)
+        if abs(vr) < params.wait_speed:
+            wr *= turn_share(params, ex)
         angular = (wr + vr * params.gain_y * ey
                    + max(abs(vr), params.heading_speed) * params.gain_theta
                    * math.sin(heading_error))
@@ -439,6 +494,9 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
                          params)
     if params.arrival_distance < distance <= params.settle_distance:
         return _saturate(*settle_step(params, ex, heading_error), params)
+    if (distance <= params.approach_distance
+            and math.cos(heading_error) > math.cos(params.approach_heading)):
+        return _saturate(*approach_step(params, ex, ey, heading_error, fy), params)
     if distance > params.arrival_distance:
         linear, angular = parking_step(params, distance, math.atan2(ey, ex), heading_error,
                                        backwards)
@@ -446,6 +504,26 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     if abs(heading_error) > params.heading_tolerance:
         return _saturate(0.0, params.turn_gain * heading_error, params)
     return 0.0, 0.0
+
+
+def approach_step(params: TrackingParams, ex: float, ey: float, heading_error: float,
+                  fy: float) -> tuple[float, float]:
+    """(linear m/s, angular rad/s) of a robot near its final slot (within
+    ``approach_distance``, facing within ``approach_heading`` of its heading), the slot
+    (ex, ey) m ahead and to the left in ``base_link``, ``heading_error`` rad from its
+    heading, sideways force ``fy`` (an addition): the paused law (:func:`paused_step`,
+    forwards or backwards as the slot lies) while more than ``arrival_distance`` is left
+    along its heading: it closes that distance, steering off its sideways error only as it
+    drives and turning gently to the slot's heading; then it only turns to the heading
+    (within ``heading_tolerance``) and stops. What it cannot close driving along its
+    heading is left (at most ``approach_distance`` sideways). The posture law
+    (:func:`parking_step`) turned robots 0.1-0.2 m beside their slots 90-180 deg out and
+    back, or a full circle under the realistic profile's lag (to_music's R4: 330 deg)."""
+    if abs(ex) > params.arrival_distance:
+        return paused_step(params, ex, ey, heading_error, fy, backwards=ex < 0.0)
+    angular = (params.turn_gain * heading_error
+               if abs(heading_error) > params.heading_tolerance else 0.0)
+    return 0.0, angular
 
 
 def paused_step(params: TrackingParams, ex: float, ey: float, heading_error: float,
