@@ -30,13 +30,14 @@ from dancebots.control.follower import (
     thesis_follower_step,
 )
 from dancebots.control.tracking import (
+    FOR_GOOD,
     REFERENCE_TURN,
     SlotReference,
     TrackingParams,
-    brief_stand,
     fold_reference,
     follower_places,
     follower_references,
+    place_stand,
     references_from_motion,
     stand_ends,
     tracking_step,
@@ -550,9 +551,9 @@ class RobotBrain:
             rows[i] = (*exact.pose, exact.speed, exact.angular_speed)
         return rows
 
-    def _brief_stand(self, show_time: float) -> float:
-        """``control.tracking.brief_stand`` of the place at ``show_time`` s (0.0 off the
-        grid, where the plan ended: it stands for good)."""
+    def _place_stand(self, show_time: float) -> float:
+        """``control.tracking.place_stand`` of the place at ``show_time`` s (0.0 off the
+        grid, before the show and after the grid's end, where every place is final)."""
         grid = self._slot_grid
         assert grid is not None, "serves the tracking and path followers"
         k = self._grid_index(show_time, len(grid))
@@ -562,7 +563,7 @@ class RobotBrain:
             k = min(math.floor(show_time / self.grid_period), len(grid) - 1)
         if self._stand_ends is None:
             self._stand_ends = stand_ends(grid)
-        return brief_stand(grid, self._stand_ends, k, show_time, self.grid_period)
+        return place_stand(grid, self._stand_ends, k, show_time, self.grid_period)
 
     def _reference(self, show_time: float) -> SlotReference:
         """What the tracking and path followers track at ``show_time`` s: the reference's
@@ -672,6 +673,9 @@ class RobotBrain:
             if self.follower != "thesis":
                 follower = state.follower
                 reference = self._reference(show_time)
+                way = 0.0 if reference.final else self._place_stand(show_time)
+                if way == FOR_GOOD:  # its place never moves again: its final slot
+                    reference = replace(reference, final=True)
                 final = reference.final
                 full_speed, full_angular = reference.speed, reference.angular_speed
                 if paused and not reference.final:
@@ -679,10 +683,9 @@ class RobotBrain:
                 if paused:  # the shared show clock stopped: the place stands where it is
                     reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True,
                                         backwards=reference.speed < 0.0)
-                elif not final and not reference.moving:
-                    way = self._brief_stand(show_time)
-                    if way:  # it stands a moment on its path: as if the clock stood
-                        reference = replace(reference, paused=True, backwards=way < 0.0)
+                elif way and not final and not reference.moving:
+                    # it stands a moment on its path: as if the clock stood
+                    reference = replace(reference, paused=True, backwards=way < 0.0)
                 elif self.paced and rate < 1.0:  # the clock runs slow: so does the place
                     reference = replace(reference, speed=reference.speed * rate,
                                         angular_speed=reference.angular_speed * rate)

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from dancebots import robot
-from dancebots.control.tracking import BRIEF_STAND, stand_ends
+from dancebots.control.tracking import BRIEF_STAND, FOR_GOOD, stand_ends
 from dancebots.perception.cloud import PointCloud
 from dancebots.perception.tracks import TrackParams
 from dancebots.robot import RobotBrain
@@ -79,7 +79,8 @@ def _gains(brain: RobotBrain) -> FloatArray:
     return np.array([t.gain_x, t.gain_y, t.gain_theta, t.arrival_distance, t.settle_distance,
                      t.heading_tolerance, t.arrival_gain, t.turn_gain, t.reverse_distance,
                      t.force_gain, t.heading_speed, t.park_gain_alpha, t.park_gain_theta,
-                     t.wait_speed, t.approach_distance, t.approach_heading])
+                     t.wait_speed, t.approach_distance, t.approach_heading, t.approach_gain,
+                     t.approach_tilt])
 
 
 def _wrap_exact(angles: FloatArray) -> FloatArray:
@@ -206,8 +207,9 @@ class BatchBrains:
                 brain, show_time = self.brains[i], float(show_times[i])
                 exact = brain._reference(show_time)
                 rows[i] = (*exact.pose, exact.speed, exact.angular_speed,
-                           brain._brief_stand(show_time))
-        return rows, show_times >= self.rest_from, mates
+                           brain._place_stand(show_time))
+        # a place that never moves again is final before the others reach theirs
+        return rows, (show_times >= self.rest_from) | (rows[:, 5] == FOR_GOOD), mates
 
     def step(self, now: float, show_times: FloatArray, poses: FloatArray,
              pose_known: NDArray[np.bool_], arrived: list[PointCloud | None],

@@ -47,7 +47,8 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
 # indices of the tracking parameters (``control.tracking.TrackingParams``) in ``gains``
 (GAIN_X, GAIN_Y, GAIN_THETA, ARRIVAL_DISTANCE, SETTLE_DISTANCE, HEADING_TOLERANCE,
  ARRIVAL_GAIN, TURN_GAIN, REVERSE_DISTANCE, FORCE_GAIN_STEER, HEADING_SPEED, PARK_ALPHA,
- PARK_THETA, WAIT_SPEED, APPROACH_DISTANCE, APPROACH_HEADING) = range(16)
+ PARK_THETA, WAIT_SPEED, APPROACH_DISTANCE, APPROACH_HEADING, TILT_GAIN,
+ APPROACH_TILT) = range(18)
 # indices of the detection parameters (``perception.obstacles.DetectorParams``) in ``detect``
 (CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON,
  TURN_SHARE) = range(8)
@@ -174,8 +175,18 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if (distance <= gains[APPROACH_DISTANCE]
             and math.cos(heading_error) > math.cos(gains[APPROACH_HEADING])):
         # ``control.tracking.approach_step``
-        if abs(ex) > gains[ARRIVAL_DISTANCE]:
-            linear, angular = _paused(gains, max_linear, ex, ey, heading_error, fy, ex < 0.0)
+        c_error, s_error = math.cos(heading_error), math.sin(heading_error)
+        along = ex * c_error + ey * s_error
+        aside = ex * s_error - ey * c_error
+        if abs(along) > gains[ARRIVAL_DISTANCE]:
+            direction = 1.0 if along > 0.0 else -1.0
+            linear = direction * min(gains[ARRIVAL_GAIN] * abs(along),
+                                     max_linear) * max(c_error, 0.0)
+            tilt = min(max(gains[TILT_GAIN] * aside, -gains[APPROACH_TILT]),
+                       gains[APPROACH_TILT])
+            angular = gains[TURN_GAIN] * (heading_error - direction * tilt)
+            if linear != 0.0:
+                angular += direction * gains[FORCE_GAIN_STEER] * fy
             return _saturate(linear, angular, max_linear, max_angular)
         if abs(heading_error) > gains[HEADING_TOLERANCE]:
             return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
@@ -492,9 +503,9 @@ def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: f
                  brief: float) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
     """What each follower tracks on the brains' grid at its show time (R,) s: the rows
     (R, 6) (x, y, heading, speed, angular speed; with ``lead`` > 0 s the speeds
-    interpolated between the two grid ticks around the time ``lead`` s ahead; and whether
-    the place stands only briefly there, ``control.tracking.brief_stand`` with the rows'
-    ``stand_ends`` (R, T) and ``brief`` s for ``BRIEF_STAND``), whether the
+    interpolated between the two grid ticks around the time ``lead`` s ahead; and how the
+    place stands there, ``control.tracking.place_stand`` with the rows' ``stand_ends``
+    (R, T) and ``brief`` s for ``BRIEF_STAND``), whether the
     row is the grid's (R,) (else the brain computes it: ``RobotBrain._reference``), and
     where each robot's mates should be (R, M, 2) (the nearest grid tick's). grid (R, T, 5),
     mates (R, M, T', 2), both in each robot's own frame (``BatchBrains``)."""
@@ -506,10 +517,12 @@ def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: f
         show_time = show_times[r]
         k, found = _grid_index(show_time, period, grid_end, length)
         rows[r, :5] = grid[r, k, :]
-        # ``control.tracking.brief_stand``
+        # ``control.tracking.place_stand``
         end = stand_ends[r, k]
         rows[r, 5] = 0.0
-        if end != k and end < length and end * period - show_time < brief:
+        if end >= length:
+            rows[r, 5] = 2.0  # ``FOR_GOOD``
+        elif end != k and end * period - show_time < brief:
             rows[r, 5] = -1.0 if grid[r, end, 3] < 0.0 else 1.0
         if lead > 0.0:
             steps = (show_time + lead) / period
@@ -557,7 +570,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     stamps (R,) s; columns (K, 4) each robot's latest cloud (``base_link`` at its stamp),
     robot r's rows offsets[r]:offsets[r + 1], height_steps (R,) m; references (R, 6) what
     each follower tracks (x, y, heading, speed, angular speed: ``RobotBrain._reference``;
-    and ``control.tracking.brief_stand`` of its place: ``grid_lookups``),
+    and ``control.tracking.place_stand`` of its place: ``grid_lookups``; a place that
+    never moves again is final),
     finals (R,); mates (R, M, 2) where each robot's mates should be (its own frame);
     heard (R, 2) where each robot said it stands (show frame, NaN: not heard), used where
     use_heard, with each robot's show frame in its own (own_frames (R, 3), their cos and sin
@@ -691,7 +705,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             if paused:
                 speed, angular_speed = 0.0, 0.0
             elif not finals[r] and not (abs(speed) > 1e-9 or abs(angular_speed) > 1e-9):
-                if references[r, 5] != 0.0:
+                if references[r, 5] == 1.0 or references[r, 5] == -1.0:
                     standing_briefly = True
                     backwards = references[r, 5] < 0.0
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place

@@ -51,12 +51,12 @@ from dancebots.geometry import (
 from dancebots.plan.places import path_places
 from dancebots.plan.planner import Plan, slot_velocities
 
-__all__ = ["BRIEF_STAND", "FACING_AWAY_COST", "REFERENCE_TURN", "TURN_COST", "SlotReference",
-           "TrackingParams", "approach_step", "brief_stand", "choose_folds", "fold_reference",
+__all__ = ["BRIEF_STAND", "FACING_AWAY_COST", "FOR_GOOD", "REFERENCE_TURN", "TURN_COST",
+           "SlotReference", "TrackingParams", "approach_step", "choose_folds", "fold_reference",
            "follower_places", "follower_references", "parking_step", "path_places",
-           "path_references", "paused_step", "references_from_motion", "settle_step",
-           "shared_pose_references", "slot_reference", "slot_references", "stand_ends",
-           "tracking_step", "turn_share"]
+           "path_references", "paused_step", "place_stand", "references_from_motion",
+           "settle_step", "shared_pose_references", "slot_reference", "slot_references",
+           "stand_ends", "tracking_step", "turn_share"]
 
 FloatArray = NDArray[np.float64]
 
@@ -91,7 +91,8 @@ class TrackingParams:
     approach_distance, approach_heading: nearer than this (m) to its final slot and facing
         less than this (rad) from its heading, the robot approaches it with
         :func:`approach_step` instead of the posture law (which brings a robot farther or
-        turned farther within them first).
+        turned farther within them first). approach_gain, approach_tilt: its heading's tilt
+        towards the slot's side per metre of sideways error (rad/m) and the largest (rad).
     """
 
     gain_x: float = 1.5
@@ -112,6 +113,8 @@ class TrackingParams:
     wait_speed: float = 0.05
     approach_distance: float = 0.3
     approach_heading: float = math.radians(45.0)
+    approach_gain: float = 3.0
+    approach_tilt: float = math.radians(20.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -155,6 +158,12 @@ drive onto it (turning towards it first) turned the open-day show's rear robots,
 of a corner when the place stood 0.4 s there after turning, 55 deg past the new heading
 (reversing onto the place beside them) and back when it moved on: 130 deg each, at every
 run (t = 65.4 s)."""
+FOR_GOOD = 2.0
+""":func:`place_stand` of a place that never moves again: the robot parks on it as on its
+final slot (``SlotReference.final``) before every other place has reached its own
+(``plan.places.places_end``). Driven onto as a place that waits on its path, listing 7.4's
+R1 (0.13 m beside it, R2 at its side) drove 0.13 m on to make room for the turn onto it,
+reversed turning 40 deg away and was then swung round by the posture law (a full circle)."""
 
 
 def stand_ends(grid: FloatArray) -> NDArray[np.int64]:
@@ -167,15 +176,17 @@ def stand_ends(grid: FloatArray) -> NDArray[np.int64]:
     return ends
 
 
-def brief_stand(grid: FloatArray, ends: NDArray[np.int64], row: int, show_time: float,
+def place_stand(grid: FloatArray, ends: NDArray[np.int64], row: int, show_time: float,
                 period: float) -> float:
-    """Whether the place of reference grid row ``row`` (of ``grid`` (T, 5), ``period`` s
-    apart; ``ends`` from :func:`stand_ends`) at ``show_time`` s stands only briefly: 0.0 if it
-    moves there, stands for good (it never moves again) or stands :data:`BRIEF_STAND` s or
-    more from ``show_time``; else the way it moves on: -1.0 where it is then driven in
-    reverse, 1.0 otherwise."""
+    """How the place of reference grid row ``row`` (of ``grid`` (T, 5), ``period`` s apart;
+    ``ends`` from :func:`stand_ends`) stands at ``show_time`` s: :data:`FOR_GOOD` (2.0)
+    where it never moves again; where it stands only briefly (it moves on within
+    :data:`BRIEF_STAND` s from ``show_time``) the way it moves on, -1.0 where it is then
+    driven in reverse, 1.0 otherwise; 0.0 where it moves or stands longer."""
     end = int(ends[row])
-    if end == row or end >= len(grid) or end * period - show_time >= BRIEF_STAND:
+    if end >= len(grid):
+        return FOR_GOOD
+    if end == row or end * period - show_time >= BRIEF_STAND:
         return 0.0
     return -1.0 if grid[end, 3] < 0.0 else 1.0
 
@@ -511,16 +522,34 @@ def approach_step(params: TrackingParams, ex: float, ey: float, heading_error: f
     """(linear m/s, angular rad/s) of a robot near its final slot (within
     ``approach_distance``, facing within ``approach_heading`` of its heading), the slot
     (ex, ey) m ahead and to the left in ``base_link``, ``heading_error`` rad from its
-    heading, sideways force ``fy`` (an addition): the paused law (:func:`paused_step`,
-    forwards or backwards as the slot lies) while more than ``arrival_distance`` is left
-    along its heading: it closes that distance, steering off its sideways error only as it
-    drives and turning gently to the slot's heading; then it only turns to the heading
-    (within ``heading_tolerance``) and stops. What it cannot close driving along its
-    heading is left (at most ``approach_distance`` sideways). The posture law
-    (:func:`parking_step`) turned robots 0.1-0.2 m beside their slots 90-180 deg out and
-    back, or a full circle under the realistic profile's lag (to_music's R4: 330 deg)."""
-    if abs(ex) > params.arrival_distance:
-        return paused_step(params, ex, ey, heading_error, fy, backwards=ex < 0.0)
+    heading, sideways force ``fy`` (an addition). In the slot's frame the robot stands
+    ``along`` m short of the slot along the slot's heading (negative: past it) and
+    ``aside`` m to the left of the slot's line. While more than ``arrival_distance`` is left
+    along, it drives that way (forwards, or backwards where it is past the slot: u = +-
+    min(arrival_gain |along|, max_linear) cos(heading_error)) and turns (``turn_gain``) to
+    the slot's heading tilted towards the line by ``approach_gain`` aside, at most
+    ``approach_tilt`` (plus the force term, steering off what it drives past): it corrects
+    its sideways error as it drives, never turning more than that tilt from the slot's
+    heading. Then it only turns to the heading (within ``heading_tolerance``) and stands:
+    measured along the slot's heading, turning does not bring back what is left to drive.
+    What it cannot close on the way is left (at most ``approach_distance`` sideways). The
+    posture law (:func:`parking_step`) turned robots 0.1-0.2 m beside their slots 90-180
+    deg out and back, or a full circle under the realistic profile's lag (to_music's R4: 330
+    deg); closing along the robot's own heading instead, a robot turning onto the heading
+    found some distance left along it again and shuffled to and fro for 10 s."""
+    c, s = math.cos(heading_error), math.sin(heading_error)
+    along = ex * c + ey * s  # the slot's position from the robot, in the slot's frame
+    aside = ex * s - ey * c
+    if abs(along) > params.arrival_distance:
+        direction = 1.0 if along > 0.0 else -1.0
+        linear = direction * min(params.arrival_gain * abs(along),
+                                 params.max_linear) * max(c, 0.0)
+        tilt = min(max(params.approach_gain * aside, -params.approach_tilt),
+                   params.approach_tilt)
+        angular = params.turn_gain * (heading_error - direction * tilt)
+        if linear != 0.0:
+            angular += direction * params.force_gain * fy
+        return linear, angular
     angular = (params.turn_gain * heading_error
                if abs(heading_error) > params.heading_tolerance else 0.0)
     return 0.0, angular
