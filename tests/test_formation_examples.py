@@ -67,14 +67,14 @@ def test_listing_7_4_with_a_husky_and_a_tradr_splits_without_a_stall() -> None:
     they were beside each other, and they drove on straight side by side until their places
     were behind them (1.07 m off, 133 deg). Now R2's turn is cut only as far as its tail
     would swing into R1, R1 gives way, and both end at their slots, facing their headings,
-    neither turning more than 10 deg beyond its place. R1 stands 0.2 m beside its slot, R2
+    neither turning more than 20 deg beyond its place. R1 stands 0.2 m beside its slot, R2
     at its side: the approach onto a final slot leaves what the robot cannot close driving
     along the slot's heading (``control.tracking.approach_step``); before, the posture law
     brought R1 to 4.8 cm of its slot by turning 311 deg more than its place, and R2 125."""
     metrics, clean = judged("thesis_7_4", "path", "feasible", "thesis_7_4_husky_tradr.toml")
     assert clean
     assert metrics.collisions == 0
-    assert max(r.excess_turn for r in metrics.robots) < 10.0
+    assert max(r.excess_turn for r in metrics.robots) < 20.0
     assert metrics.max_final_error < 0.25
     assert metrics.max_final_heading_error < 5.0
 

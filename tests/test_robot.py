@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -802,25 +803,28 @@ def test_a_turn_about_a_point_within_the_footprint_is_on_the_spot() -> None:
     assert not turns_on_the_spot(0.0, 0.0, 0.67)
 
 
+@pytest.mark.parametrize("approach", [True, False])
 @pytest.mark.parametrize("no_room_within", [None, 0.0])
 def test_a_robot_a_few_centimetres_off_its_final_slot_does_not_make_room(
-        no_room_within: float | None, monkeypatch: pytest.MonkeyPatch) -> None:
+        no_room_within: float | None, approach: bool, monkeypatch: pytest.MonkeyPatch) -> None:
     """After the show, R2 of a row 0.8 m apart stands 7 cm to the right of its final slot,
-    facing its heading, R1 on its own beside it: it stands still, neither turning nor making
-    room. The posture law would turn it left towards the slot, the turn guard allowed none
-    of that turn (R1's side is within its corners' swing), and making room for it drove a
-    SIM robot 0.15 m/s ahead and back again to the run's end (listing 7.1 in the physics
-    profiles); FINAL_NO_ROOM (no room made within 0.15 m of the final slot) stopped that.
-    The approach law (``control.tracking.approach_step``) asks for no turn here at all, so
-    the robot stands with that rule switched off (0 m) too."""
+    facing its heading, R1 on its own beside it. With the approach law
+    (``control.tracking.approach_step``, the default) it asks for no turn and stands. With
+    the posture law alone (approach_distance 0) it would turn left towards the slot, the
+    turn guard allows none of that turn (R1's side is within its corners' swing), and making
+    room for it drove a SIM robot 0.15 m/s ahead and back again to the run's end (listing
+    7.1 in the physics profiles): within FINAL_NO_ROOM of its final slot it stands instead;
+    with that rule off (0 m) the same robot makes room, so the guard does block there."""
     import dancebots.robot as robot_module
     from dancebots.perception.cloud import PointCloud
-    from dancebots.robot import SensingConfig
+    from dancebots.robot import MAKE_ROOM_SPEED, SensingConfig
 
     if no_room_within is not None:
         monkeypatch.setattr(robot_module, "FINAL_NO_ROOM", no_room_within)
     plan = plan_of("robots R1 R2\nrow R1,R2 0 0.8\nmove 2 0\n")
     brain = RobotBrain(plan, "R2", FollowerParams(), sensing=SensingConfig(), follower="path")
+    if not approach:
+        brain.tracking = replace(brain.tracking, approach_distance=0.0)
     after = brain.rest_from + 1.0
     slot = brain.slot_at(after)
     assert slot.final
@@ -833,5 +837,50 @@ def test_a_robot_a_few_centimetres_off_its_final_slot_does_not_make_room(
         now = after + 0.1 * k
         state, command, _ = brain.step(state, now, pose, PointCloud(now, beside), clock=now)
         commands.append(command)
-    assert all(c.linear == 0.0 and c.angular == 0.0 for c in commands)
-    assert state.making_room == 0.0
+    if approach:
+        assert all(c.linear == 0.0 and c.angular == 0.0 for c in commands)
+        assert state.making_room == 0.0
+    elif no_room_within is None:
+        assert all(abs(c.linear) < 0.01 and c.angular == 0.0 for c in commands)
+        assert state.making_room == 0.0
+    else:
+        assert any(abs(c.linear) == pytest.approx(MAKE_ROOM_SPEED) for c in commands)
+
+
+def test_a_place_standing_a_moment_is_tracked_as_if_the_clock_stood() -> None:
+    """``RobotBrain._place_stand`` on a plan that stands 1 s, then 5 s, then for good: the
+    1 s stand, and the last 2 s of the 5 s one, are brief (``control.tracking.BRIEF_STAND``;
+    the place moves on forwards), the end is for good. A robot 0.2 m to the right of its
+    place while it stands a moment turns at most gently (the paused law), where at the start
+    of the 5 s stand it turns towards the place to drive onto it (0.2 m short of a corner
+    where their places stood 0.4 s, the open-day show's rear robots swung 55 deg out and
+    back)."""
+    from dancebots.control.tracking import FOR_GOOD
+    from dancebots.robot import SensingConfig
+
+    plan = plan_of("robots R1 R2\nrow R1,R2 0 0.8\nmove 2 0\nwait 1\nmove 2 0\nwait 5\n"
+                   "move 1 0\n")
+    brain = RobotBrain(plan, "R2", FollowerParams(), sensing=SensingConfig(lidar=False),
+                       follower="path")
+    times = np.arange(0.0, brain.grid_end, 0.1)
+    rows = brain.references_at(times)
+    standing = np.abs(rows[:, 3]) + np.abs(rows[:, 4]) < 1e-9
+    starts = times[1:][np.diff(standing.astype(int)) == 1]  # where each stand begins
+    assert len(starts) == 3
+    brief, wait, end = starts.tolist()
+    assert brain._place_stand(brief + 0.4) == 1.0
+    assert brain._place_stand(wait + 0.5) == 0.0
+    assert brain._place_stand(wait + 4.0) == 1.0  # 1 s left
+    assert brain._place_stand(end + 0.5) == FOR_GOOD
+    assert brain._place_stand(1.0) == 0.0  # it moves
+
+    def command_beside(show_time: float) -> tuple[float, float]:
+        x, y, heading = brain.slot_at(show_time).pose
+        pose = (x + 0.2 * math.sin(heading), y - 0.2 * math.cos(heading), heading)
+        _, command, _ = brain.step(brain.initial_state(), show_time, pose, None,
+                                   clock=show_time)
+        return command.linear, command.angular
+
+    tracking = brain.tracking
+    assert abs(command_beside(brief + 0.4)[1]) <= tracking.heading_speed * tracking.gain_theta
+    assert abs(command_beside(wait + 0.5)[1]) > 1.0

@@ -552,8 +552,9 @@ class RobotBrain:
         return rows
 
     def _place_stand(self, show_time: float) -> float:
-        """``control.tracking.place_stand`` of the place at ``show_time`` s (0.0 off the
-        grid, before the show and after the grid's end, where every place is final)."""
+        """``control.tracking.place_stand`` of the place at ``show_time`` s: from the grid
+        row of that time (the last from the grid's end on), or where a paced clock falls
+        between two rows, the earlier; 0.0 before the show."""
         grid = self._slot_grid
         assert grid is not None, "serves the tracking and path followers"
         k = self._grid_index(show_time, len(grid))
@@ -678,12 +679,15 @@ class RobotBrain:
                     reference = replace(reference, final=True)
                 final = reference.final
                 full_speed, full_angular = reference.speed, reference.angular_speed
+                briefly = way in (1.0, -1.0) and not reference.moving  # stands a moment
                 if paused and not reference.final:
-                    going = tracking_step(self.tracking, pose, reference, seen.force)
+                    going = tracking_step(self.tracking, pose, replace(
+                        reference, paused=True, backwards=way < 0.0) if briefly else reference,
+                        seen.force)
                 if paused:  # the shared show clock stopped: the place stands where it is
                     reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True,
                                         backwards=reference.speed < 0.0)
-                elif way and not final and not reference.moving:
+                elif briefly and not final:
                     # it stands a moment on its path: as if the clock stood
                     reference = replace(reference, paused=True, backwards=way < 0.0)
                 elif self.paced and rate < 1.0:  # the clock runs slow: so does the place

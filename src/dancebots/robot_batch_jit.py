@@ -146,7 +146,7 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         linear = vr * math.cos(heading_error) + gains[GAIN_X] * ex
         if linear * vr < 0.0 and abs(vr) >= gains[WAIT_SPEED]:
             return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
-        if abs(vr) < gains[WAIT_SPEED]:  # ``control.tracking.turn_share``
+        if abs(vr) <= gains[ARRIVAL_DISTANCE] * abs(wr):  # ``control.tracking.turn_share``
             span = gains[SETTLE_DISTANCE] - gains[ARRIVAL_DISTANCE]
             if span <= 0.0:
                 wr = wr if ex <= gains[ARRIVAL_DISTANCE] else 0.0
@@ -180,11 +180,12 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         aside = ex * s_error - ey * c_error
         if abs(along) > gains[ARRIVAL_DISTANCE]:
             direction = 1.0 if along > 0.0 else -1.0
-            linear = direction * min(gains[ARRIVAL_GAIN] * abs(along),
-                                     max_linear) * max(c_error, 0.0)
             tilt = min(max(gains[TILT_GAIN] * aside, -gains[APPROACH_TILT]),
                        gains[APPROACH_TILT])
-            angular = gains[TURN_GAIN] * (heading_error - direction * tilt)
+            target_error = heading_error - direction * tilt
+            linear = direction * min(gains[ARRIVAL_GAIN] * abs(along), max_linear) * max(
+                1.0 - abs(target_error) / gains[APPROACH_TILT], 0.0)
+            angular = gains[TURN_GAIN] * target_error
             if linear != 0.0:
                 angular += direction * gains[FORCE_GAIN_STEER] * fy
             return _saturate(linear, angular, max_linear, max_angular)
@@ -694,20 +695,22 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             speed, angular_speed = references[r, 3], references[r, 4]
             full_speed, full_angular = speed, angular_speed
             going = paused and not finals[r]  # what the show would ask (``RobotBrain.step``)
+            # (a place that stands a moment there: as if the clock stood, ``place_stand``)
+            stands_briefly = ((references[r, 5] == 1.0 or references[r, 5] == -1.0)
+                              and not (abs(speed) > 1e-9 or abs(angular_speed) > 1e-9))
             go_linear, go_angular = 0.0, 0.0
             if going:
                 go_linear, go_angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy, False, False)
+                    angular_speed, finals[r], fy, stands_briefly, references[r, 5] < 0.0)
             backwards = speed < 0.0  # (the slot's way when the clock stood)
             standing_briefly = False  # (as if the clock stood: ``RobotBrain.step``)
             if paused:
                 speed, angular_speed = 0.0, 0.0
-            elif not finals[r] and not (abs(speed) > 1e-9 or abs(angular_speed) > 1e-9):
-                if references[r, 5] == 1.0 or references[r, 5] == -1.0:
-                    standing_briefly = True
-                    backwards = references[r, 5] < 0.0
+            elif stands_briefly and not finals[r]:
+                standing_briefly = True
+                backwards = references[r, 5] < 0.0
             elif paced and rates[r] < 1.0:  # the clock runs slow: so does the place
                 speed, angular_speed = speed * rates[r], angular_speed * rates[r]
             reference_speed = abs(speed)

@@ -192,18 +192,45 @@ def test_the_approach_law_drives_along_the_slots_heading_tilted_then_only_turns(
     slot's line by approach_gain per metre aside (at most approach_tilt, mirrored in
     reverse), then only turns to the heading, then does nothing."""
     gain, tilt = PARAMS.approach_gain, PARAMS.approach_tilt
+    share = 1.0 - gain * 0.05 / tilt  # its speed falls with its heading's distance to the tilt
     v, w = approach_step(PARAMS, 0.2, 0.05, 0.0, 0.0)  # the slot 5 cm left of the robot
-    assert v == pytest.approx(PARAMS.arrival_gain * 0.2)
+    assert v == pytest.approx(PARAMS.arrival_gain * 0.2 * share)
     assert w == pytest.approx(PARAMS.turn_gain * gain * 0.05)  # it turns towards the line
-    assert approach_step(PARAMS, 0.2, 0.3, 0.0, 0.0)[1] == pytest.approx(
-        PARAMS.turn_gain * tilt)  # at most the tilt
+    assert approach_step(PARAMS, 0.2, 0.3, 0.0, 0.0) == (
+        0.0, pytest.approx(PARAMS.turn_gain * tilt))  # at most the tilt, turned first
     v, w = approach_step(PARAMS, -0.2, 0.05, 0.0, 0.0)  # past the slot: in reverse
-    assert v == pytest.approx(-PARAMS.arrival_gain * 0.2)
+    assert v == pytest.approx(-PARAMS.arrival_gain * 0.2 * share)
     assert w == pytest.approx(-PARAMS.turn_gain * gain * 0.05)  # its tail towards the line
+    v, w = approach_step(PARAMS, 0.2, 0.0, 0.0, 0.0)  # on the line, heading right
+    assert (v, w) == (pytest.approx(PARAMS.arrival_gain * 0.2), 0.0)
     # 0.2 m aside and turned 0.3 rad, 1 cm to go along the slot's heading: it only turns
     assert approach_step(PARAMS, -0.05, 0.2, 0.3, 0.0) == (
         0.0, pytest.approx(PARAMS.turn_gain * 0.3))
     assert approach_step(PARAMS, 0.0, 0.2, 0.01, 0.0) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("start", [(-0.048, 0.29, math.radians(44.0)),
+                                   (0.05, -0.28, math.radians(-40.0)),
+                                   (0.2, 0.2, math.radians(40.0))])
+def test_a_robot_turned_away_near_its_final_slot_turns_before_it_drives(
+        start: tuple[float, float, float]) -> None:
+    """A robot at the approach region's edge, turned almost approach_heading away from the
+    slot's heading (its position given in the slot's frame): it turns towards the slot's
+    line before it drives, so it stays within approach_distance and turns hardly more than
+    its heading error; driving at once, it left the region and the posture law swung it
+    round (the review's simulation: 295 deg, 332 with the realistic lag)."""
+    slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    x, y, theta = start
+    turned, farthest = 0.0, 0.0
+    for _ in range(300):
+        v, w = tracking_step(PARAMS, (x, y, theta), slot)
+        nx, ny, nt = integrate_unicycle(*(np.array([q]) for q in (x, y, theta, v, w, 0.1)))
+        turned += abs(w) * 0.1
+        x, y, theta = float(nx[0]), float(ny[0]), float(nt[0])
+        farthest = max(farthest, math.hypot(x, y))
+    assert farthest <= max(math.hypot(start[0], start[1]), PARAMS.approach_distance)
+    assert turned <= abs(start[2]) + 2.0 * PARAMS.approach_tilt
+    assert abs(wrap_angle(theta)) <= PARAMS.heading_tolerance
 
 
 def test_turning_onto_the_heading_leaves_nothing_to_drive() -> None:

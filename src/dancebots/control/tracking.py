@@ -407,8 +407,10 @@ def settle_step(params: TrackingParams, ex: float, heading_error: float,
 
 
 def turn_share(params: TrackingParams, ex: float) -> float:
-    """The share (0-1) of a slot's turn on the spot that a robot ``ex`` m behind it along its
-    own heading turns along (an addition to Kanayama's feedforward): all of it within
+    """The share (0-1) of a slot's turn on the spot (about a point within
+    ``arrival_distance`` of the slot: |vr| <= arrival_distance |wr|) that a robot ``ex`` m
+    behind it along its own heading turns along (an addition to Kanayama's feedforward):
+    all of it within
     ``arrival_distance`` (or ahead of the slot), none beyond ``settle_distance``, linearly
     between. A robot further behind closes on the turning point first (Kanayama's ``Kx ex``)
     and turns there: turning with the slot from 0.2 m short of it, the open-day show's rear
@@ -480,7 +482,7 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
             # reference's heading, until the law drives it the reference's way (a heuristic
             # outside Kanayama's proof: docs/control.md)
             return _saturate(0.0, params.turn_gain * heading_error, params)
-        if abs(vr) < params.wait_speed:
+        if abs(vr) <= params.arrival_distance * abs(wr):  # a turn on the spot
             wr *= turn_share(params, ex)
         angular = (wr + vr * params.gain_y * ey
                    + max(abs(vr), params.heading_speed) * params.gain_theta
@@ -525,28 +527,31 @@ def approach_step(params: TrackingParams, ex: float, ey: float, heading_error: f
     heading, sideways force ``fy`` (an addition). In the slot's frame the robot stands
     ``along`` m short of the slot along the slot's heading (negative: past it) and
     ``aside`` m to the left of the slot's line. While more than ``arrival_distance`` is left
-    along, it drives that way (forwards, or backwards where it is past the slot: u = +-
-    min(arrival_gain |along|, max_linear) cos(heading_error)) and turns (``turn_gain``) to
-    the slot's heading tilted towards the line by ``approach_gain`` aside, at most
-    ``approach_tilt`` (plus the force term, steering off what it drives past): it corrects
-    its sideways error as it drives, never turning more than that tilt from the slot's
-    heading. Then it only turns to the heading (within ``heading_tolerance``) and stands:
-    measured along the slot's heading, turning does not bring back what is left to drive.
-    What it cannot close on the way is left (at most ``approach_distance`` sideways). The
-    posture law (:func:`parking_step`) turned robots 0.1-0.2 m beside their slots 90-180
-    deg out and back, or a full circle under the realistic profile's lag (to_music's R4: 330
-    deg); closing along the robot's own heading instead, a robot turning onto the heading
-    found some distance left along it again and shuffled to and fro for 10 s."""
+    along, it turns (``turn_gain``) to the slot's heading tilted towards the line by
+    ``approach_gain`` aside, at most ``approach_tilt``, and drives that way (forwards, or
+    backwards where it is past the slot) at min(arrival_gain |along|, max_linear), scaled
+    from all of it with its heading on that target to none ``approach_tilt`` or more off it
+    (plus the force term, steering off what it drives past): it corrects its sideways error
+    as it drives, and turns before it drives where it faces away (driving turned away, it
+    left this law's reach and the posture law swung it round). Then it only turns to the
+    heading (within ``heading_tolerance``) and stands: measured along the slot's heading,
+    turning does not bring back what is left to drive. What it cannot close on the way is
+    left sideways. The posture law (:func:`parking_step`) turned robots 0.1-0.2 m beside
+    their slots 90-180 deg out and back, or a full circle under the realistic profile's lag
+    (to_music's R4: 330 deg); closing along the robot's own heading instead, a robot turning
+    onto the heading found some distance left along it again and shuffled to and fro for 10
+    s."""
     c, s = math.cos(heading_error), math.sin(heading_error)
     along = ex * c + ey * s  # the slot's position from the robot, in the slot's frame
     aside = ex * s - ey * c
     if abs(along) > params.arrival_distance:
         direction = 1.0 if along > 0.0 else -1.0
-        linear = direction * min(params.arrival_gain * abs(along),
-                                 params.max_linear) * max(c, 0.0)
         tilt = min(max(params.approach_gain * aside, -params.approach_tilt),
                    params.approach_tilt)
-        angular = params.turn_gain * (heading_error - direction * tilt)
+        target_error = heading_error - direction * tilt
+        linear = direction * min(params.arrival_gain * abs(along), params.max_linear) * max(
+            1.0 - abs(target_error) / params.approach_tilt, 0.0)
+        angular = params.turn_gain * target_error
         if linear != 0.0:
             angular += direction * params.force_gain * fy
         return linear, angular
