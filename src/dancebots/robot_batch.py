@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import accumulate
 
 import numpy as np
 from numpy.typing import NDArray
@@ -116,6 +117,8 @@ class BatchBrains:
         grids = [b._slot_grid for b in brains if b._slot_grid is not None]
         assert len(grids) == count  # the tracking and path followers' grids
         self.grid = np.stack(grids)  # (R, T, 5)
+        self.paced = first.paced
+        self.headings = self.grid[..., 2].copy()  # unwrapped, to interpolate (paced)
         self.grid[..., 2] = _wrap_exact(self.grid[..., 2])
         self.stand_ends = np.stack([stand_ends(grid) for grid in grids])  # (R, T)
         if count > 1:
@@ -201,7 +204,8 @@ class BatchBrains:
         brain where a time falls off it."""
         rows, on, mates = self._jit.grid_lookups(
             self.grid, self.mates, self.period, self.grid_end, self.lead,
-            np.ascontiguousarray(show_times, dtype=np.float64), self.stand_ends, BRIEF_STAND)
+            np.ascontiguousarray(show_times, dtype=np.float64), self.stand_ends, BRIEF_STAND,
+            self.paced, self.headings)
         if not on.all():
             for i in np.flatnonzero(~on).tolist():
                 brain, show_time = self.brains[i], float(show_times[i])
@@ -223,9 +227,10 @@ class BatchBrains:
         NaN (own frame; the ``shared-pose`` formation control), never final; ``rates`` (R,):
         the clock's rate of each since its last tick (paced brains; None: 1)."""
         count = len(self.brains)
-        arrivals = np.array([cloud is not None for cloud in arrived], dtype=bool)
+        present = [cloud is not None for cloud in arrived]
+        arrivals = np.array(present, dtype=bool)
         stamps = np.zeros(count)
-        if arrivals.any():
+        if any(present):
             for i, cloud in enumerate(arrived):
                 if cloud is not None:
                     self.latest[i] = cloud.columns
@@ -233,7 +238,7 @@ class BatchBrains:
                     stamps[i] = cloud.stamp
             self.columns = np.concatenate(self.latest) if count > 1 else self.latest[0]
             sizes = [len(c) for c in self.latest]
-            self.offsets[1:] = np.cumsum(sizes)
+            self.offsets[1:] = list(accumulate(sizes))
             if self.rules[self._jit.PREDICTED] != 0.0:
                 self._make_room_for_tracks(max(sizes))
         references, finals, mates = self.references(show_times)
@@ -260,10 +265,12 @@ class BatchBrains:
         error = self.safety[:, 0] != 0.0
         stopped = self.flags[:, 3]
         holds_show = self.flags[:, 1]
-        status = np.where(error, 2, np.where(stopped, 1, 0)).astype(np.int8)
+        status = stopped.astype(np.int8)  # 0 running, 1 stopped, 2 error
+        status[error] = 2
+        events = (tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist())
+                  if self.events.any() else ())
         return BatchTick(self.commands.copy(), status, holds_show | error,
-                         holds_show & stopped & ~error, self.flags[:, 2].copy(),
-                         tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist()),
+                         holds_show & stopped & ~error, self.flags[:, 2].copy(), events,
                          self.paces.copy())
 
     def _make_room_for_tracks(self, points: int) -> None:

@@ -501,7 +501,8 @@ def _grid_index(show_time: float, period: float, grid_end: float,
 @njit(cache=True)
 def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: float,
                  lead: float, show_times: FloatArray, stand_ends: NDArray[np.int64],
-                 brief: float) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
+                 brief: float, paced: bool, headings: FloatArray,
+                 ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray]:
     """What each follower tracks on the brains' grid at its show time (R,) s: the rows
     (R, 6) (x, y, heading, speed, angular speed; with ``lead`` > 0 s the speeds
     interpolated between the two grid ticks around the time ``lead`` s ahead; and how the
@@ -509,7 +510,11 @@ def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: f
     (R, T) and ``brief`` s for ``BRIEF_STAND``), whether the
     row is the grid's (R,) (else the brain computes it: ``RobotBrain._reference``), and
     where each robot's mates should be (R, M, 2) (the nearest grid tick's). grid (R, T, 5),
-    mates (R, M, T', 2), both in each robot's own frame (``BatchBrains``)."""
+    mates (R, M, T', 2), both in each robot's own frame (``BatchBrains``). ``paced``: a
+    time between two grid ticks (a paced clock's) is interpolated linearly between them as
+    ``RobotBrain.slot_at`` does, the heading from ``headings`` (R, T), the grid's headings
+    before they were wrapped (the brain's own), and the place stands as at the earlier
+    tick (``RobotBrain._place_stand``)."""
     count, length = grid.shape[0], grid.shape[1]
     rows = np.empty((count, 6))
     on = np.empty(count, dtype=np.bool_)
@@ -518,6 +523,18 @@ def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: f
         show_time = show_times[r]
         k, found = _grid_index(show_time, period, grid_end, length)
         rows[r, :5] = grid[r, k, :]
+        if not found and paced and 0.0 <= show_time < grid_end and length >= 2:
+            # ``RobotBrain.slot_at``'s paced branch, operation for operation
+            first = min(math.floor(show_time / period), length - 2)
+            start = first * period  # (the grid's last step ends at grid_end)
+            span = min((first + 1) * period, grid_end) - start
+            weight = min(max((show_time - start) / span, 0.0), 1.0) if span > 0.0 else 0.0
+            for d in range(5):
+                a = headings[r, first] if d == 2 else grid[r, first, d]
+                b = headings[r, first + 1] if d == 2 else grid[r, first + 1, d]
+                rows[r, d] = (1.0 - weight) * a + weight * b
+            rows[r, 2] = _wrap(rows[r, 2])
+            k, found = min(math.floor(show_time / period), length - 1), True
         # ``control.tracking.place_stand``
         end = stand_ends[r, k]
         rows[r, 5] = 0.0

@@ -20,7 +20,13 @@ import shapely
 from numpy.typing import NDArray
 
 from dancebots.control.tracking import follower_references, shared_pose_references
-from dancebots.geometry import Pose, compose_points, compose_poses, footprint_corners
+from dancebots.geometry import (
+    Pose,
+    compose_points,
+    compose_poses,
+    footprint_corners,
+    frame_turns,
+)
 from dancebots.perception.cloud import PointCloud
 from dancebots.plan.places import path_places, places_end
 from dancebots.plan.planner import Plan
@@ -28,6 +34,7 @@ from dancebots.robot import BrainOptions, BrainState, RobotBrain, brain_for
 from dancebots.robot_batch import BatchBrains, batch_supported
 from dancebots.safety.monitor import EventKind
 from dancebots.shows.loop import Clock, Progress, Tick, run_show
+from dancebots.sim.kernels import kernel
 from dancebots.sim.kinematics import IDEAL, Profile
 from dancebots.sim.lidar import LidarConfig
 from dancebots.sim.recorder import Recorder
@@ -360,6 +367,7 @@ class _Crew:
                            np.zeros(count, dtype=bool), np.zeros((count, 2)), np.ones(count))
         # each robot's frame of the show: where it tells its mates it stands
         self.show_frames = np.array([[b.slot0.x, b.slot0.y, b.slot0.theta] for b in brains])
+        self._show_frame_turns = frame_turns(self.show_frames)  # (:meth:`_tell`, every tick)
         self.delay, self.loss = config.hold_delay, config.hold_loss
         self.message_rng = np.random.default_rng([config.seed, 104_729])
         self.show_times = np.zeros(count)
@@ -397,12 +405,10 @@ class _Crew:
         due = [batch for at, batch in self.in_flight if at <= now + 1e-9]
         self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
         if self.compiled_clocks:  # the same in one compiled call (``sync.hold_jit``)
-            from dancebots.sync.hold_jit import receive_and_tick
-
             for batch in due[:-1]:
                 clocks = formation_receive(clocks, *batch)
             sent, stamp, shown, holds, position, pace = due[-1] if due else self.no_message
-            self.clocks = FormationClocks(*receive_and_tick(
+            self.clocks = FormationClocks(*kernel("sync.hold_jit").receive_and_tick(
                 clocks.show_time, clocks.updated, clocks.stamp, clocks.sent_show_time,
                 clocks.holds, clocks.position, clocks.pace, bool(due), sent, stamp, shown,
                 holds, position, pace, float(now), self.holding, self.pacing,
@@ -414,7 +420,9 @@ class _Crew:
                                          pace=self.pacing)
         self.show_times[:] = self.clocks.show_time
         if self.paced:  # how fast each clock ran since its last tick
-            self.rates[:] = clock_rate(self.clocks.show_time - before, now - since)
+            advance, elapsed = self.clocks.show_time - before, now - since
+            self.rates[:] = (kernel("sync.hold_jit").clock_rates(advance, elapsed)
+                             if self.compiled_clocks else clock_rate(advance, elapsed))
 
     def _mates_heard(self) -> list[np.ndarray | None]:
         """Per robot, (K, 2) where its mates said they stand (show frame), from the latest
@@ -439,7 +447,9 @@ class _Crew:
             np.zeros(count, dtype=bool))
         own = own[:, :2]
         # where each stands in the show frame (``RobotBrain.show_position``, all at once)
-        position = np.where(known[:, None], compose_points(self.show_frames, own), np.nan)
+        position = compose_points(self.show_frames, own, self._show_frame_turns)
+        if not known.all():
+            position[~known] = np.nan
         self.in_flight.append((now + self.delay, (
             ~lost, np.full(count, now), self.show_times.copy(), self.holding.copy(),
             position, self.pacing.copy())))

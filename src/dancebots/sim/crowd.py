@@ -31,12 +31,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from functools import lru_cache
+from typing import Any
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from dancebots.sim.kernels import kernel
 from dancebots.world.model import Crowd, Obstacle
 
 __all__ = ["KIND_BEHAVIOUR", "LEAVING_RANGE", "CrowdState", "KindBehaviour",
@@ -278,9 +281,19 @@ def social_acceleration(state: CrowdState, walls: FloatArray, robot_poses: Float
     return accel
 
 
+@lru_cache(maxsize=64)
+def _area_polygon(corners: bytes) -> shapely.Polygon:
+    """The prepared polygon of an area's corners (the bytes of a (K, 2) float array): built
+    once per area, not at every goal drawn."""
+    polygon = shapely.Polygon(np.frombuffer(corners, dtype=np.float64).reshape(-1, 2))
+    shapely.prepare(polygon)
+    return polygon
+
+
 def _inside(area: FloatArray, points: FloatArray) -> NDArray[np.bool_]:
-    result: NDArray[np.bool_] = shapely.contains_xy(shapely.Polygon(area), points[:, 0],
-                                                    points[:, 1])
+    """Which points (N, 2) lie inside the polygon ``area`` (K, 2)."""
+    polygon = _area_polygon(np.ascontiguousarray(area, dtype=np.float64).tobytes())
+    result: NDArray[np.bool_] = shapely.contains_xy(polygon, points[:, 0], points[:, 1])
     return result
 
 
@@ -418,15 +431,22 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     if speaking is not None and speaking.any():
         state = _make_room(state, robot_poses[speaking], reach[speaking], dt, areas, walls,
                            rng, robot_poses, reach)
-    arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
-                                      < state.column("arrive"))
     low, high = state.column("pause_min"), state.column("pause_max")
-    # ``rng.uniform(low, high)`` as it computes it (the same draws), without its broadcasting
-    pause = np.where(arrived, low + (high - low) * rng.random(count), state.pause)
-    was_pausing = pause > 0.0
-    pause = np.maximum(pause - dt, 0.0)
-    rethink = (was_pausing & (pause <= 0.0)) | (
-        (pause <= 0.0) & (rng.random(count) < state.column("change_rate") * dt))
+    if compiled:  # the same operations in one call (``crowd_jit.pauses``), the same draws
+        draws = rng.random(count)
+        arrived, pause, rethink = kernel("sim.crowd_jit").pauses(
+            state.pause, state.goal, state.position, state.column("arrive"), low, high,
+            draws, state.column("change_rate"), rng.random(count), dt)
+    else:
+        arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
+                                          < state.column("arrive"))
+        # ``rng.uniform(low, high)`` as it computes it (the same draws), without its
+        # broadcasting
+        pause = np.where(arrived, low + (high - low) * rng.random(count), state.pause)
+        was_pausing = pause > 0.0
+        pause = np.maximum(pause - dt, 0.0)
+        rethink = (was_pausing & (pause <= 0.0)) | (
+            (pause <= 0.0) & (rng.random(count) < state.column("change_rate") * dt))
     goal = state.goal
     if rethink.any():
         goal = goal.copy()
@@ -435,15 +455,13 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     leaving = state.leaving  # out of the formation: until at that goal or off to another
     if leaving is not None and leaving.any():
         leaving = leaving & ~arrived & ~rethink
-    moving = replace(state, goal=goal, pause=pause, leaving=leaving,
+    moving = _evolve(state, goal=goal, pause=pause, leaving=leaving,
                      robot_share=_robot_share(state.robot_share, leaving, robot_standing,
                                               count, len(robot_poses), dt))
     steps = max(1, math.ceil(dt / params.substep - 1e-9))
     h = dt / steps
     if compiled:  # the substeps in one call, the same operations (``crowd_jit.walk``)
-        from dancebots.sim import crowd_jit  # imports numba
-
-        position, velocity = crowd_jit.walk(
+        position, velocity = kernel("sim.crowd_jit").walk(
             moving.position, moving.velocity, moving.goal, moving.pause <= 0.0,
             moving.preferred, *moving.robot_push(len(robot_poses)), moving.radius, walls,
             rings if rings is not None else np.arange(len(walls)), robot_poses,
@@ -451,7 +469,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
             params.pedestrian_range, params.border_strength, params.border_range,
             params.step_time, math.cos(params.sight), params.out_of_sight,
             params.max_speed_factor, steps, h)
-        return replace(moving, position=position, velocity=velocity)
+        return _evolve(moving, position=position, velocity=velocity)
     position, velocity = moving.position, moving.velocity
     cap = params.max_speed_factor * moving.preferred
     for _ in range(steps):
@@ -473,6 +491,17 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
             velocity[touch] = 0.0
         position = ahead
     return replace(moving, position=position, velocity=velocity)
+
+
+_STATE_FIELDS = tuple(f.name for f in fields(CrowdState))
+
+
+def _evolve(state: CrowdState, **changes: Any) -> CrowdState:
+    """``dataclasses.replace(state, **changes)`` without its checks, which cost tens of
+    microseconds a call: the crowd changes every step."""
+    values: list[Any] = [changes[name] if name in changes else getattr(state, name)
+                         for name in _STATE_FIELDS]
+    return CrowdState(*values)
 
 
 def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: float,
@@ -515,6 +544,8 @@ def _robot_share(share: FloatArray | None, leaving: NDArray[np.bool_] | None,
     later: it follows :data:`LEAVING_RANGE` from the robots ``standing`` (R,) for the
     pedestrians ``leaving`` (P,), 1 otherwise, with the time constant :data:`SHARE_TIME`.
     None: the whole range from every robot (nobody leaving, nobody back to the whole)."""
+    if share is None and (leaving is None or standing is None):
+        return None  # (the common case, without allocating)
     who = np.zeros(people, dtype=bool) if leaving is None else leaving
     past = np.zeros(robots, dtype=bool) if standing is None else standing
     near = bool(who.any() and past.any())

@@ -16,7 +16,8 @@ from dancebots.jit_cache import drop_stale
 from dancebots.sim import collision_jit
 from dancebots.sim.collision_jit import footprint_gap
 
-__all__ = ["social_acceleration_loops", "steps_into_robots", "walk", "wall_distances"]
+__all__ = ["pauses", "robots_standing", "social_acceleration_loops", "steps_into_robots", "walk",
+           "wall_distances"]
 
 FloatArray = NDArray[np.float64]
 
@@ -199,6 +200,54 @@ def steps_into_robots(before: FloatArray, after: FloatArray, radii: FloatArray,
             gap_after = min(gap_after, footprint_gap(
                 after[p, 0] - poses[r, 0], after[p, 1] - poses[r, 1], c, s, half_l, half_w))
         result[p] = gap_after < radii[p] and gap_before >= radii[p]
+    return result
+
+
+@njit(cache=True)
+def pauses(pause: FloatArray, goal: FloatArray, position: FloatArray, arrive: FloatArray,
+           pause_min: FloatArray, pause_max: FloatArray, draws: FloatArray,
+           change_rate: FloatArray, change_draws: FloatArray, dt: float,
+           ) -> tuple[NDArray[np.bool_], FloatArray, NDArray[np.bool_]]:
+    """``crowd_step``'s pauses in one call, the same operations: who arrived at its goal
+    (P,) (not pausing, within ``arrive`` (P,) m), the pauses (P,) s left ``dt`` s later (one
+    who arrived pauses ``pause_min + (pause_max - pause_min) * draws`` s) and who picks a new
+    goal (P,) (a pause that ends, or a change of mind at ``change_rate`` (P,) per s:
+    ``change_draws`` below ``change_rate * dt``). draws, change_draws (P,) uniform in
+    [0, 1)."""
+    count = pause.shape[0]
+    arrived = np.empty(count, dtype=np.bool_)
+    left = np.empty(count)
+    rethink = np.empty(count, dtype=np.bool_)
+    for p in range(count):
+        arrived[p] = pause[p] <= 0.0 and math.hypot(goal[p, 0] - position[p, 0],
+                                                    goal[p, 1] - position[p, 1]) < arrive[p]
+        now = (pause_min[p] + (pause_max[p] - pause_min[p]) * draws[p] if arrived[p]
+               else pause[p])
+        was_pausing = now > 0.0
+        left[p] = max(now - dt, 0.0)
+        rethink[p] = (was_pausing and left[p] <= 0.0) or (
+            left[p] <= 0.0 and change_draws[p] < change_rate[p] * dt)
+    return arrived, left, rethink
+
+
+@njit(cache=True)
+def robots_standing(velocity: FloatArray, command: FloatArray, issued: FloatArray,
+                    now: float, timeout: float, limits: FloatArray,
+                    moving_speed: float) -> NDArray[np.bool_]:
+    """``Stage._standing`` in one call (among crowds): (R,) whether each robot's velocity
+    (R, 2) and its command (R, 2) issued at ``issued`` (R,) s, clipped to ``limits`` (R, 2)
+    and zero when older than ``timeout`` s at ``now`` (``kinematics.fresh_commands``), stay
+    within ``moving_speed`` (m/s and rad/s)."""
+    count = velocity.shape[0]
+    result = np.empty(count, dtype=np.bool_)
+    for r in range(count):
+        fresh = (now - issued[r]) <= timeout + 1e-9
+        standing = True
+        for d in range(2):
+            given = min(max(command[r, d], -limits[r, d]), limits[r, d]) if fresh else 0.0
+            if not (abs(velocity[r, d]) <= moving_speed and abs(given) <= moving_speed):
+                standing = False
+        result[r] = standing
     return result
 
 

@@ -8,10 +8,20 @@ Every kernel is ``@njit(cache=True)``: numba compiles it on the first run on a m
 
 from __future__ import annotations
 
+import importlib
 import os
+from functools import cache
 from types import ModuleType
 
-__all__ = ["kernel_modules", "kernels_to_compile"]
+__all__ = ["kernel", "kernel_modules", "kernels_to_compile"]
+
+
+@cache
+def kernel(module: str) -> ModuleType:
+    """The kernel module ``dancebots.<module>`` (e.g. ``"sim.stage_jit"``), imported on the
+    first call (importing it imports numba): what a hot loop calls each tick instead of an
+    import statement, which costs microseconds every time."""
+    return importlib.import_module(f"dancebots.{module}")
 
 
 def kernel_modules(crowds: bool = False, stop_rule: str = "predicted",

@@ -15,11 +15,14 @@ scan; the simulator delivers them ``latency`` seconds later.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
+from itertools import accumulate
 
 import numpy as np
 from numpy.typing import NDArray
 
 from dancebots.perception.cloud import PointCloud
+from dancebots.sim.kernels import kernel
 from dancebots.sim.raycast import (
     ray_directions,
     rays_to_convex_walls,
@@ -51,10 +54,17 @@ class LidarConfig:
     compiled: bool = True
 
     def angles(self) -> FloatArray:
-        """Ray angles (N,) in rad relative to the robot's heading, from -pi, evenly spaced."""
-        result: FloatArray = -np.pi + np.arange(self.rays, dtype=np.float64) * (
-            2.0 * np.pi / self.rays)
-        return result
+        """Ray angles (N,) in rad relative to the robot's heading, from -pi, evenly spaced
+        (computed once per ray count and shared: not to be written to)."""
+        return _ray_angles(self.rays)
+
+
+@lru_cache(maxsize=16)
+def _ray_angles(rays: int) -> FloatArray:
+    """:meth:`LidarConfig.angles` of ``rays`` rays (a LIDAR scans every tick; numba kernels
+    take the array, so it stays writeable: a read-only one is another type to compile)."""
+    result: FloatArray = -np.pi + np.arange(rays, dtype=np.float64) * (2.0 * np.pi / rays)
+    return result
 
 
 def _segments(polygon: FloatArray) -> FloatArray:
@@ -117,17 +127,16 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
     if len(discs) == 0:
         discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
     if config.compiled:
-        from dancebots.sim.raycast_jit import build_columns, cast_scene  # imports numba
-
-        solid, solid_height, wall = cast_scene(
+        raycast = kernel("sim.raycast_jit")  # (imports numba)
+        solid, solid_height, wall = raycast.cast_scene(
             origins, headings, angles, corners, config.robot_height, scene.obstacle_segments,
             scene.obstacle_heights, discs, disc_heights.astype(float), scene.walls,
             config.max_range)
         # columns of points, robot by robot: the hit itself (below the wall), the wall's
         # upper half behind it, or the whole wall when nothing stands before it
-        columns, counts = build_columns(solid, solid_height, wall, angles, config.min_range,
+        columns, counts = raycast.build_columns(solid, solid_height, wall, angles, config.min_range,
                                         config.max_range, scene.wall_height)
-        ends = np.cumsum(counts).tolist()  # (slices: np.split costs 2 us a robot)
+        ends = list(accumulate(counts.tolist()))  # (slices: np.split costs 2 us a robot)
         return [PointCloud(stamp, columns[start:end], config.height_step)
                 for start, end in zip([0, *ends[:-1]], ends, strict=True)]
     # robots' edges and obstacles' edges: culled by angular span and range

@@ -26,6 +26,7 @@ from dancebots.geometry import (
     Pose,
     compose_poses,
     footprint_corners,
+    frame_turns,
     integrate_unicycle,
     points_to_world,
     wrap_angles,
@@ -45,6 +46,7 @@ from dancebots.sim.crowd import (
     wall_rings,
     wall_segments,
 )
+from dancebots.sim.kernels import kernel
 from dancebots.sim.kinematics import Profile, actuate, fresh_commands
 from dancebots.sim.lidar import LidarConfig, LidarScene, scan_clouds, scan_ranges
 from dancebots.sim.setup import Arena, Placement
@@ -114,6 +116,7 @@ class Stage:
         starts = placement.starts.astype(float)
         self.to_own = np.array([astuple(Pose(*(float(v) for v in starts[i])).inverse())
                                 for i in range(count)]).reshape(count, 3)
+        self._to_own_turn = frame_turns(self.to_own)  # (:meth:`own_poses`, every tick)
         self.lengths = np.array([t.length for t in placement.types])
         self.widths = np.array([t.width for t in placement.types])
         self.reach = 0.5 * np.hypot(self.lengths, self.widths)
@@ -175,7 +178,9 @@ class Stage:
                 np.array([profile.linear_noise, profile.angular_noise]))
         self.pose = starts.copy()
         self.velocity = np.zeros((count, 2))
-        self.commanded = np.zeros((count, 2))  # this step's commands (R, 2), among crowds
+        # this step's commands (R, 2), when (R,) s and now (s), among crowds (:meth:`_standing`)
+        self._given: tuple[FloatArray, FloatArray, float] = (
+            np.zeros((count, 2)), np.full(count, -math.inf), 0.0)
         self.corners = self._footprints(self.pose)  # where the robots stand now
         self.pending: list[tuple[float, list[PointCloud] | Future[list[PointCloud]]]] = []
         self.planar_pending: list[tuple[float, float, FloatArray, FloatArray]] = []
@@ -255,7 +260,7 @@ class Stage:
 
     def own_poses(self) -> FloatArray:
         """Each robot's pose (R, 3) in its own map frame (its start pose is the origin)."""
-        return compose_poses(self.to_own, self.pose)
+        return compose_poses(self.to_own, self.pose, self._to_own_turn)
 
     def advance(self, now: float, command: FloatArray, issued: FloatArray) -> None:
         """Move everything by one ``dt`` from ``now``: commands (R, 2) (v, w) issued at
@@ -264,12 +269,9 @@ class Stage:
         noise = (self.rng.normal(0.0, 1.0, size=self.velocity.shape) if self._noisy
                  and self.physics is None else None)
         if self.crowd is not None:  # (the crowd tells standing robots from moving ones)
-            self.commanded = fresh_commands(np.clip(command, -self.limits, self.limits), issued,
-                                            now, self.command_timeout)
+            self._given = (command, issued, now)
         if self._free_step_data is not None:
-            from dancebots.sim.stage_jit import free_step  # imports numba
-
-            proposed, corners, velocity, free = free_step(
+            proposed, corners, velocity, free = kernel("sim.stage_jit").free_step(
                 self.pose, self.velocity, np.ascontiguousarray(command, dtype=float),
                 np.ascontiguousarray(issued, dtype=float), float(now),
                 float(self.command_timeout), self.limits,
@@ -338,22 +340,23 @@ class Stage:
         """Visitors walk on unless a robot stands where they would step; one kept waiting
         for STEP_BACK_AFTER s steps back along its way to let the robot pass."""
         spectators, dt = self.spectators, self.dt
-        ahead = spectator_discs(spectators, self.walked + dt)
-        free = np.ones(len(spectators), dtype=bool)
-        if len(spectators):
+        scripted = np.zeros((0, 3))  # (no scripted spectators)
+        if spectators:
+            ahead = spectator_discs(spectators, self.walked + dt)
             now = spectator_discs(spectators, self.walked)
             free = ~self._steps_into_robots(now[:, :2], ahead[:, :2], now[:, 2])
-        self.waiting = np.where(free, 0.0, self.waiting + dt)
-        walked = self.walked + np.where(free, dt, 0.0)
-        for k in np.flatnonzero(self.waiting >= STEP_BACK_AFTER).tolist():
-            back = walked.copy()
-            back[k] = max(spectators[k].start, walked[k] - STEP_BACK)
-            if not any(j == k for _, j in disc_contacts(
-                    self.pose, self.lengths, self.widths, spectator_discs(spectators, back))):
-                walked = back
-            self.waiting[k] = 0.0
-        self.walked = walked
-        scripted = spectator_discs(spectators, walked)
+            self.waiting = np.where(free, 0.0, self.waiting + dt)
+            walked = self.walked + np.where(free, dt, 0.0)
+            for k in np.flatnonzero(self.waiting >= STEP_BACK_AFTER).tolist():
+                back = walked.copy()
+                back[k] = max(spectators[k].start, walked[k] - STEP_BACK)
+                if not any(j == k for _, j in disc_contacts(
+                        self.pose, self.lengths, self.widths,
+                        spectator_discs(spectators, back))):
+                    walked = back
+                self.waiting[k] = 0.0
+            self.walked = walked
+            scripted = spectator_discs(spectators, walked)
         crowd = self.crowd
         if crowd is not None:
             moved = crowd_step(crowd, dt, [c.area for c in self.arena.crowds], self.walls,
@@ -373,8 +376,17 @@ class Stage:
         :data:`MOVING_SPEED` (m/s and rad/s; a robot told to drive moves, whatever its lag):
         a person walking out of the formation squeezes past these
         (``crowd.LEAVING_RANGE``)."""
+        command, issued, now = self._given
+        if self.compiled:  # the same comparisons in one call
+            standing: NDArray[np.bool_] = kernel("sim.crowd_jit").robots_standing(
+                self.velocity, np.ascontiguousarray(command, dtype=float),
+                np.ascontiguousarray(issued, dtype=float), float(now),
+                float(self.command_timeout), self.limits, MOVING_SPEED)
+            return standing
+        commanded = fresh_commands(np.clip(command, -self.limits, self.limits), issued, now,
+                                   self.command_timeout)
         result: NDArray[np.bool_] = (np.all(np.abs(self.velocity) <= MOVING_SPEED, axis=1)
-                                     & np.all(np.abs(self.commanded) <= MOVING_SPEED, axis=1))
+                                     & np.all(np.abs(commanded) <= MOVING_SPEED, axis=1))
         return result
 
     def _steps_into_robots(self, before: FloatArray, after: FloatArray,
@@ -383,9 +395,7 @@ class Stage:
         would reach into a robot's footprint from outside: people do not walk into robots,
         so they stand instead; one who already stands in a robot walks on (out of it)."""
         if self.compiled and len(self.pose):
-            from dancebots.sim.crowd_jit import steps_into_robots  # imports numba
-
-            result_jit: NDArray[np.bool_] = steps_into_robots(
+            result_jit: NDArray[np.bool_] = kernel("sim.crowd_jit").steps_into_robots(
                 np.ascontiguousarray(before, dtype=float), np.ascontiguousarray(after, dtype=float),
                 np.ascontiguousarray(radii, dtype=float), self.pose, self.lengths, self.widths)
             return result_jit
@@ -399,8 +409,12 @@ class Stage:
         crowds' pedestrians."""
         if self.crowd is None:
             return scripted
-        return np.concatenate([scripted.reshape(-1, 3), np.column_stack(
-            [self.crowd.position, self.crowd.radius])])
+        scripted = scripted.reshape(-1, 3)
+        discs = np.empty((len(scripted) + len(self.crowd.radius), 3))
+        discs[:len(scripted)] = scripted
+        discs[len(scripted):, :2] = self.crowd.position
+        discs[len(scripted):, 2] = self.crowd.radius
+        return discs
 
     def _footprints(self, poses: FloatArray) -> FloatArray:
         return footprint_corners(poses[:, 0], poses[:, 1], poses[:, 2], self.lengths,

@@ -169,3 +169,4 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
 
 
 drop_stale(__import__(__name__, fromlist=["_"]), (collision_jit,))
+

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["receive_and_tick"]
+__all__ = ["clock_rates", "receive_and_tick"]
 
 FloatArray = NDArray[np.float64]
 
@@ -112,3 +112,17 @@ def _before(a: float, b: float) -> bool:
     if math.isnan(a):
         return False
     return math.isnan(b) or a < b
+
+
+@njit(cache=True)
+def clock_rates(advance: FloatArray, elapsed: FloatArray) -> FloatArray:
+    """``hold.clock_rate`` of arrays (R,) in one call: how fast each show clock ran (0-1)
+    that advanced ``advance`` s of show time over ``elapsed`` s of its own clock."""
+    rates = np.empty(advance.shape[0])
+    for r in range(advance.shape[0]):
+        ratio = advance[r] / max(elapsed[r], 1e-9)
+        if ratio >= 1.0 - 1e-9 or elapsed[r] <= 0.0:
+            rates[r] = 1.0
+        else:  # (np.clip's, NaN kept)
+            rates[r] = 0.0 if ratio < 0.0 else (1.0 if ratio > 1.0 else ratio)
+    return rates
