@@ -89,7 +89,8 @@ def compose_poses(frames: FloatArray, poses: FloatArray,
     (..., 3) (x, y, theta; the shapes broadcast), expressed in the frames' parent; theta
     wrapped to (-pi, pi]. ``turns``: the frames' :func:`frame_turns`, if known."""
     c, s = frame_turns(frames) if turns is None else turns
-    shape = np.broadcast_shapes(np.shape(frames), np.shape(poses))
+    shape = (np.shape(frames) if np.shape(frames) == np.shape(poses)  # (the usual case)
+             else np.broadcast_shapes(np.shape(frames), np.shape(poses)))
     result = np.empty(shape)
     result[..., 0] = frames[..., 0] + c * poses[..., 0] - s * poses[..., 1]
     result[..., 1] = frames[..., 1] + s * poses[..., 0] + c * poses[..., 1]
@@ -104,7 +105,8 @@ def compose_points(frames: FloatArray, points: FloatArray,
     Returns (..., 2). The positions of :func:`compose_poses`, without a heading; ``turns``
     the frames' :func:`frame_turns`, if known."""
     c, s = frame_turns(frames) if turns is None else turns
-    shape = np.broadcast_shapes(np.shape(frames)[:-1], np.shape(points)[:-1])
+    shape = (np.shape(frames)[:-1] if np.shape(frames)[:-1] == np.shape(points)[:-1]
+             else np.broadcast_shapes(np.shape(frames)[:-1], np.shape(points)[:-1]))
     result = np.empty((*shape, 2))
     result[..., 0] = frames[..., 0] + c * points[..., 0] - s * points[..., 1]
     result[..., 1] = frames[..., 1] + s * points[..., 0] + c * points[..., 1]

@@ -206,7 +206,7 @@ class BatchBrains:
             self.grid, self.mates, self.period, self.grid_end, self.lead,
             np.ascontiguousarray(show_times, dtype=np.float64), self.stand_ends, BRIEF_STAND,
             self.paced, self.headings)
-        if not on.all():
+        if np.count_nonzero(on) < len(on):
             for i in np.flatnonzero(~on).tolist():
                 brain, show_time = self.brains[i], float(show_times[i])
                 exact = brain._reference(show_time)
@@ -268,7 +268,7 @@ class BatchBrains:
         status = stopped.astype(np.int8)  # 0 running, 1 stopped, 2 error
         status[error] = 2
         events = (tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist())
-                  if self.events.any() else ())
+                  if np.count_nonzero(self.events) else ())
         return BatchTick(self.commands.copy(), status, holds_show | error,
                          holds_show & stopped & ~error, self.flags[:, 2].copy(), events,
                          self.paces.copy())
@@ -276,7 +276,7 @@ class BatchBrains:
     def _make_room_for_tracks(self, points: int) -> None:
         """Grow the tracker's arrays so that a cloud of up to ``points`` columns fits: every
         track now plus one new track per point, one velocity and kind per point."""
-        tracks = int(self.track_count.max()) + points
+        tracks = max(self.track_count.tolist(), default=0) + points
         if tracks > self.track_states.shape[1]:
             grow = max(tracks, 2 * self.track_states.shape[1]) - self.track_states.shape[1]
             count = len(self.track_count)

@@ -448,7 +448,7 @@ class _Crew:
         own = own[:, :2]
         # where each stands in the show frame (``RobotBrain.show_position``, all at once)
         position = compose_points(self.show_frames, own, self._show_frame_turns)
-        if not known.all():
+        if np.count_nonzero(known) < len(known):
             position[~known] = np.nan
         self.in_flight.append((now + self.delay, (
             ~lost, np.full(count, now), self.show_times.copy(), self.holding.copy(),
@@ -482,7 +482,7 @@ class _Crew:
         if stage.physics is not None:  # the yaw rate the wheels would give: the slip
             record["wheel_rates"] = stage.physics.wheel_rates()
         return Tick(self.command, record, float(self.show_times.min()),
-                    bool(self.waiting.any()))
+                    bool(np.count_nonzero(self.waiting)))
 
     def _batch_step(self, now: float, show_times: np.ndarray, arrived: list[PointCloud | None],
                     own: np.ndarray, known: np.ndarray,

@@ -77,8 +77,8 @@ Step = Callable[[float], Tick]
 def robots_moving(velocity: FloatArray, commands: FloatArray) -> bool:
     """Whether any robot moves (velocities (R, 2), v m/s and w rad/s, above
     :data:`STILL_SPEED`) or is told to (commands (R, 2) above :data:`STILL_COMMAND`)."""
-    return bool(np.abs(velocity).max(initial=0.0) > STILL_SPEED
-                or np.abs(commands).max(initial=0.0) > STILL_COMMAND)
+    return bool(np.count_nonzero(np.abs(velocity) > STILL_SPEED)
+                or np.count_nonzero(np.abs(commands) > STILL_COMMAND))
 
 
 def settled_since(still_since: float | None, now: float, show_time: float,

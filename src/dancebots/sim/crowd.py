@@ -302,10 +302,11 @@ WALL_CLEARANCE = 0.15
 
 
 def _random_in(area: FloatArray, count: int, rng: np.random.Generator, walls: FloatArray,
-               radius: float) -> FloatArray:
+               radius: float, compiled: bool = False) -> FloatArray:
     """``count`` points (count, 2) uniform in the polygon ``area`` (rejection from its box),
     each at least ``radius`` + :data:`WALL_CLEARANCE` from the walls (S, 2, 2); fewer when
-    2,000 draws found no more (an area hardly wider than a disc)."""
+    2,000 draws found no more (an area hardly wider than a disc). ``compiled``: the wall
+    distances by ``crowd_jit.wall_distances``."""
     low, high = area.min(axis=0), area.max(axis=0)
     found = np.zeros((0, 2))
     for _ in range(50):
@@ -314,14 +315,14 @@ def _random_in(area: FloatArray, count: int, rng: np.random.Generator, walls: Fl
         tries = rng.uniform(low, high, size=(4 * (count - len(found)) + 40, 2))
         tries = tries[_inside(area, tries)]
         if len(walls) and len(tries):
-            tries = tries[_wall_distance(tries, walls) > radius + WALL_CLEARANCE]
+            tries = tries[_wall_distance(tries, walls, compiled) > radius + WALL_CLEARANCE]
         found = np.concatenate([found, tries])
     return found[:count]
 
 
 def _new_goals(state: CrowdState, which: NDArray[np.int64], areas: Sequence[FloatArray],
                walls: FloatArray, robot_poses: FloatArray, robot_reach: FloatArray,
-               rng: np.random.Generator) -> FloatArray:
+               rng: np.random.Generator, compiled: bool = False) -> FloatArray:
     """New goals (len(which), 2) for pedestrians ``which``: a place to watch a robot from
     (with the kind's probability; inside the crowd's area), else a random place in the area;
     either clear of the walls (S, 2, 2) (else the pedestrian keeps its goal)."""
@@ -336,19 +337,20 @@ def _new_goals(state: CrowdState, which: NDArray[np.int64], areas: Sequence[Floa
             gap = robot_reach[robot] + state.radius[a] + rng.uniform(near[n], far[n])
             spot = robot_poses[robot, :2] + gap * np.array([math.cos(angle), math.sin(angle)])
         goals[n] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
-                            rng, state.goal[a])
+                            rng, state.goal[a], compiled)
     return goals
 
 
 def _goal_at(spot: FloatArray | None, area: FloatArray, walls: FloatArray, radius: float,
-             rng: np.random.Generator, keep: FloatArray) -> FloatArray:
+             rng: np.random.Generator, keep: FloatArray, compiled: bool = False) -> FloatArray:
     """``spot`` (2,) as a pedestrian's goal if it lies in its ``area`` with the disc
     (``radius``) clear of the walls (S, 2, 2) by :data:`WALL_CLEARANCE`; else a random such
     place in the area; else (none found) ``keep``."""
     if spot is not None and _inside(area, spot[None])[0] and (
-            not len(walls) or _wall_distance(spot[None], walls)[0] > radius + WALL_CLEARANCE):
+            not len(walls)
+            or _wall_distance(spot[None], walls, compiled)[0] > radius + WALL_CLEARANCE):
         return spot
-    drawn = _random_in(area, 1, rng, walls, radius)
+    drawn = _random_in(area, 1, rng, walls, radius, compiled)
     return drawn[0] if len(drawn) else keep
 
 
@@ -428,9 +430,9 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     if count == 0:
         return state
     reach = 0.5 * np.hypot(robot_lengths, robot_widths)
-    if speaking is not None and speaking.any():
+    if speaking is not None and np.count_nonzero(speaking):
         state = _make_room(state, robot_poses[speaking], reach[speaking], dt, areas, walls,
-                           rng, robot_poses, reach)
+                           rng, robot_poses, reach, compiled)
     low, high = state.column("pause_min"), state.column("pause_max")
     if compiled:  # the same operations in one call (``crowd_jit.pauses``), the same draws
         draws = rng.random(count)
@@ -448,12 +450,12 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
         rethink = (was_pausing & (pause <= 0.0)) | (
             (pause <= 0.0) & (rng.random(count) < state.column("change_rate") * dt))
     goal = state.goal
-    if rethink.any():
+    if np.count_nonzero(rethink):
         goal = goal.copy()
         which = np.flatnonzero(rethink)
-        goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng)
+        goal[which] = _new_goals(state, which, areas, walls, robot_poses, reach, rng, compiled)
     leaving = state.leaving  # out of the formation: until at that goal or off to another
-    if leaving is not None and leaving.any():
+    if leaving is not None and np.count_nonzero(leaving):
         leaving = leaving & ~arrived & ~rethink
     moving = _evolve(state, goal=goal, pause=pause, leaving=leaving,
                      robot_share=_robot_share(state.robot_share, leaving, robot_standing,
@@ -507,7 +509,7 @@ def _evolve(state: CrowdState, **changes: Any) -> CrowdState:
 def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: float,
                areas: Sequence[FloatArray], walls: FloatArray,
                rng: np.random.Generator, robots: FloatArray,
-               robot_reach: FloatArray) -> CrowdState:
+               robot_reach: FloatArray, compiled: bool = False) -> CrowdState:
     """People within :data:`HEARING` of a speaking robot (poses (S, 3), half diagonals (S,))
     heed it with probability heed * dt: they stop pausing and walk to a point
     :data:`ROOM_MADE` m from where they stand, away from the nearest speaker by the way that
@@ -520,7 +522,7 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
     nearest = np.argmin(distance, axis=1)
     hears = distance[np.arange(len(distance)), nearest] < HEARING
     heeds = hears & (rng.random(len(hears)) < state.column("heed") * dt)
-    if not heeds.any():
+    if not np.count_nonzero(heeds):
         return state
     goal, pause = state.goal.copy(), state.pause.copy()
     leaving = (np.zeros(len(goal), dtype=bool) if state.leaving is None
@@ -532,9 +534,9 @@ def _make_room(state: CrowdState, speakers: FloatArray, reach: FloatArray, dt: f
                              float(state.radius[a]))
         spot = state.position[a] + direction * rng.uniform(*ROOM_MADE)
         goal[a] = _goal_at(spot, areas[int(state.crowd[a])], walls, float(state.radius[a]),
-                           rng, goal[a])
+                           rng, goal[a], compiled)
         pause[a] = 0.0
-    return replace(state, goal=goal, pause=pause, leaving=leaving)
+    return _evolve(state, goal=goal, pause=pause, leaving=leaving)
 
 
 def _robot_share(share: FloatArray | None, leaving: NDArray[np.bool_] | None,
@@ -607,8 +609,14 @@ def _way_out(position: FloatArray, away: FloatArray, robots: FloatArray, reach: 
     return result
 
 
-def _wall_distance(points: FloatArray, walls: FloatArray) -> FloatArray:
-    """The distance (P,) from each point (P, 2) to the nearest wall segment (S, 2, 2)."""
+def _wall_distance(points: FloatArray, walls: FloatArray,
+                   compiled: bool = False) -> FloatArray:
+    """The distance (P,) from each point (P, 2) to the nearest wall segment (S, 2, 2)
+    (``compiled``: by ``crowd_jit.wall_distances``, the same operations)."""
+    if compiled and len(walls):
+        distances: FloatArray = kernel("sim.crowd_jit").wall_distances(
+            np.ascontiguousarray(points, dtype=float), walls)
+        return distances
     vectors = _nearest_on_segments(points, walls)
     result: FloatArray = np.hypot(vectors[..., 0], vectors[..., 1]).min(axis=1)
     return result

@@ -364,7 +364,7 @@ class Stage:
                                speaking=self.speaking, rings=self.wall_rings,
                                compiled=self.compiled, robot_standing=self._standing())
             stands = self._steps_into_robots(crowd.position, moved.position, crowd.radius)
-            if stands.any():
+            if np.count_nonzero(stands):
                 position, velocity = moved.position.copy(), moved.velocity.copy()
                 position[stands], velocity[stands] = crowd.position[stands], 0.0
                 moved = replace(moved, position=position, velocity=velocity)
