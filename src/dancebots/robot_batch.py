@@ -262,15 +262,10 @@ class BatchBrains:
             self.point_kind, self.point_count,
             self.no_rates if rates is None else np.ascontiguousarray(rates, dtype=np.float64),
             self.paces, self.paused_since)
-        error = self.safety[:, 0] != 0.0
-        stopped = self.flags[:, 3]
-        holds_show = self.flags[:, 1]
-        status = stopped.astype(np.int8)  # 0 running, 1 stopped, 2 error
-        status[error] = 2
+        status, holding, asking, waiting = self._jit.tick_outputs(self.flags, self.safety)
         events = (tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist())
                   if np.count_nonzero(self.events) else ())
-        return BatchTick(self.commands.copy(), status, holds_show | error,
-                         holds_show & stopped & ~error, self.flags[:, 2].copy(), events,
+        return BatchTick(self.commands.copy(), status, holding, asking, waiting, events,
                          self.paces.copy())
 
     def _make_room_for_tracks(self, points: int) -> None:

@@ -37,7 +37,7 @@ from dancebots.perception.fast import (
 from dancebots.perception.tracks_jit import STANDING, TRACKED, track_cloud
 
 __all__ = ["EVENT_BEEP", "EVENT_ERROR_LIDAR", "EVENT_ERROR_POSE", "EVENT_NONE",
-           "EVENT_RESUME", "EVENT_SPEECH", "brains_tick", "grid_lookups"]
+           "EVENT_RESUME", "EVENT_SPEECH", "brains_tick", "grid_lookups", "tick_outputs"]
 
 FloatArray = NDArray[np.float64]
 
@@ -496,6 +496,29 @@ def _grid_index(show_time: float, period: float, grid_end: float,
     if abs(k * period - show_time) < 1e-9 and k >= 0 and k < length:
         return int(k), True
     return 0, False
+
+
+@njit(cache=True)
+def tick_outputs(flags: NDArray[np.bool_], safety: FloatArray,
+                 ) -> tuple[NDArray[np.int8], NDArray[np.bool_], NDArray[np.bool_],
+                            NDArray[np.bool_]]:
+    """What ``BatchBrains.step`` reports of a tick's flags (R, 4) and safety (R, 5)
+    (``brains_tick``): each robot's status (R,) (0 running, 1 stopped, 2 error), whether it
+    holds the show (R,) (it holds it, or its safety is in error), asks for room (R,) (it
+    holds the show, stopped, no error) and waits (R,)."""
+    count = flags.shape[0]
+    status = np.zeros(count, dtype=np.int8)
+    holding = np.empty(count, dtype=np.bool_)
+    asking = np.empty(count, dtype=np.bool_)
+    waiting = np.empty(count, dtype=np.bool_)
+    for r in range(count):
+        error = safety[r, 0] != 0.0
+        stopped, holds_show = flags[r, 3], flags[r, 1]
+        status[r] = 2 if error else (1 if stopped else 0)
+        holding[r] = holds_show or error
+        asking[r] = holds_show and stopped and not error
+        waiting[r] = flags[r, 2]
+    return status, holding, asking, waiting
 
 
 @njit(cache=True)

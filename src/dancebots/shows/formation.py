@@ -447,7 +447,10 @@ class _Crew:
             np.zeros(count, dtype=bool))
         own = own[:, :2]
         # where each stands in the show frame (``RobotBrain.show_position``, all at once)
-        position = compose_points(self.show_frames, own, self._show_frame_turns)
+        position = (kernel("sim.stage_jit").compose_turned(
+            self.show_frames, *self._show_frame_turns, np.ascontiguousarray(own))
+            if self.compiled_clocks else compose_points(self.show_frames, own,
+                                                        self._show_frame_turns))
         if np.count_nonzero(known) < len(known):
             position[~known] = np.nan
         self.in_flight.append((now + self.delay, (

@@ -60,6 +60,14 @@ class LidarConfig:
 
 
 @lru_cache(maxsize=16)
+def _ray_turns(rays: int) -> FloatArray:
+    """The cosines and sines (2, N) of :meth:`LidarConfig.angles` of ``rays`` rays
+    (``raycast_jit.ray_turns``; imports numba)."""
+    turns: FloatArray = kernel("sim.raycast_jit").ray_turns(_ray_angles(rays))
+    return turns
+
+
+@lru_cache(maxsize=16)
 def _ray_angles(rays: int) -> FloatArray:
     """:meth:`LidarConfig.angles` of ``rays`` rays (a LIDAR scans every tick; numba kernels
     take the array, so it stays writeable: a read-only one is another type to compile)."""
@@ -130,11 +138,12 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
         raycast = kernel("sim.raycast_jit")  # (imports numba)
         solid, solid_height, wall = raycast.cast_scene(
             origins, headings, angles, corners, config.robot_height, scene.obstacle_segments,
-            scene.obstacle_heights, discs, disc_heights.astype(float), scene.walls,
+            scene.obstacle_heights, discs, np.asarray(disc_heights, dtype=float), scene.walls,
             config.max_range)
         # columns of points, robot by robot: the hit itself (below the wall), the wall's
         # upper half behind it, or the whole wall when nothing stands before it
-        columns, counts = raycast.build_columns(solid, solid_height, wall, angles, config.min_range,
+        columns, counts = raycast.build_columns(solid, solid_height, wall,
+                                                _ray_turns(config.rays), config.min_range,
                                         config.max_range, scene.wall_height)
         ends = list(accumulate(counts.tolist()))  # (slices: np.split costs 2 us a robot)
         return [PointCloud(stamp, columns[start:end], config.height_step)

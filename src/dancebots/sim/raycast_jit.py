@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["cast_scene"]
+__all__ = ["build_columns", "cast_scene", "ray_turns"]
 
 FloatArray = NDArray[np.float64]
 
@@ -144,15 +144,25 @@ def cast_scene(origins: FloatArray, headings: FloatArray, angles: FloatArray,
     return solid, solid_height, wall
 
 
+@njit(cache=True)
+def ray_turns(angles: FloatArray) -> FloatArray:
+    """The cosines and sines (2, N) of ray angles (N,) for :func:`build_columns` (computed
+    once per LIDAR, as the kernel computed them at every scan)."""
+    turns = np.empty((2, angles.shape[0]))
+    turns[0], turns[1] = np.cos(angles), np.sin(angles)
+    return turns
+
+
 @njit(cache=True, nogil=True)
 def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
-                  angles: FloatArray, min_range: float, max_range: float,
+                  turns: FloatArray, min_range: float, max_range: float,
                   wall_height: float) -> tuple[FloatArray, NDArray[np.int64]]:
     """The thesis's height columns of every ray, robot by robot: the solid hit (0 to its
     height) and the upper half of the wall behind it, or the whole wall when nothing stands
     before it; nothing beyond max_range, and a hit nearer than min_range at min_range (too
     near to measure, but there: ``sim.lidar``). Returns columns (K, 4) =
-    x, y, z_low, z_high in ``base_link``, robot after robot, and each robot's count (R,)."""
+    x, y, z_low, z_high in ``base_link``, robot after robot, and each robot's count (R,).
+    turns (2, N): the cosines and sines of the rays' angles (:func:`ray_turns`)."""
     count, rays = solid.shape
     counts = np.zeros(count, dtype=np.int64)
     for r in range(count):
@@ -163,7 +173,7 @@ def build_columns(solid: FloatArray, solid_height: FloatArray, wall: FloatArray,
             if wall[r, k] <= max_range:
                 counts[r] += 1
     columns = np.empty((counts.sum(), 4))
-    cosines, sines = np.cos(angles), np.sin(angles)
+    cosines, sines = turns[0], turns[1]
     i = 0
     for r in range(count):
         for k in range(rays):

@@ -23,7 +23,7 @@ from dancebots.jit_cache import drop_stale
 from dancebots.sim import collision_jit
 from dancebots.sim.collision_jit import footprint_gap, near_segments, overlapping_pairs
 
-__all__ = ["free_step"]
+__all__ = ["compose_turned", "free_step"]
 
 FloatArray = NDArray[np.float64]
 
@@ -166,6 +166,24 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
                        obstacles[obstacle_offsets[k]:obstacle_offsets[k + 1]]):
                 return proposed, corners, moved, False
     return proposed, corners, moved, True
+
+
+
+@njit(cache=True)
+def compose_turned(frames: FloatArray, cosines: FloatArray, sines: FloatArray,
+                   poses: FloatArray) -> FloatArray:
+    """``geometry.compose_poses`` of frames (R, 3) and poses (R, 3) (or points (R, 2): the
+    positions only) given the frames' cosines and sines (R,) (``geometry.frame_turns``):
+    the same operations in one call, headings wrapped to (-pi, pi]."""
+    result = np.empty_like(poses)
+    for r in range(poses.shape[0]):
+        c, s = cosines[r], sines[r]
+        result[r, 0] = frames[r, 0] + c * poses[r, 0] - s * poses[r, 1]
+        result[r, 1] = frames[r, 1] + s * poses[r, 0] + c * poses[r, 1]
+        if poses.shape[1] > 2:  # ``geometry.wrap_angles``
+            wrapped = (frames[r, 2] + poses[r, 2] + np.pi) % (2.0 * np.pi) - np.pi
+            result[r, 2] = np.pi if wrapped == -np.pi else wrapped
+    return result
 
 
 drop_stale(__import__(__name__, fromlist=["_"]), (collision_jit,))
