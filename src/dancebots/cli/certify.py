@@ -238,7 +238,8 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
     signal.signal(signal.SIGTERM, _terminate)
     pool = ProcessPoolExecutor(processes, initializer=_worker_start)
     try:
-        with progress(console, f"certifying  ({processes} processes, runs)") as update:
+        label = f"{processes} {'process' if processes == 1 else 'processes'}"
+        with progress(console, f"certifying  ({label}, runs)") as update:
             pending: set[Future[RunSummary]] = {pool.submit(run_seed, job, s) for s in seeds}
             while pending:
                 done, pending = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
@@ -327,7 +328,8 @@ def _summary(cert: Certificate, target: Path, written: list[str]) -> None:
     assert isinstance(overrun, dict)
     out.print(f"{cert.job.scenario} in {cert.job.world}: {len(cert.runs)} runs "
               f"({cert.job.profile} profile, seeds {cert.runs[0].seed}-{cert.runs[-1].seed}) "
-              f"in {cert.wall:.0f} s on {cert.processes} processes", highlight=False)
+              f"in {cert.wall:.0f} s on {cert.processes} "
+              f"{'process' if cert.processes == 1 else 'processes'}", highlight=False)
     out.print(f"contacts with people: {cert.contacts_moving} by a moving robot, "
               f"{cert.contacts_standing} with a robot standing still; robots with robots, "
               f"walls or obstacles: {cert.robot_contacts}", highlight=False,

@@ -210,7 +210,8 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
         crowds=bool(arena.crowds), stop_rule=default_stop_rule(
             args.follower, args.stop_rule)) if compiled else ()
     if compile_first:
-        console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
+        kernels = "1 kernel" if len(compile_first) == 1 else f"{len(compile_first)} kernels"
+        console.print(f"compiling the simulator's {kernels} (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     config = SimConfig(brain=BrainOptions(follower=args.follower, stop_rule=args.stop_rule),
                        compiled=compiled,

@@ -190,7 +190,8 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
     compile_first = kernels_to_compile(crowds=bool(arena.crowds), stop_rule=default_stop_rule(
         args.follower, args.stop_rule))
     if compile_first:
-        console.print(f"compiling the simulator's {len(compile_first)} kernels (numba; first "
+        kernels = "1 kernel" if len(compile_first) == 1 else f"{len(compile_first)} kernels"
+        console.print(f"compiling the simulator's {kernels} (numba; first "
                       "run on this machine only, 10-20 s)", style="yellow", highlight=False)
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
     brain = BrainOptions(follower=args.follower, detector=args.detector,
