@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dancebots import robot
@@ -283,3 +283,24 @@ def test_the_kernels_wrap_is_wrap_angle(angle: float) -> None:
     assert _wrap(angle) == wrap_angle(angle)
     assert float(_wrap_exact(np.array([angle]))[0]) == wrap_angle(angle)
     assert math.isnan(_wrap(math.nan))
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(st.booleans(), st.booleans(), st.booleans(), st.booleans(),
+                          st.sampled_from([0.0, 1.0, -0.0])), min_size=0, max_size=6))
+def test_the_kernels_tick_outputs_are_the_flags(rows: list[tuple[bool, ...]]) -> None:
+    """``robot_batch_jit.tick_outputs``: status 2 on a safety error, else 1 where stopped, else
+    0; holding where the robot holds the show or is in error; asking where it holds the show,
+    stopped and in no error; waiting as flagged."""
+    from dancebots.robot_batch_jit import tick_outputs
+
+    flags = np.array([row[:4] for row in rows], dtype=bool).reshape(-1, 4)
+    safety = np.zeros((len(rows), 5))
+    safety[:, 0] = [row[4] for row in rows]
+    status, holding, asking, waiting = tick_outputs(flags, safety)
+    error, stopped, holds = safety[:, 0] != 0.0, flags[:, 3], flags[:, 1]
+    assert status.dtype == np.int8
+    assert status.tolist() == np.where(error, 2, np.where(stopped, 1, 0)).tolist()
+    assert holding.tolist() == (holds | error).tolist()
+    assert asking.tolist() == (holds & stopped & ~error).tolist()
+    assert waiting.tolist() == flags[:, 2].tolist()

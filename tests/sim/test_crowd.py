@@ -471,3 +471,32 @@ def test_a_person_walking_out_keeps_a_share_of_its_range_from_standing_robots() 
     assert _inside_formation(line, points).tolist() == [False] * 3
     unknown = np.array([[0.0, 0.0], [2.0, 0.0], [math.nan, 2.0]])
     assert _inside_formation(unknown, points).tolist() == [False] * 3
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), steps=st.integers(1, 40), kind=st.sampled_from(
+    ["adult", "child"]))
+def test_the_compiled_pauses_and_goals_are_the_numpy_ones(seed: int, steps: int,
+                                                          kind: str) -> None:
+    """``crowd_step``'s pauses and goals in one compiled call (``crowd_jit.pauses``, the wall
+    distances of new goals) take the same draws and give the same pauses and goals as its
+    NumPy branch, bit for bit, step after step (each step from the same state: the walk's
+    forces agree to 1e-9, not bit for bit); robots near, some of them speaking."""
+    crowd = dataclasses.replace(_crowd(10, kind, seed % 7), area=ROOM.copy())
+    robots = np.array([[4.0, 4.0, 0.3], [6.0, 5.0, -1.2]])
+    lengths, widths = np.full(2, 0.99), np.full(2, 0.67)
+    state = crowd_start([crowd], robots, 0.5 * np.hypot(lengths, widths), None, WALLS,
+                        np.random.default_rng(seed))
+    for step in range(steps):
+        speaking = np.array([step % 3 == 0, False])
+        results = []
+        for compiled in (False, True):
+            rng = np.random.default_rng([seed, step])
+            results.append(crowd_step(state, 0.1, [ROOM], WALLS, robots, lengths, widths,
+                                      rng, speaking=speaking, compiled=compiled))
+        numpy_state, compiled_state = results
+        assert compiled_state.pause.tobytes() == numpy_state.pause.tobytes()
+        assert compiled_state.goal.tobytes() == numpy_state.goal.tobytes()
+        assert (None if compiled_state.leaving is None else compiled_state.leaving.tolist()) == (
+            None if numpy_state.leaving is None else numpy_state.leaving.tolist())
+        state = numpy_state

@@ -283,3 +283,54 @@ def test_a_scan_that_failed_on_the_thread_is_not_lost(monkeypatch: pytest.Monkey
     finally:
         for stage in (taken, untaken, stopping):
             stage.close(check=False)
+
+
+ANGLES = st.sampled_from([0.0, -0.0, math.pi, -math.pi, math.nextafter(math.pi, 0.0),
+                          math.nextafter(-math.pi, 0.0), 0.5 * math.pi, 1.0, -2.9, 3.0,
+                          6.5, -7.0, 1e-300])
+
+
+@settings(max_examples=150, deadline=None)
+@given(data=st.data(), count=st.integers(1, 5))
+def test_the_compiled_own_poses_are_compose_poses(data: st.DataObject, count: int) -> None:
+    """``stage_jit.compose_turned`` (the robots' own poses and the places they tell, every
+    tick) equals ``geometry.compose_poses`` / ``compose_points`` bit for bit, headings
+    wrapped alike at and around +-pi."""
+    from dancebots.geometry import compose_points, compose_poses, frame_turns
+    from dancebots.sim.stage_jit import compose_turned
+
+    def rows() -> np.ndarray:
+        xy = data.draw(st.lists(st.floats(-50.0, 50.0), min_size=2 * count,
+                                max_size=2 * count))
+        theta = data.draw(st.lists(ANGLES, min_size=count, max_size=count))
+        return np.column_stack([np.reshape(xy, (count, 2)), theta])
+
+    frames, poses = rows(), rows()
+    turns = frame_turns(frames)
+    assert compose_turned(frames, *turns, poses).tobytes() == compose_poses(
+        frames, poses).tobytes()
+    points = np.ascontiguousarray(poses[:, :2])
+    assert compose_turned(frames, *turns, points).tobytes() == compose_points(
+        frames, points).tobytes()
+
+
+@settings(max_examples=100, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), count=st.integers(1, 5))
+def test_the_compiled_standing_robots_are_the_numpy_ones(seed: int, count: int) -> None:
+    """Which robots stand still among a crowd (``Stage._standing``: speeds and fresh, clipped
+    commands within ``MOVING_SPEED``), compiled and with NumPy, on speeds and commands
+    around the threshold, stale commands and commands beyond the limits: the same."""
+    rng = np.random.default_rng(seed)
+    starts = np.column_stack([np.arange(count) * 1.5 - 3.0, np.zeros(count), np.zeros(count)])
+    stage, _ = _stages(starts, IDEAL)
+    for _ in range(20):
+        scale = rng.choice([0.0, 5e-4, 1e-3, 2e-3, 1.0, 3.0], size=(count, 2))
+        stage.velocity = rng.uniform(-1.0, 1.0, (count, 2)) * scale
+        command = rng.uniform(-1.0, 1.0, (count, 2)) * rng.choice(
+            [0.0, 5e-4, 1e-3, 2e-3, 1.0, 10.0], size=(count, 2))
+        issued = np.where(rng.random(count) < 0.7, 1.0, 0.8)
+        stage._given = (command, issued, 1.0)
+        stage.compiled = True
+        compiled = stage._standing()
+        stage.compiled = False
+        assert compiled.tolist() == stage._standing().tolist()

@@ -78,3 +78,24 @@ def test_a_tie_of_signed_zeros_is_numpys() -> None:
                            HoldParams().heartbeat_timeout, ADVANCE_MIN)
     assert got[0].tobytes() == expected.show_time.tobytes()
     assert str(expected.show_time[0]) == "0.0"
+
+
+RATIO_PARTS = st.sampled_from([0.0, -0.0, 0.1, 0.0999999999, 0.1000000001, 0.05, -0.02, 1.0,
+                               1e-300, 1e-12, 3.0, math.nan])
+
+
+@settings(max_examples=200, deadline=None)
+@given(advance=st.lists(RATIO_PARTS, min_size=0, max_size=6), data=st.data())
+def test_the_compiled_clock_rates_are_clock_rate(advance: list[float],
+                                                 data: st.DataObject) -> None:
+    """``hold_jit.clock_rates`` (the paced formation's rates each tick) equals
+    ``hold.clock_rate`` of the same arrays bit for bit: full ticks (1 exactly), slowed and
+    stood clocks, a clock that ran back, no time elapsed, tiny and NaN advances."""
+    from dancebots.sync.hold import clock_rate
+    from dancebots.sync.hold_jit import clock_rates
+
+    elapsed = np.array(data.draw(st.lists(RATIO_PARTS, min_size=len(advance),
+                                          max_size=len(advance))), dtype=float)
+    ahead = np.array(advance, dtype=float)
+    compiled, reference = clock_rates(ahead, elapsed), np.asarray(clock_rate(ahead, elapsed))
+    assert compiled.tobytes() == reference.astype(float).tobytes()
