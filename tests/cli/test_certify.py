@@ -87,9 +87,13 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     assert cert["contacts_moving"] == 0
     assert cert["runs_unfinished"] == 3
     assert [r["seed"] for r in cert["per_run"]] == [4, 5, 6]
+    reached = sorted(round(100 * r["show_reached"]) for r in cert["per_run"])
+    assert 0 < reached[0] <= reached[-1] < 100
     assert ("3 of 3 shows did not finish: the formation waited for a held robot until the "
-            "run's limit, for people within 2 m of it 100 % of the time the clock stood (seeds "
-            "4, 5, 6)") in done.stdout
+            "run's limit, for people within 2 m of it 100 % of the time the clock stood; they "
+            f"reached {reached[1]} % of the show (median; least {reached[0]} %) (seeds 4, 5, "
+            "6)") in done.stdout
+    assert "people kept the robots waiting: give the show room" in done.stdout
     assert cert["runs_stalled"] == 0  # the bystander explains every stood tick
     # the bystander stands on R1's last leg for good: safe, but the formation waits for R1
     # until the run ends (SimConfig.max_pause)
@@ -103,6 +107,8 @@ def test_a_certified_run_is_the_run_of_that_seed(examples: Path, data: Path, tmp
     seed5 = cert["per_run"][1]
     assert round(seed5["min_person_gap"], 4) == metrics["min_person_gap_m"]
     assert seed5["stops"] == metrics["stops"]
+    assert seed5["show_reached"] == pytest.approx(
+        metrics["final_show_time_s"] / metrics["show_end_s"], abs=1e-3)
     assert round(seed5["held_place_error"], 4) == metrics["held_place_error_m"]
     assert seed5["angular_sign_flips"] == metrics["angular_sign_flips"]
     assert round(seed5["reverse_fraction"], 4) == metrics["reverse_fraction"]
@@ -160,7 +166,8 @@ def test_the_certificate_says_why_shows_did_not_finish_and_fails_a_stall() -> No
 
     def run(seed: int, finished: bool, stood: float, for_people: float) -> RunSummary:
         return RunSummary(seed, 0, 0, 0, 0.2, 10.0, 3, 0.05, 0.0, finished, 0.02, finished,
-                          (), 1.0, stood, for_people)
+                          (), 1.0, stood, for_people,
+                          show_reached=1.0 if finished else 0.1 * (seed + 3))
 
     job = CertifyJob("show.dance", "world.toml")
     crowded = certificate(job, [run(0, True, 20.0, 20.0), run(1, False, 150.0, 60.0),
@@ -169,7 +176,8 @@ def test_the_certificate_says_why_shows_did_not_finish_and_fails_a_stall() -> No
     assert crowded.unfinished_for_people() == pytest.approx(160.0 / 250.0)
     assert _failures(crowded) == (
         "2 of 3 shows did not finish: the formation waited for a held robot until the run's "
-        "limit, for people within 2 m of it 64 % of the time the clock stood (seeds 1, 2)",
+        "limit, for people within 2 m of it 64 % of the time the clock stood; they reached "
+        "50 % of the show (median; least 40 %) (seeds 1, 2)",
         "in 1 of 3 runs the formation stood 3 s or more with nobody within 2 m of the robots "
         "that held it (robots waiting for each other, for a wall, or for a failed or silent "
         "mate; seeds 1)")

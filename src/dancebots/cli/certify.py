@@ -287,9 +287,15 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
         why = "" if share is None else (
             f", for people within {PERSON_NEAR:g} m of it {100.0 * share:.0f} % of the time "
             "the clock stood")
+        reached = sorted(100.0 * r.show_reached for r in cert.runs if not r.finished)
         lines.append(f"{cert.unfinished} of {len(cert.runs)} shows did not finish: the "
-                     f"formation waited for a held robot until the run's limit{why} (seeds "
-                     f"{_seeds(runs)})")
+                     f"formation waited for a held robot until the run's limit{why}; they "
+                     f"reached {reached[len(reached) // 2]:.0f} % of the show (median; least "
+                     f"{reached[0]:.0f} %) (seeds {_seeds(runs)})")
+        if share is not None and share >= 0.9:
+            lines.append("  people kept the robots waiting: give the show room (a crowd's "
+                         "`area` in the world file that leaves the formation's ground free) "
+                         "or fewer people")
     if cert.stalled:
         runs = [r.seed for r in cert.runs if r.stalled]
         lines.append(f"in {cert.stalled} of {len(cert.runs)} runs the formation stood "

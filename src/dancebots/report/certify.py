@@ -22,8 +22,9 @@ if TYPE_CHECKING:
     from dancebots.report.metrics import RunMetrics
     from dancebots.sim.setup import Arena, Placement
 
+
 __all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "job_has_crowds", "load_job",
-           "run_seed", "summarise"]
+           "run_seed", "show_reached", "summarise"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,8 +68,9 @@ class RunSummary:
     slot moves that a robot drove against it, and clock_brief_runs, how often the formation
     lurched on (the shared clock ran 0.35 s or less between two stands:
     ``report.metrics.clock_restarts``), and max_excess_turn, the most any robot turned beyond
-    what it tracks, deg (spins and wiggles: ``report.metrics.excess_turn``)
-    (``report.metrics.RunMetrics``).
+    what it tracks, deg (spins and wiggles: ``report.metrics.excess_turn``);
+    show_reached: the share (0-1) of the show its shared clock reached by the run's end (1
+    for a show that finished) (``report.metrics.RunMetrics``).
     """
 
     seed: int
@@ -91,6 +93,7 @@ class RunSummary:
     reverse_fraction: float = 0.0
     clock_brief_runs: int = 0
     max_excess_turn: float = 0.0
+    show_reached: float = 1.0
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -179,7 +182,17 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
         metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction,
-        metrics.clock_brief_runs, metrics.max_excess_turn)
+        metrics.clock_brief_runs, metrics.max_excess_turn, show_reached(metrics))
+
+
+def show_reached(metrics: RunMetrics) -> float:
+    """The share (0-1) of a run's show that its shared clock reached (the show time at the
+    run's end over the time every place stands on its final slot, ``RunMetrics.show_end``);
+    1 for a show that finished."""
+    end = metrics.show_duration if metrics.show_end is None else metrics.show_end
+    if metrics.finished or metrics.final_show_time is None or end <= 0.0:
+        return 1.0
+    return min(max(metrics.final_show_time / end, 0.0), 1.0)
 
 
 @dataclass(frozen=True, slots=True)
