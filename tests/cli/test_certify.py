@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from dancebots.cli import main
@@ -300,3 +301,46 @@ def test_certify_runs_its_seeds_on_a_ray_cluster(examples: Path, data: Path,
 
     assert runs(on_ray) == runs(pooled)
     assert "3 of 3 shows did not finish" in done.stdout
+
+
+def test_the_certificate_tells_contacts_of_a_robot_moving_away_apart() -> None:
+    """A moving robot's contacts with people all count against the certificate; those in
+    which its footprint moved away from the person (ISO/TS 15066's speed towards the person
+    0 or less) are told apart for the reader. The thesis's fixed distance driving into a
+    walker head-on: every contact at the person."""
+    from dataclasses import replace
+
+    from dancebots.cli.certify import _failures
+    from dancebots.plan.placement import place_show
+    from dancebots.report.certify import summarise
+    from dancebots.report.metrics import run_metrics
+    from dancebots.robot import BrainOptions
+    from dancebots.shows.formation import SimConfig, simulate
+    from dancebots.sim import REALISTIC, prepare_show
+    from dancebots.sim.spectators import Spectator
+    from tests_support import plan_of
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 6 0\n")
+    arena, placement = prepare_show(place_show(plan))
+    x, y, theta = (float(v) for v in placement.starts[0])
+    ahead = np.array([np.cos(theta), np.sin(theta)])
+    person = Spectator("visitor", 0.25, 1.7, 1.0, np.array(
+        [[x, y] + 5.0 * ahead, [x, y] - 3.0 * ahead]), np.zeros(2), False, 1.0, 0)
+    result = simulate(plan, replace(arena, spectators=(person,)), placement,
+                      SimConfig(profile=REALISTIC, brain=BrainOptions(
+                          follower="path", stop_rule="fixed")))
+    head_on = summarise(0, run_metrics(result), (), 1.0)
+    assert head_on.contacts_moving >= 1
+    assert head_on.contacts_moving_away == 0
+
+    def run(seed: int, moving: int, away: int) -> RunSummary:
+        return RunSummary(seed, moving, 0, 0, 0.0, 1.0, 1, 0.1, 0.0, True, 0.02, moving == 0,
+                          (), 1.0, contacts_moving_away=away)
+
+    cert = certificate(CertifyJob("show.dance", "world.toml"),
+                       [run(0, 2, 1), run(1, 0, 0), run(2, 1, 0)], 1.0, 2)
+    assert not cert.passed
+    assert cert.to_json()["contacts_moving_away"] == 1
+    assert _failures(cert)[0] == (
+        "3 contacts of a moving robot with a person in 2 of 3 runs (seeds 0, 2); in 1 of them "
+        "it moved away from the person or slid past")

@@ -53,5 +53,9 @@ def test_a_robot_is_standing_when_a_walking_person_reaches_it(rule: StopRule, sp
 def test_the_thesis_fixed_distance_drives_into_a_person_walking_head_on() -> None:
     """The comparison the stop rules are for: the same walker at 1 and 2 m/s, the fixed
     0.55 m."""
-    assert _moving_contacts(_walker_run("fixed", 1.0, False))
-    assert _moving_contacts(_walker_run("fixed", 2.0, False))
+    for speed in (1.0, 2.0):
+        result = _walker_run("fixed", speed, False)
+        assert _moving_contacts(result)
+        # driving at the person, not only touched while it moved (``CollisionEvent.closing``)
+        assert all(c.closing is not None and c.closing > 0.0 for c in result.collisions
+                   if c.kind == "spectator" and c.moving)

@@ -4,12 +4,18 @@ with shapely; boundary contacts agree with shapely's distances."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from dancebots.geometry import footprint_corners
-from dancebots.sim.collision import Boundaries, overlapping_pairs, rectangles_overlap
+from dancebots.sim.collision import (
+    Boundaries,
+    closing_speed,
+    overlapping_pairs,
+    rectangles_overlap,
+)
 
 
 def random_footprints(seed: int, count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -78,3 +84,29 @@ def test_walls_and_obstacles_are_contacts() -> None:
     assert sorted(contacts) == [(1, -1), (2, 0), (3, 0), (4, -1)]
     numpy_only = Boundaries(room, [pillar], compiled=False)
     assert sorted(numpy_only.contacts(corners, np.full(5, 0.67))) == sorted(contacts)
+
+
+HUSKY = (0.99, 0.67)  # length, width (m)
+
+
+@pytest.mark.parametrize(("velocity", "point", "expected"), [
+    ((0.5, 0.0), (0.7, 0.0), 0.5),     # driving at a person ahead
+    ((0.5, 0.0), (-0.7, 0.0), -0.5),   # driving away from one behind
+    ((-0.3, 0.0), (-0.7, 0.1), 0.3),   # reversing into one behind
+    ((0.5, 0.0), (0.0, 0.5), 0.0),     # sliding past one at the side
+    ((0.0, 1.0), (0.495, 0.435), 0.495),   # turning left: the front left corner sweeps at
+    ((0.0, -1.0), (0.495, 0.435), -0.495),  # them; right: away (issue 13's seed 0)
+    ((0.0, 0.0), (0.7, 0.0), 0.0),     # standing
+])
+def test_the_closing_speed_is_the_footprints_speed_towards_the_person(
+        velocity: tuple[float, float], point: tuple[float, float], expected: float) -> None:
+    """A HUSKY at the origin facing +x (and the same turned by 2 rad about a point elsewhere:
+    the speed does not depend on the frame)."""
+    length, width = HUSKY
+    assert closing_speed(np.zeros(3), np.array(velocity), length, width,
+                         np.array(point)) == pytest.approx(expected, abs=1e-12)
+    pose = np.array([3.0, -2.0, 2.0])
+    c, s = np.cos(2.0), np.sin(2.0)
+    moved = pose[:2] + np.array([c * point[0] - s * point[1], s * point[0] + c * point[1]])
+    assert closing_speed(pose, np.array(velocity), length, width, moved) == pytest.approx(
+        expected, abs=1e-12)

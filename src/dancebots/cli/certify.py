@@ -275,8 +275,10 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
     lines = []
     if cert.contacts_moving:
         runs = [r.seed for r in cert.runs if r.contacts_moving]
+        away = (f"; in {cert.contacts_moving_away} of them it moved away from the person or "
+                "slid past" if cert.contacts_moving_away else "")
         lines.append(f"{cert.contacts_moving} contacts of a moving robot with a person in "
-                     f"{len(runs)} of {len(cert.runs)} runs (seeds {_seeds(runs)})")
+                     f"{len(runs)} of {len(cert.runs)} runs (seeds {_seeds(runs)}){away}")
     if cert.robot_contacts:
         runs = [r.seed for r in cert.runs if r.robot_contacts]
         lines.append(f"{cert.robot_contacts} contacts of robots with robots, walls or "

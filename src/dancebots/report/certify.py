@@ -70,7 +70,11 @@ class RunSummary:
     ``report.metrics.clock_restarts``), and max_excess_turn, the most any robot turned beyond
     what it tracks, deg (spins and wiggles: ``report.metrics.excess_turn``);
     show_reached: the share (0-1) of the show its shared clock reached by the run's end (1
-    for a show that finished) (``report.metrics.RunMetrics``).
+    for a show that finished); contacts_moving_away: of contacts_moving, those in which the
+    robot's footprint moved away from the person or slid past (its speed towards them,
+    ``CollisionEvent.closing``, 0 or less: ISO/TS 15066 counts the speed towards the
+    person), told apart for the reader, still counted as the robot's
+    (``report.metrics.RunMetrics``).
     """
 
     seed: int
@@ -94,6 +98,7 @@ class RunSummary:
     clock_brief_runs: int = 0
     max_excess_turn: float = 0.0
     show_reached: float = 1.0
+    contacts_moving_away: int = 0
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -182,7 +187,15 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
         metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction,
-        metrics.clock_brief_runs, metrics.max_excess_turn, show_reached(metrics))
+        metrics.clock_brief_runs, metrics.max_excess_turn, show_reached(metrics),
+        sum(1 for e in people if e.get("robot_moving", True)
+            and _away(e.get("robot_closing_mps"))))
+
+
+def _away(closing: object) -> bool:
+    """Whether a contact's closing speed (m/s, None: not measured) says the robot moved away
+    from the person or slid past."""
+    return isinstance(closing, (int, float)) and closing <= 0.0
 
 
 def show_reached(metrics: RunMetrics) -> float:
@@ -211,6 +224,10 @@ class Certificate:
     @property
     def contacts_moving(self) -> int:
         return sum(r.contacts_moving for r in self.runs)
+
+    @property
+    def contacts_moving_away(self) -> int:
+        return sum(r.contacts_moving_away for r in self.runs)
 
     @property
     def contacts_standing(self) -> int:
@@ -260,6 +277,7 @@ class Certificate:
             "passed": self.passed,
             "contacts_moving": self.contacts_moving,
             "runs_with_contacts_moving": sum(1 for r in self.runs if r.contacts_moving),
+            "contacts_moving_away": self.contacts_moving_away,
             "contacts_standing": self.contacts_standing,
             "robot_contacts": self.robot_contacts,
             "runs_not_clean": sum(1 for r in self.runs if not r.clean),

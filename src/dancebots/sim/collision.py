@@ -5,14 +5,16 @@ Vectorised over robots: corners have shape (R, 4, 2) (see ``geometry.footprint_c
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
 from dancebots.geometry import points_in_frames
 
-__all__ = ["Boundaries", "disc_contacts", "footprint_gaps", "overlapping_pairs",
-           "rectangles_overlap"]
+__all__ = ["Boundaries", "closing_speed", "disc_contacts", "footprint_gaps",
+           "overlapping_pairs", "rectangles_overlap"]
 
 FloatArray = NDArray[np.float64]
 
@@ -148,3 +150,25 @@ def disc_contacts(poses: FloatArray, lengths: FloatArray, widths: FloatArray,
                           widths[:, None])  # (R, C)
     r, k = np.nonzero(gaps < discs[None, :, 2])
     return list(zip(r.tolist(), k.tolist(), strict=True))
+
+
+def closing_speed(pose: FloatArray, velocity: FloatArray, length: float, width: float,
+                  point: FloatArray) -> float:
+    """The speed (m/s) at which a robot at ``pose`` (3,) driving at ``velocity`` (v m/s, w
+    rad/s) moves the point of its footprint (``length`` x ``width`` m) nearest ``point`` (2,),
+    world frame, towards it: positive driving or turning at it, negative moving away, 0
+    standing still or sliding past; ISO/TS 15066's speed of the robot towards the person
+    (for a point inside the footprint, along the line from the robot's centre)."""
+    c, s = math.cos(float(pose[2])), math.sin(float(pose[2]))
+    dx, dy = float(point[0]) - float(pose[0]), float(point[1]) - float(pose[1])
+    lx, ly = c * dx + s * dy, -s * dx + c * dy  # base_link
+    px = min(max(lx, -0.5 * length), 0.5 * length)
+    py = min(max(ly, -0.5 * width), 0.5 * width)
+    nx, ny = lx - px, ly - py
+    if math.hypot(nx, ny) < 1e-9:  # inside: the way from the centre
+        nx, ny = lx, ly
+    norm = math.hypot(nx, ny)
+    if norm < 1e-9:
+        return 0.0
+    v, w = float(velocity[0]), float(velocity[1])
+    return ((v - w * py) * nx + w * px * ny) / norm

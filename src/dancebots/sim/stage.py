@@ -34,6 +34,7 @@ from dancebots.geometry import (
 from dancebots.perception.cloud import PointCloud
 from dancebots.sim.collision import (
     Boundaries,
+    closing_speed,
     disc_contacts,
     footprint_gaps,
     overlapping_pairs,
@@ -81,7 +82,9 @@ class CollisionEvent:
     ``moving``: whether the robot was moving when it began (any speed; in the physics
     profiles driving or told to drive faster than MOVING_SPEED): a robot
     that stood still was walked into (people in the simulator never step into a robot, so
-    that happens only to a robot a person already overlaps)."""
+    that happens only to a robot a person already overlaps); ``closing``: with a person, how
+    fast (m/s) the robot's footprint moved towards them then (``collision.closing_speed``;
+    negative: away; None for robots, walls and obstacles)."""
 
     time: float
     robot: str
@@ -90,6 +93,7 @@ class CollisionEvent:
     x: float
     y: float
     moving: bool = True
+    closing: float | None = None
 
 
 class Stage:
@@ -304,7 +308,7 @@ class Stage:
             proposed = np.stack([x, y, wrap_angles(theta)], axis=1)
         corners = self._footprints(proposed)
         blocked = np.zeros(count, dtype=bool)
-        contacts: list[tuple[int, int | str, ContactKind]] = []
+        contacts: list[tuple[int, int | str, ContactKind, int]] = []  # (disc or -1)
         pairs = overlapping_pairs(corners, self.reach, self.compiled)
         if pairs:
             # a robot is stopped when its move runs into where the other one stands now;
@@ -317,20 +321,24 @@ class Stage:
                     blocked[i] = True
                 if b or not a:
                     blocked[j] = True
-                contacts.append((i, self.placement.robots[j], "robot"))
+                contacts.append((i, self.placement.robots[j], "robot", -1))
         for i, what in self.boundaries.contacts(corners, self.reach):
             blocked[i] = True
-            contacts.append((i, self.names[what], "wall" if what == -1 else "obstacle"))
+            contacts.append((i, self.names[what], "wall" if what == -1 else "obstacle", -1))
         if len(self.discs):
             for i, k in disc_contacts(proposed, self.lengths, self.widths, self.discs):
                 blocked[i] = True
-                contacts.append((i, self.disc_names[k], "spectator"))
-        for i, other, kind in contacts:
+                contacts.append((i, self.disc_names[k], "spectator", k))
+        driven = velocity if self.physics is None else wanted  # (the engine's stop it)
+        for i, other, kind, disc in contacts:
             key = (i, other)
             if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact
                 self.collisions.append(CollisionEvent(
                     round(now + dt, 6), self.placement.robots[i], str(other), kind,
-                    float(pose[i, 0]), float(pose[i, 1]), bool(moving[i])))
+                    float(pose[i, 0]), float(pose[i, 1]), bool(moving[i]),
+                    closing_speed(pose[i], driven[i], float(self.lengths[i]),
+                                  float(self.widths[i]), self.discs[disc, :2])
+                    if disc >= 0 else None))
             self._active[key] = now + dt
         if self.physics is None:  # in the engine the bodies' contacts stop them
             proposed[blocked] = pose[blocked]
