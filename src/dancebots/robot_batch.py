@@ -200,8 +200,9 @@ class BatchBrains:
         """What each follower tracks (R, 6: ``robot_batch_jit.grid_lookups``) at its show
         time (R,) s, whether its slot stands
         for good (R,) and where its mates should be (R, M, 2): ``RobotBrain._reference``,
-        from the grid for all robots at once (``robot_batch_jit.grid_lookups``) and from the
-        brain where a time falls off it."""
+        from the grid for all robots at once (``robot_batch_jit.grid_lookups``, a paced
+        clock's times between two ticks interpolated there too) and from the brain where a
+        time falls off it otherwise (before the show, an unpaced clock between ticks)."""
         rows, on, mates = self._jit.grid_lookups(
             self.grid, self.mates, self.period, self.grid_end, self.lead,
             np.ascontiguousarray(show_times, dtype=np.float64), self.stand_ends, BRIEF_STAND,

@@ -531,7 +531,8 @@ def grid_lookups(grid: FloatArray, mates: FloatArray, period: float, grid_end: f
     interpolated between the two grid ticks around the time ``lead`` s ahead; and how the
     place stands there, ``control.tracking.place_stand`` with the rows' ``stand_ends``
     (R, T) and ``brief`` s for ``BRIEF_STAND``), whether the
-    row is the grid's (R,) (else the brain computes it: ``RobotBrain._reference``), and
+    row is the grid's or a paced time's between two of its ticks (R,) (else the brain
+    computes it: ``RobotBrain._reference``), and
     where each robot's mates should be (R, M, 2) (the nearest grid tick's). grid (R, T, 5),
     mates (R, M, T', 2), both in each robot's own frame (``BatchBrains``). ``paced``: a
     time between two grid ticks (a paced clock's) is interpolated linearly between them as

@@ -500,3 +500,15 @@ def test_the_compiled_pauses_and_goals_are_the_numpy_ones(seed: int, steps: int,
         assert (None if compiled_state.leaving is None else compiled_state.leaving.tolist()) == (
             None if numpy_state.leaving is None else numpy_state.leaving.tolist())
         state = numpy_state
+
+
+def test_the_compiled_pauses_compile_once_for_crowds_of_any_size() -> None:
+    """``crowd_jit.pauses`` takes the behaviour matrix, not its column views (which NumPy
+    marks contiguous for a crowd of one: another type for numba, compiled silently again)."""
+    from dancebots.sim import crowd_jit
+
+    for count in (1, 2, 7):
+        rng = np.random.default_rng(count)
+        state = crowd_start([_crowd(count)], NO_ROBOTS, NONE, None, WALLS, rng)
+        crowd_step(state, 0.1, [ROOM], WALLS, NO_ROBOTS, NONE, NONE, rng, compiled=True)
+    assert len(crowd_jit.pauses.signatures) == 1

@@ -127,3 +127,13 @@ def test_compiled_and_numpy_scans_agree(seed: int) -> None:
     reference = scan_clouds(LidarConfig(rays=64, compiled=False), *args)
     for a, b in zip(compiled, reference, strict=True):
         np.testing.assert_allclose(a.columns, b.columns, atol=1e-9)
+
+
+def test_the_ray_angles_handed_out_are_a_copy() -> None:
+    """The scans share one array of ray angles per ray count; what ``angles()`` hands out
+    may be written to without turning every later scan."""
+    config = LidarConfig(rays=16)
+    mine = config.angles()
+    mine[:] = 0.0
+    assert config.angles()[0] == -np.pi
+    assert config.angles()[1] == pytest.approx(-np.pi + 2.0 * np.pi / 16)

@@ -362,6 +362,10 @@ class _Crew:
         # time, holds, position, pace), in the order sent
         self.in_flight: list[tuple[float, tuple[np.ndarray, ...]]] = []
         self.compiled_clocks = config.compiled
+        if self.compiled_clocks and self.together and not self.paced:
+            # compiled with the rest of sync.hold_jit, though a clock that is not paced never
+            # asks its rate (else ``sim.kernels.kernels_to_compile`` lists it for ever)
+            kernel("sync.hold_jit").clock_rates(np.ones(count), np.ones(count))
         self.hold_params = HoldParams()
         self.no_message = (np.zeros(count, dtype=bool), np.zeros(count), np.zeros(count),
                            np.zeros(count, dtype=bool), np.zeros((count, 2)), np.ones(count))

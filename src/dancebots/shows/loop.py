@@ -76,7 +76,8 @@ Step = Callable[[float], Tick]
 
 def robots_moving(velocity: FloatArray, commands: FloatArray) -> bool:
     """Whether any robot moves (velocities (R, 2), v m/s and w rad/s, above
-    :data:`STILL_SPEED`) or is told to (commands (R, 2) above :data:`STILL_COMMAND`)."""
+    :data:`STILL_SPEED`) or is told to (commands (R, 2) above :data:`STILL_COMMAND`); a speed
+    that is not a number is no motion (the others still count)."""
     return bool(np.count_nonzero(np.abs(velocity) > STILL_SPEED)
                 or np.count_nonzero(np.abs(commands) > STILL_COMMAND))
 

@@ -100,6 +100,9 @@ KIND_BEHAVIOUR = {
 
 _BEHAVIOUR_FIELDS = ("watch", "watch_near", "watch_far", "pause_min", "pause_max",
                      "change_rate", "robot_range", "heed", "arrive")
+_PAUSE_COLUMNS = np.array([_BEHAVIOUR_FIELDS.index(field) for field in (
+    "arrive", "pause_min", "pause_max", "change_rate")], dtype=np.int64)
+"""``crowd_jit.pauses``' columns of ``CrowdState.behaviour``."""
 HEARING = 2.0
 """m from a speaking robot's footprint (about) within which people hear it."""
 ROOM_MADE = (1.5, 3.0)
@@ -433,13 +436,13 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     if speaking is not None and np.count_nonzero(speaking):
         state = _make_room(state, robot_poses[speaking], reach[speaking], dt, areas, walls,
                            rng, robot_poses, reach, compiled)
-    low, high = state.column("pause_min"), state.column("pause_max")
     if compiled:  # the same operations in one call (``crowd_jit.pauses``), the same draws
         draws = rng.random(count)
         arrived, pause, rethink = kernel("sim.crowd_jit").pauses(
-            state.pause, state.goal, state.position, state.column("arrive"), low, high,
-            draws, state.column("change_rate"), rng.random(count), dt)
+            state.pause, state.goal, state.position, state.behaviour, _PAUSE_COLUMNS, draws,
+            rng.random(count), dt)
     else:
+        low, high = state.column("pause_min"), state.column("pause_max")
         arrived = (state.pause <= 0.0) & (np.hypot(*(state.goal - state.position).T)
                                           < state.column("arrive"))
         # ``rng.uniform(low, high)`` as it computes it (the same draws), without its

@@ -204,29 +204,31 @@ def steps_into_robots(before: FloatArray, after: FloatArray, radii: FloatArray,
 
 
 @njit(cache=True)
-def pauses(pause: FloatArray, goal: FloatArray, position: FloatArray, arrive: FloatArray,
-           pause_min: FloatArray, pause_max: FloatArray, draws: FloatArray,
-           change_rate: FloatArray, change_draws: FloatArray, dt: float,
-           ) -> tuple[NDArray[np.bool_], FloatArray, NDArray[np.bool_]]:
+def pauses(pause: FloatArray, goal: FloatArray, position: FloatArray, behaviour: FloatArray,
+           columns: NDArray[np.int64], draws: FloatArray, change_draws: FloatArray,
+           dt: float) -> tuple[NDArray[np.bool_], FloatArray, NDArray[np.bool_]]:
     """``crowd_step``'s pauses in one call, the same operations: who arrived at its goal
-    (P,) (not pausing, within ``arrive`` (P,) m), the pauses (P,) s left ``dt`` s later (one
-    who arrived pauses ``pause_min + (pause_max - pause_min) * draws`` s) and who picks a new
-    goal (P,) (a pause that ends, or a change of mind at ``change_rate`` (P,) per s:
-    ``change_draws`` below ``change_rate * dt``). draws, change_draws (P,) uniform in
-    [0, 1)."""
+    (P,) (not pausing, within ``arrive`` m), the pauses (P,) s left ``dt`` s later (one who
+    arrived pauses ``pause_min + (pause_max - pause_min) * draws`` s) and who picks a new
+    goal (P,) (a pause that ends, or a change of mind at ``change_rate`` per s:
+    ``change_draws`` below ``change_rate * dt``). The four figures are each pedestrian's
+    ``behaviour`` (P, K) at ``columns`` (4,): arrive, pause_min, pause_max, change_rate (the
+    matrix, not its column views: one compiled version for crowds of any size). draws,
+    change_draws (P,) uniform in [0, 1)."""
+    arrive, pause_min, pause_max, change_rate = columns[0], columns[1], columns[2], columns[3]
     count = pause.shape[0]
     arrived = np.empty(count, dtype=np.bool_)
     left = np.empty(count)
     rethink = np.empty(count, dtype=np.bool_)
     for p in range(count):
-        arrived[p] = pause[p] <= 0.0 and math.hypot(goal[p, 0] - position[p, 0],
-                                                    goal[p, 1] - position[p, 1]) < arrive[p]
-        now = (pause_min[p] + (pause_max[p] - pause_min[p]) * draws[p] if arrived[p]
-               else pause[p])
+        arrived[p] = pause[p] <= 0.0 and math.hypot(
+            goal[p, 0] - position[p, 0], goal[p, 1] - position[p, 1]) < behaviour[p, arrive]
+        low, high = behaviour[p, pause_min], behaviour[p, pause_max]
+        now = low + (high - low) * draws[p] if arrived[p] else pause[p]
         was_pausing = now > 0.0
         left[p] = max(now - dt, 0.0)
         rethink[p] = (was_pausing and left[p] <= 0.0) or (
-            left[p] <= 0.0 and change_draws[p] < change_rate[p] * dt)
+            left[p] <= 0.0 and change_draws[p] < behaviour[p, change_rate] * dt)
     return arrived, left, rethink
 
 

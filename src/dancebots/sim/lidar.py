@@ -55,8 +55,8 @@ class LidarConfig:
 
     def angles(self) -> FloatArray:
         """Ray angles (N,) in rad relative to the robot's heading, from -pi, evenly spaced
-        (computed once per ray count and shared: not to be written to)."""
-        return _ray_angles(self.rays)
+        (a copy: the scans use one array per ray count, :func:`_ray_angles`)."""
+        return _ray_angles(self.rays).copy()
 
 
 @lru_cache(maxsize=16)
@@ -69,8 +69,9 @@ def _ray_turns(rays: int) -> FloatArray:
 
 @lru_cache(maxsize=16)
 def _ray_angles(rays: int) -> FloatArray:
-    """:meth:`LidarConfig.angles` of ``rays`` rays (a LIDAR scans every tick; numba kernels
-    take the array, so it stays writeable: a read-only one is another type to compile)."""
+    """:meth:`LidarConfig.angles` of ``rays`` rays, computed once and shared by the scans of
+    this module, which only read it (a LIDAR scans every tick; numba kernels take the array,
+    so it stays writeable: a read-only one is another type to compile)."""
     result: FloatArray = -np.pi + np.arange(rays, dtype=np.float64) * (2.0 * np.pi / rays)
     return result
 
@@ -129,7 +130,7 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
     Returns one :class:`PointCloud` per robot.
     """
     count = len(poses)
-    angles = config.angles()
+    angles = _ray_angles(config.rays)  # (shared, read here only)
     origins = poses[:, :2]
     headings = poses[:, 2]
     if len(discs) == 0:
@@ -183,7 +184,7 @@ def scan_ranges(config: LidarConfig, poses: FloatArray, corners: FloatArray,
 
     if len(discs) == 0:
         discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
-    solid, _, wall = cast_scene(poses[:, :2], poses[:, 2], config.angles(), corners,
+    solid, _, wall = cast_scene(poses[:, :2], poses[:, 2], _ray_angles(config.rays), corners,
                                 config.robot_height, scene.obstacle_segments,
                                 scene.obstacle_heights, discs, disc_heights.astype(float),
                                 scene.walls, config.max_range)

@@ -168,7 +168,6 @@ def free_step(pose: FloatArray, velocity: FloatArray, command: FloatArray,
     return proposed, corners, moved, True
 
 
-
 @njit(cache=True)
 def compose_turned(frames: FloatArray, cosines: FloatArray, sines: FloatArray,
                    poses: FloatArray) -> FloatArray:
@@ -187,4 +186,3 @@ def compose_turned(frames: FloatArray, cosines: FloatArray, sines: FloatArray,
 
 
 drop_stale(__import__(__name__, fromlist=["_"]), (collision_jit,))
-
