@@ -304,3 +304,26 @@ def test_the_kernels_tick_outputs_are_the_flags(rows: list[tuple[bool, ...]]) ->
     assert holding.tolist() == (holds | error).tolist()
     assert asking.tolist() == (holds & stopped & ~error).tolist()
     assert waiting.tolist() == flags[:, 2].tolist()
+
+
+@settings(max_examples=30, deadline=None)
+@given(follower=st.sampled_from(["path", "tracking"]), lead=st.sampled_from([0.0, 0.15]),
+       paced=st.booleans(), times=st.lists(st.one_of(
+           st.floats(-1.0, 30.0), st.sampled_from([0.0, 0.1, 1e-10, 2.05, 2.1 - 1e-10])),
+           min_size=3, max_size=3))
+def test_the_batch_looks_up_what_each_brain_tracks(follower: str, lead: float, paced: bool,
+                                                   times: list[float]) -> None:
+    """``BatchBrains.references`` (the grid's rows, a paced clock's times between two ticks
+    interpolated in the kernel, the brain's exact rows otherwise) equals each brain's
+    ``_reference`` and ``_place_stand``, bit for bit, at show times on and off the grid,
+    before the show and after its end."""
+    plan = plan_of("robots A B C\nstart\nrow A,B,C 0 1\nmove 2 0\nwait 1\ncircle 1 90 0.3\n"
+                   "move 1.5 40\n")
+    brains = [brain_for(plan, name, BUILTIN_ROBOT_TYPES["SIM"], BrainOptions(
+        follower=follower, paced=paced, actuator_lag=lead)) for name in plan.robots]  # type: ignore[arg-type]
+    rows, _, _ = BatchBrains(brains).references(np.array(times))
+    for brain, show_time, row in zip(brains, times, rows, strict=True):
+        exact = brain._reference(show_time)
+        expected = np.array([*exact.pose, exact.speed, exact.angular_speed,
+                             brain._place_stand(show_time)])
+        assert row.tobytes() == expected.tobytes(), (show_time, row, expected)
