@@ -13,6 +13,7 @@ from dancebots.sync.hold import (
     ADVANCE_MIN,
     FormationClocks,
     HoldParams,
+    clock_rate,
     formation_receive,
     formation_tick,
 )
@@ -57,8 +58,13 @@ def test_the_compiled_clocks_step_is_receive_then_tick(count: int,
                            message, *batch, now, holding, own_pace,
                            HoldParams().heartbeat_timeout, ADVANCE_MIN)
     for name, value in zip(("show_time", "updated", "stamp", "sent_show_time", "holds",
-                            "position", "pace"), got, strict=True):
+                            "position", "pace"), got[:7], strict=True):
         assert value.tobytes() == getattr(expected, name).tobytes(), name
+    # and how fast each clock ran since its last tick (what a paced brain follows)
+    with np.errstate(invalid="ignore"):
+        rates = np.asarray(clock_rate(expected.show_time - clocks.show_time,
+                                      now - clocks.updated), dtype=float)
+    assert got[7].tobytes() == rates.reshape(count).tobytes()
 
 
 def test_a_tie_of_signed_zeros_is_numpys() -> None:
@@ -91,7 +97,6 @@ def test_the_compiled_clock_rates_are_clock_rate(advance: list[float],
     """``hold_jit.clock_rates`` (the paced formation's rates each tick) equals
     ``hold.clock_rate`` of the same arrays bit for bit: full ticks (1 exactly), slowed and
     stood clocks, a clock that ran back, no time elapsed, tiny and NaN advances."""
-    from dancebots.sync.hold import clock_rate
     from dancebots.sync.hold_jit import clock_rates
 
     elapsed = np.array(data.draw(st.lists(RATIO_PARTS, min_size=len(advance),

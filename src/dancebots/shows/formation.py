@@ -362,10 +362,6 @@ class _Crew:
         # time, holds, position, pace), in the order sent
         self.in_flight: list[tuple[float, tuple[np.ndarray, ...]]] = []
         self.compiled_clocks = config.compiled
-        if self.compiled_clocks and self.together and not self.paced:
-            # compiled with the rest of sync.hold_jit, though a clock that is not paced never
-            # asks its rate (else ``sim.kernels.kernels_to_compile`` lists it for ever)
-            kernel("sync.hold_jit").clock_rates(np.ones(count), np.ones(count))
         self.hold_params = HoldParams()
         self.no_message = (np.zeros(count, dtype=bool), np.zeros(count), np.zeros(count),
                            np.zeros(count, dtype=bool), np.zeros((count, 2)), np.ones(count))
@@ -405,28 +401,29 @@ class _Crew:
             self.show_times[:] = now
             return
         clocks = self.clocks
-        before, since = clocks.show_time, clocks.updated
         due = [batch for at, batch in self.in_flight if at <= now + 1e-9]
         self.in_flight = [m for m in self.in_flight if m[0] > now + 1e-9]
         if self.compiled_clocks:  # the same in one compiled call (``sync.hold_jit``)
             for batch in due[:-1]:
                 clocks = formation_receive(clocks, *batch)
             sent, stamp, shown, holds, position, pace = due[-1] if due else self.no_message
-            self.clocks = FormationClocks(*kernel("sync.hold_jit").receive_and_tick(
+            *ticked, rates = kernel("sync.hold_jit").receive_and_tick(
                 clocks.show_time, clocks.updated, clocks.stamp, clocks.sent_show_time,
                 clocks.holds, clocks.position, clocks.pace, bool(due), sent, stamp, shown,
                 holds, position, pace, float(now), self.holding, self.pacing,
-                self.hold_params.heartbeat_timeout, ADVANCE_MIN))
+                self.hold_params.heartbeat_timeout, ADVANCE_MIN)
+            self.clocks = FormationClocks(*ticked)
         else:
+            before, since = clocks.show_time, clocks.updated  # (hearing leaves them)
             for batch in due:
                 clocks = formation_receive(clocks, *batch)
             self.clocks = formation_tick(clocks, now, self.holding,  # each one's last tick
                                          pace=self.pacing)
+            rates = (clock_rate(self.clocks.show_time - before, now - since) if self.paced
+                     else self.rates)
         self.show_times[:] = self.clocks.show_time
         if self.paced:  # how fast each clock ran since its last tick
-            advance, elapsed = self.clocks.show_time - before, now - since
-            self.rates[:] = (kernel("sync.hold_jit").clock_rates(advance, elapsed)
-                             if self.compiled_clocks else clock_rate(advance, elapsed))
+            self.rates[:] = rates
 
     def _mates_heard(self) -> list[np.ndarray | None]:
         """Per robot, (K, 2) where its mates said they stand (show frame), from the latest

@@ -480,7 +480,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
     for _ in range(steps):
         # the walls' nearest points, once per substep: the walls' push and the step's check
         vectors = _nearest_on_segments(position, walls) if len(walls) else None
-        accel = social_acceleration(replace(moving, position=position, velocity=velocity),
+        accel = social_acceleration(_evolve(moving, position=position, velocity=velocity),
                                     walls, robot_poses, robot_lengths, robot_widths,
                                     params, rings, vectors)
         before = (None if vectors is None
@@ -495,7 +495,7 @@ def crowd_step(state: CrowdState, dt: float, areas: Sequence[FloatArray], walls:
             ahead[touch] = position[touch]
             velocity[touch] = 0.0
         position = ahead
-    return replace(moving, position=position, velocity=velocity)
+    return _evolve(moving, position=position, velocity=velocity)
 
 
 _STATE_FIELDS = tuple(f.name for f in fields(CrowdState))

@@ -145,7 +145,7 @@ def scan_clouds(config: LidarConfig, stamp: float, poses: FloatArray, corners: F
         # upper half behind it, or the whole wall when nothing stands before it
         columns, counts = raycast.build_columns(solid, solid_height, wall,
                                                 _ray_turns(config.rays), config.min_range,
-                                        config.max_range, scene.wall_height)
+                                                config.max_range, scene.wall_height)
         ends = list(accumulate(counts.tolist()))  # (slices: np.split costs 2 us a robot)
         return [PointCloud(stamp, columns[start:end], config.height_step)
                 for start, end in zip([0, *ends[:-1]], ends, strict=True)]
@@ -180,13 +180,13 @@ def scan_ranges(config: LidarConfig, poses: FloatArray, corners: FloatArray,
     inf where that is nearer than ``min_range`` or beyond ``max_range`` (an invalid
     reading). poses (R, 3), corners (R, 4, 2), discs (C, 3). Returns (R, N), rays at
     ``config.angles()`` from the robot's heading."""
-    from dancebots.sim.raycast_jit import cast_scene  # imports numba
-
+    cast_scene = kernel("sim.raycast_jit").cast_scene  # (imports numba)
     if len(discs) == 0:
         discs, disc_heights = np.zeros((0, 3)), np.zeros(0)
     solid, _, wall = cast_scene(poses[:, :2], poses[:, 2], _ray_angles(config.rays), corners,
                                 config.robot_height, scene.obstacle_segments,
-                                scene.obstacle_heights, discs, disc_heights.astype(float),
+                                scene.obstacle_heights, discs,
+                                np.asarray(disc_heights, dtype=float),
                                 scene.walls, config.max_range)
     ranges = np.minimum(solid, wall)
     result: FloatArray = np.where((ranges >= config.min_range) & (ranges <= config.max_range),

@@ -329,7 +329,9 @@ class Stage:
             for i, k in disc_contacts(proposed, self.lengths, self.widths, self.discs):
                 blocked[i] = True
                 contacts.append((i, self.disc_names[k], "spectator", k))
-        driven = velocity if self.physics is None else wanted  # (the engine's stop it)
+        # how each robot drove into the step (in the engine a contact has already stopped
+        # it: what it was told)
+        driven = velocity if self.physics is None else wanted
         for i, other, kind, disc in contacts:
             key = (i, other)
             if now + dt - self._active.get(key, -math.inf) > 1.0:  # a new contact

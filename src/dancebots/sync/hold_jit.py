@@ -29,13 +29,15 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
                      holding: NDArray[np.bool_], own_pace: FloatArray,
                      heartbeat_timeout: float, advance_min: float,
                      ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray,
-                                NDArray[np.bool_], FloatArray, FloatArray]:
+                                NDArray[np.bool_], FloatArray, FloatArray, FloatArray]:
     """The clocks (``FormationClocks``' seven arrays: show_time, updated, stamp,
     sent_show_time, holds (R,), position (R, 2), pace (R,)) after, where ``message``, one
     batch of messages is heard (sent, stamp, show time, holds (R,), positions (R, 2), paces
     (R,) of each sender: ``formation_receive``), then ticked at ``now`` s with each robot's
     own hold ``holding`` (R,) and pace ``own_pace`` (R,) (``formation_tick``). Returns the
-    seven new arrays; the inputs are left as they were."""
+    seven new arrays and how fast each clock ran since its last tick (R,)
+    (:func:`clock_rates` of its advance over ``now - updated``: what a paced brain follows
+    its place at); the inputs are left as they were."""
     count = show_time.shape[0]
     stamp, sent_show_time = stamp.copy(), sent_show_time.copy()
     holds, position, pace = holds.copy(), position.copy(), pace.copy()
@@ -76,7 +78,9 @@ def receive_and_tick(show_time: FloatArray, updated: FloatArray, stamp: FloatArr
         ahead = _minimum(show_time[r] + elapsed * rate, ceiling)
         runs = not waiting and ahead > show_time[r] + advance_min
         new_show_time[r] = ahead if runs else show_time[r]
-    return new_show_time, np.full(count, now), stamp, sent_show_time, holds, position, pace
+    rates = clock_rates(new_show_time - show_time, now - updated)
+    return (new_show_time, np.full(count, now), stamp, sent_show_time, holds, position, pace,
+            rates)
 
 
 @njit(cache=True)
