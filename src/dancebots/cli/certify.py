@@ -294,7 +294,7 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
                      f"formation waited for a held robot until the run's limit{why}; they "
                      f"reached {reached[len(reached) // 2]:.0f} % of the show (median; least "
                      f"{reached[0]:.0f} %) (seeds {_seeds(runs)})")
-        if share is not None and share >= 0.9:
+        if cert.people_kept_waiting:
             lines.append("  people kept the robots waiting: give the show room (a crowd's "
                          "`area` in the world file that leaves the formation's ground free) "
                          "or fewer people")

@@ -22,9 +22,13 @@ if TYPE_CHECKING:
     from dancebots.report.metrics import RunMetrics
     from dancebots.sim.setup import Arena, Placement
 
+__all__ = ["PEOPLE_KEPT_WAITING", "Certificate", "CertifyJob", "RunSummary", "certificate",
+           "job_has_crowds", "load_job", "run_seed", "summarise"]
 
-__all__ = ["Certificate", "CertifyJob", "RunSummary", "certificate", "job_has_crowds", "load_job",
-           "run_seed", "show_reached", "summarise"]
+PEOPLE_KEPT_WAITING = 0.9
+"""The share of the stood clock with a person near that says people, not the show, kept the
+unfinished shows waiting (``Certificate.people_kept_waiting``: the certificate then says to
+give the show room)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,9 +74,10 @@ class RunSummary:
     ``report.metrics.clock_restarts``), and max_excess_turn, the most any robot turned beyond
     what it tracks, deg (spins and wiggles: ``report.metrics.excess_turn``);
     show_reached: the share (0-1) of the show its shared clock reached by the run's end (1
-    for a show that finished); contacts_moving_away: of contacts_moving, those in which the
-    robot's footprint moved away from the person or slid past (its speed towards them,
-    ``CollisionEvent.closing``, 0 or less: ISO/TS 15066 counts the speed towards the
+    for a show that finished: ``RunMetrics.show_reached``); contacts_moving_away: of
+    contacts_moving, those in which the robot's footprint moved away from the person or
+    slid past (its speed towards them, ``CollisionEvent.closing``, 0 or less: ISO/TS 15066
+    counts the speed towards the
     person), told apart for the reader, still counted as the robot's
     (``report.metrics.RunMetrics``).
     """
@@ -187,7 +192,7 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.max_final_error,
         not failures, tuple(failures), wall, metrics.clock_stood,
         metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction,
-        metrics.clock_brief_runs, metrics.max_excess_turn, show_reached(metrics),
+        metrics.clock_brief_runs, metrics.max_excess_turn, metrics.show_reached,
         sum(1 for e in people if e.get("robot_moving", True)
             and _away(e.get("robot_closing_mps"))))
 
@@ -196,16 +201,6 @@ def _away(closing: object) -> bool:
     """Whether a contact's closing speed (m/s, None: not measured) says the robot moved away
     from the person or slid past."""
     return isinstance(closing, (int, float)) and closing <= 0.0
-
-
-def show_reached(metrics: RunMetrics) -> float:
-    """The share (0-1) of a run's show that its shared clock reached (the show time at the
-    run's end over the time every place stands on its final slot, ``RunMetrics.show_end``);
-    1 for a show that finished."""
-    end = metrics.show_duration if metrics.show_end is None else metrics.show_end
-    if metrics.finished or metrics.final_show_time is None or end <= 0.0:
-        return 1.0
-    return min(max(metrics.final_show_time / end, 0.0), 1.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -256,6 +251,13 @@ class Certificate:
         stood = sum(r.clock_stood for r in self.runs if not r.finished)
         people = sum(r.clock_stood_for_people for r in self.runs if not r.finished)
         return people / stood if stood > 0.0 else None
+
+    @property
+    def people_kept_waiting(self) -> bool:
+        """Whether people kept the unfinished shows waiting: a person was near a robot that
+        held the clock :data:`PEOPLE_KEPT_WAITING` of the time it stood or more."""
+        share = self.unfinished_for_people()
+        return share is not None and share >= PEOPLE_KEPT_WAITING
 
     def gaps(self) -> np.ndarray:
         """The smallest robot-person gap of every run that had people (m)."""

@@ -204,12 +204,26 @@ class RunMetrics:
     clock_brief_runs: int = 0
 
     @property
+    def end_show_time(self) -> float:
+        """s of show time at which the show is over: ``show_end`` (the time every place
+        stands on its final slot, ``shows.formation.settle_from``), else the plan's end,
+        ``show_duration``."""
+        return self.show_duration if self.show_end is None else self.show_end
+
+    @property
     def finished(self) -> bool:
-        """The show ran to its end: the shared show time reached ``show_end`` (the time every
-        place stands on its final slot, ``shows.formation.settle_from``; None: the plan's
-        end, ``show_duration``)."""
-        end = self.show_duration if self.show_end is None else self.show_end
-        return self.final_show_time is None or bool(self.final_show_time >= end - 1e-6)
+        """The show ran to its end: the shared show time reached :attr:`end_show_time`."""
+        return self.final_show_time is None or bool(
+            self.final_show_time >= self.end_show_time - 1e-6)
+
+    @property
+    def show_reached(self) -> float:
+        """The share (0-1) of the show the shared clock reached by the run's end (the show
+        time then over :attr:`end_show_time`); 1 for a show that finished."""
+        end = self.end_show_time
+        if self.finished or self.final_show_time is None or end <= 0.0:
+            return 1.0
+        return min(max(self.final_show_time / end, 0.0), 1.0)
 
     @property
     def clock_stood_otherwise(self) -> float:

@@ -108,7 +108,7 @@ def run_verdict(metrics: RunMetrics, final_tolerance: float = FINAL_SLOT_TOLERAN
         failures.append(f"{who} desired direction (more than {100 * reverse_tolerance:g} % of the "
                         f"time the slot moves): {listed}")
     if metrics.final_show_time is not None and not metrics.finished:
-        end = metrics.show_duration if metrics.show_end is None else metrics.show_end
+        end = metrics.end_show_time
         failures.append(f"the show did not finish: the formation waited for a held robot until "
                         f"the run ended at show time {metrics.final_show_time:.1f} s of "
                         f"{end:.1f} s{_waits_text(metrics)}")
