@@ -625,6 +625,41 @@ def test_the_predicted_stop_looks_ahead_by_the_robots_stopping_time(
     assert not state.held
 
 
+def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it() -> None:
+    """A tracked stranger seen 0.3 s ago 0.10 m beside R1's rear corner, walking at it at
+    0.5 m/s, is on its footprint by now: R1, told to drive on along its place, stands
+    (neither driving nor turning) and holds the show, so the person meets a robot standing
+    still (children crowd seed 17: a child walking up touched R1's rear corner as it drove
+    off). The same stranger standing, or walking away, does not stop it."""
+    from dancebots.perception.tracks import TRACKED
+    from dancebots.robot import BrainState, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    pose = brain.slot_at(now).pose
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    seen = (-0.5 * brain.sensing.length + 0.05, 0.5 * brain.sensing.width + 0.10)  # left
+
+    def step(speed_towards: float) -> tuple[Command, BrainState]:
+        towards = (s * speed_towards, -c * speed_towards)  # -y in base_link, own map frame
+        state = BrainState(obstacles=np.array([[seen[0], seen[1], 0.0, 1.0]]),
+                           seen_from=pose, cloud_stamp=now - 0.3,
+                           point_velocity=np.array([towards]),
+                           point_kind=np.array([TRACKED], dtype=np.int8))
+        state, command, _ = brain.step(state, now, pose, None, clock=now)
+        return command, state
+
+    command, state = step(0.5)
+    assert command == Command(0.0, 0.0)
+    assert state.held
+    assert state.holds_show
+    for speed in (0.0, -0.5):
+        command, state = step(speed)
+        assert command.linear > 0.1
+        assert not state.held
+
+
 def test_the_default_stop_rule_is_predicted_but_fixed_for_the_thesis_follower() -> None:
     """``default_stop_rule``: the thesis's follower keeps the thesis's fixed rule (it
     reproduces the thesis as written); the project's followers predict tracked people; a

@@ -766,6 +766,14 @@ class RobotBrain:
                 # places, would freeze beside a mate it touches: not for it)
                 held = holds_show = True
                 linear = angular = 0.0
+            elif predicted[2] <= OVERLAP and knows_strangers:
+                # ``predicted``: a tracked stranger will be on its footprint by now or before
+                # a stop took effect: it stands, neither driving nor turning, so that the
+                # person meets a robot standing still (children crowd seed 17, t = 113.1 s: a
+                # child walking up at 0.3-0.5 m/s, 0.10 m from R1's rear corner in a cloud
+                # 0.3 s old, touched it as the clock ran on and R1 drove off)
+                held = holds_show = True
+                linear = angular = 0.0
             elif (near_since is not None and now - near_since < AFTER_SHOW_WAIT
                   and (linear != 0.0 or angular != 0.0)):
                 # after the show nothing is late: a robot still parking waits, asking for
