@@ -162,7 +162,7 @@ def test_a_visitor_who_stays_in_a_lane_stops_the_row_once(examples: Path,
 
 
 @pytest.mark.parametrize(("world", "seed"), [("open_day_crowd.toml", 13),
-                                             ("open_day_children.toml", 9),
+                                             ("open_day_children.toml", 1),
                                              ("open_day_runners.toml", 9)])
 def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         world: str, seed: int, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -174,12 +174,14 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
     would take more than its share of the gap to a mate while turning on the spot,
     ``DetectorParams.turn_share``; among the children a person near a mate's place but beyond
     its body, where it should be and said it is, keeps a robot from turning:
-    ``MATE_BODY_MARGIN``)."""
+    ``MATE_BODY_MARGIN``, and children walking up to robots stand them still before they
+    arrive)."""
     data = ROOT / "src" / "dancebots" / "data"
     path = data / world if world == "open_day_crowd.toml" else ROOT / "examples" / "worlds" / world
     config = replace(PATH, profile=REALISTIC, seed=seed,
                      brain=BrainOptions(follower="path", stop_rule="predicted"))
     within: list[float] = []
+    stood: list[float] = []  # a tracked stranger on the footprint by now: the robot stood
     gaps = robot.RobotBrain._predicted_gaps
 
     def counted(brain: robot.RobotBrain, *args: object, **kwargs: object,
@@ -187,6 +189,8 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         found = gaps(brain, *args, **kwargs)  # type: ignore[arg-type]
         if found[2] < brain.sweep_reach:
             within.append(found[2])
+        if found[2] <= robot.OVERLAP:
+            stood.append(found[2])
         return found
 
     monkeypatch.setattr(robot.RobotBrain, "_predicted_gaps", counted)
@@ -221,6 +225,7 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         assert within  # the turn rule had its say
     if world == "open_day_children.toml":
         assert beside  # a stranger beside a mate was no mate's body
+        assert stood  # a child walking up stood a robot still before it arrived
     assert any(e.kind == "speech" for e in batched.events)
     # the prediction did stop robots: the fixed rule decides otherwise in the same crowd
     fixed = simulate(batched.plan, batched.arena, batched.placement,

@@ -36,6 +36,7 @@ from dancebots.cli.common import (
     progress,
     refuse,
     run_show_into,
+    say_compiling,
     short_path,
 )
 
@@ -221,8 +222,7 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
 
     console = Console(stderr=True, soft_wrap=True)
     if kernels_to_compile(crowds=job_has_crowds(job), stop_rule=job.stop_rule):
-        console.print("compiling the simulator's kernels (numba; first run on this machine "
-                      "only, 10-20 s)", style="yellow", highlight=False)
+        say_compiling(console)
         run_seed(job, args.first_seed)  # compiled once here, cached on disk for the workers
     seeds = list(range(args.first_seed, args.first_seed + args.runs))
     if args.ray is not None:

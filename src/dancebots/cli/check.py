@@ -19,6 +19,7 @@ from dancebots.cli.common import (
     add_timing_argument,
     positive,
     print_diagnostics,
+    say_compiling,
 )
 
 if TYPE_CHECKING:
@@ -210,9 +211,7 @@ def _simulated(args: argparse.Namespace, report: CheckReport) -> list[Diagnostic
         crowds=bool(arena.crowds), stop_rule=default_stop_rule(
             args.follower, args.stop_rule)) if compiled else ()
     if compile_first:
-        kernels = "1 kernel" if len(compile_first) == 1 else f"{len(compile_first)} kernels"
-        console.print(f"compiling the simulator's {kernels} (numba; first "
-                      "run on this machine only, 10-20 s)", style="yellow", highlight=False)
+        say_compiling(console, len(compile_first))
     config = SimConfig(brain=BrainOptions(follower=args.follower, stop_rule=args.stop_rule),
                        compiled=compiled,
                        hold=args.hold)

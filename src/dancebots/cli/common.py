@@ -55,6 +55,7 @@ __all__ = [
     "refuse",
     "reset_interrupt",
     "run_show_into",
+    "say_compiling",
     "short_path",
     "stage_output",
     "write_file",
@@ -207,6 +208,16 @@ def raise_if_interrupted() -> None:
     """Raise KeyboardInterrupt if Ctrl-C was pressed (and swallowed somewhere) meanwhile."""
     if _interrupted:
         raise KeyboardInterrupt
+
+
+def say_compiling(console: Console, kernels: int | None = None) -> None:
+    """Tell that the simulator's kernels compile before the first run (numba caches them on
+    disk): ``kernels`` of them, or "kernels" when not counted. About a minute on this
+    project's 2-core machine (72 s with the first 2 runs of a certification, 2026-11-28)."""
+    what = ("kernels" if kernels is None else
+            "1 kernel" if kernels == 1 else f"{kernels} kernels")
+    console.print(f"compiling the simulator's {what} (numba; first run on this machine "
+                  "only, about a minute)", style="yellow", highlight=False)
 
 
 @contextlib.contextmanager

@@ -33,6 +33,7 @@ from dancebots.cli.common import (
     progress,
     refuse,
     run_show_into,
+    say_compiling,
     short_path,
 )
 
@@ -190,9 +191,7 @@ def _simulate(args: argparse.Namespace, show: LoadedShow, setup: tuple[Arena, Pl
     compile_first = kernels_to_compile(crowds=bool(arena.crowds), stop_rule=default_stop_rule(
         args.follower, args.stop_rule))
     if compile_first:
-        kernels = "1 kernel" if len(compile_first) == 1 else f"{len(compile_first)} kernels"
-        console.print(f"compiling the simulator's {kernels} (numba; first "
-                      "run on this machine only, 10-20 s)", style="yellow", highlight=False)
+        say_compiling(console, len(compile_first))
     lidar = None if args.no_lidar else LidarConfig(rays=args.rays, latency=args.latency)
     brain = BrainOptions(follower=args.follower, detector=args.detector,
                          force_steering=args.force_steering, stop_rule=args.stop_rule)
