@@ -625,12 +625,16 @@ def test_the_predicted_stop_looks_ahead_by_the_robots_stopping_time(
     assert not state.held
 
 
-def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it() -> None:
+def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
+        monkeypatch: pytest.MonkeyPatch) -> None:
     """A tracked stranger seen 0.3 s ago 0.10 m beside R1's rear corner, walking at it at
     0.5 m/s, is on its footprint by now: R1, told to drive on along its place, stands
     (neither driving nor turning) and holds the show, so the person meets a robot standing
     still (children crowd seed 17: a child walking up touched R1's rear corner as it drove
-    off). The same stranger standing, or walking away, does not stop it."""
+    off). At 0.2 m/s it is there only by the time a stop took effect (PREDICTED_STOP_TIME
+    more): R1 stands too, and without that time drives on. The same stranger standing, or
+    walking away, does not stop it."""
+    from dancebots import robot
     from dancebots.perception.tracks import TRACKED
     from dancebots.robot import BrainState, SensingConfig
 
@@ -650,14 +654,18 @@ def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it() 
         state, command, _ = brain.step(state, now, pose, None, clock=now)
         return command, state
 
-    command, state = step(0.5)
-    assert command == Command(0.0, 0.0)
-    assert state.held
-    assert state.holds_show
+    for speed in (0.5, 0.2):  # 0.2 m/s: there only by the time a stop took effect
+        command, state = step(speed)
+        assert command == Command(0.0, 0.0)
+        assert state.held
+        assert state.holds_show
     for speed in (0.0, -0.5):
         command, state = step(speed)
         assert command.linear > 0.1
         assert not state.held
+    monkeypatch.setattr(robot, "PREDICTED_STOP_TIME", 0.0)
+    command, state = step(0.2)
+    assert command.linear > 0.1
 
 
 def test_the_default_stop_rule_is_predicted_but_fixed_for_the_thesis_follower() -> None:

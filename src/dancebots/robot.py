@@ -149,7 +149,9 @@ and its side swept into the child (open-day crowd seed 138 of 94d2cb6, t = 92.7 
 margin covers a message's tick of age at the robots' speeds."""
 OVERLAP = 0.01
 """m: an obstacle point nearer than this to the footprint (on or in it) holds the robot still,
-neither driving nor turning (a person standing in its footprint)."""
+neither driving nor turning (a person standing in its footprint); so does, under the
+``predicted`` stop rule, a tracked stranger's point predicted this near (by now, or by the
+time a stop took effect: ``PREDICTED_STOP_TIME``)."""
 HOLD_LAG = 0.05
 """m: a robot this far from its place that a stranger (a point that is no mate on its place)
 slows (the approach limit to it) or keeps from turning (the turn guard, with the stranger

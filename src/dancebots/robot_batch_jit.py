@@ -823,7 +823,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                         detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
                 b_nearest = min(n_nearest, beyond)
             if b_nearest <= rules[OVERLAP] or p_nearest <= rules[OVERLAP]:
-                # (on or in its footprint, or a tracked stranger will be by now)
+                # (on or in its footprint, or a tracked stranger will be by now; the brain's
+                # ``knows_strangers`` holds for every batched brain: ``batch_supported``)
                 held = holds_show = True
                 linear = angular = 0.0
             elif (not math.isnan(near_time) and now - near_time < rules[AFTER_SHOW_WAIT]

@@ -221,8 +221,9 @@ def _certify(args: argparse.Namespace, job: CertifyJob, staging: Path,
     from dancebots.sim.kernels import kernels_to_compile
 
     console = Console(stderr=True, soft_wrap=True)
-    if kernels_to_compile(crowds=job_has_crowds(job), stop_rule=job.stop_rule):
-        say_compiling(console)
+    compile_first = kernels_to_compile(crowds=job_has_crowds(job), stop_rule=job.stop_rule)
+    if compile_first:
+        say_compiling(console, len(compile_first))
         run_seed(job, args.first_seed)  # compiled once here, cached on disk for the workers
     seeds = list(range(args.first_seed, args.first_seed + args.runs))
     if args.ray is not None:
