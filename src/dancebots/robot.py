@@ -768,7 +768,8 @@ class RobotBrain:
                 # places, would freeze beside a mate it touches: not for it)
                 held = holds_show = True
                 linear = angular = 0.0
-            elif predicted[2] <= OVERLAP and knows_strangers:
+            elif (predicted[2] <= OVERLAP and body_nearest < self.sweep_reach
+                  and knows_strangers):
                 # ``predicted``: a tracked stranger will be on its footprint by now or before
                 # a stop took effect: it stands, neither driving nor turning, so that the
                 # person meets a robot standing still (children crowd seed 17, t = 113.1 s: a

@@ -822,7 +822,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                         detect[Z_MAX], view, pose, length, width, stop,
                         detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
                 b_nearest = min(n_nearest, beyond)
-            if b_nearest <= rules[OVERLAP] or p_nearest <= rules[OVERLAP]:
+            if b_nearest <= rules[OVERLAP] or (p_nearest <= rules[OVERLAP]
+                                               and b_nearest < sweep_reach):
                 # (on or in its footprint, or a tracked stranger will be by now; the brain's
                 # ``knows_strangers`` holds for every batched brain: ``batch_supported``)
                 held = holds_show = True
