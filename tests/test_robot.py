@@ -633,7 +633,8 @@ def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
     still (children crowd seed 17: a child walking up touched R1's rear corner as it drove
     off). At 0.2 m/s it is there only by the time a stop took effect (PREDICTED_STOP_TIME
     more): R1 stands too, and without that time drives on. The same stranger standing, or
-    walking away, does not stop it."""
+    walking away, does not stop it, nor one heading at it from beyond the circle its
+    footprint sweeps (``sweep_reach``)."""
     from dancebots import robot
     from dancebots.perception.tracks import TRACKED
     from dancebots.robot import BrainState, SensingConfig
@@ -644,10 +645,12 @@ def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
     pose = brain.slot_at(now).pose
     c, s = math.cos(pose[2]), math.sin(pose[2])
     seen = (-0.5 * brain.sensing.length + 0.05, 0.5 * brain.sensing.width + 0.10)  # left
+    assert brain.sweep_reach > 0.10
 
-    def step(speed_towards: float) -> tuple[Command, BrainState]:
+    def step(speed_towards: float, gap: float = 0.10) -> tuple[Command, BrainState]:
         towards = (s * speed_towards, -c * speed_towards)  # -y in base_link, own map frame
-        state = BrainState(obstacles=np.array([[seen[0], seen[1], 0.0, 1.0]]),
+        at = (seen[0], 0.5 * brain.sensing.width + gap)
+        state = BrainState(obstacles=np.array([[at[0], at[1], 0.0, 1.0]]),
                            seen_from=pose, cloud_stamp=now - 0.3,
                            point_velocity=np.array([towards]),
                            point_kind=np.array([TRACKED], dtype=np.int8))
@@ -663,6 +666,12 @@ def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
         command, state = step(speed)
         assert command.linear > 0.1
         assert not state.held
+    # one heading at it from beyond the circle its footprint sweeps (people walking past
+    # swerve; the corridor and turn rules judge them): it drives on
+    farther = brain.sweep_reach + 0.05
+    command, state = step(2.0 * farther / 0.6, farther)
+    assert command.linear > 0.1
+    assert not state.held
     monkeypatch.setattr(robot, "PREDICTED_STOP_TIME", 0.0)
     command, state = step(0.2)
     assert command.linear > 0.1

@@ -225,8 +225,9 @@ def test_batch_runs_the_predicted_stop_rule_as_the_brains_do(
         assert within  # the turn rule had its say
     if world == "open_day_children.toml":
         assert beside  # a stranger beside a mate was no mate's body
-        # the stand rule's condition arose (a child predicted on a footprint: the robot stood
-        # if it would move), so the equal runs above cover the kernel's stand too
+        # a child was predicted on a footprint (the stand rule's first condition; the rule
+        # stands the robot where the child is within ``sweep_reach`` too), so the equal
+        # runs above cover the kernel's stand
         assert stood
     assert any(e.kind == "speech" for e in batched.events)
     # the prediction did stop robots: the fixed rule decides otherwise in the same crowd
