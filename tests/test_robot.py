@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from dancebots.control.follower import FollowerParams
-from dancebots.robot import Command, RobotBrain
+from dancebots.robot import BrainState, Command, RobotBrain
 from tests_support import plan_of
 
 PLAN_TEXT = "robots R1 R2\nrow R1,R2 0 1.2\nmove 2 0\nmove 2 90\n"
@@ -548,6 +548,21 @@ def test_after_the_show_a_robot_waits_for_a_stranger_only_so_long() -> None:
     assert command.linear > 0.1
 
 
+def _step_with_tracked(brain: RobotBrain, now: float, pose: tuple[float, float, float],
+                       at: tuple[float, float], velocity: tuple[float, float],
+                       ) -> tuple[Command, BrainState]:
+    """One step of ``brain`` at ``pose`` with one tracked point seen 0.3 s ago at ``at``
+    (``base_link`` at ``pose``, m), moving at ``velocity`` (own map frame, m/s)."""
+    from dancebots.perception.tracks import TRACKED
+    from dancebots.robot import BrainState
+
+    state = BrainState(obstacles=np.array([[at[0], at[1], 0.0, 1.0]]), seen_from=pose,
+                       cloud_stamp=now - 0.3, point_velocity=np.array([velocity]),
+                       point_kind=np.array([TRACKED], dtype=np.int8))
+    state, command, _ = brain.step(state, now, pose, None, clock=now)
+    return command, state
+
+
 def test_the_predicted_stop_holds_for_a_stranger_but_not_for_a_moving_mate() -> None:
     """The ``predicted`` stop rule moves tracked points on at their velocity for the data's
     age (0.3 s here) and stops where they land within the stop distance ahead, holding the
@@ -594,8 +609,7 @@ def test_the_predicted_stop_looks_ahead_by_the_robots_stopping_time(
     moved on for PREDICTED_STOP_TIME more it is 0.15 m inside it: R1 stops and holds the show
     now, not a stopping time too late (without the stopping time it drives on)."""
     from dancebots import robot
-    from dancebots.perception.tracks import TRACKED
-    from dancebots.robot import PREDICTED_STOP_TIME, BrainState, SensingConfig
+    from dancebots.robot import PREDICTED_STOP_TIME, SensingConfig
 
     brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
                        sensing=SensingConfig(stop_rule="predicted"), follower="path")
@@ -607,13 +621,8 @@ def test_the_predicted_stop_looks_ahead_by_the_robots_stopping_time(
     seen = (0.5 * brain.sensing.length + 0.35, corridor + 0.45)  # base_link, 0.3 s ago
     across = (s * 1.0, -c * 1.0)  # -y in base_link at 1 m/s, in the own map frame
 
-    def step() -> tuple[robot.Command, BrainState]:
-        state = BrainState(obstacles=np.array([[seen[0], seen[1], 0.0, 1.0]]),
-                           seen_from=pose, cloud_stamp=now - 0.3,
-                           point_velocity=np.array([across]),
-                           point_kind=np.array([TRACKED], dtype=np.int8))
-        state, command, _ = brain.step(state, now, pose, None, clock=now)
-        return command, state
+    def step() -> tuple[Command, BrainState]:
+        return _step_with_tracked(brain, now, pose, seen, across)
 
     command, state = step()
     assert command.linear == 0.0
@@ -636,8 +645,7 @@ def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
     walking away, does not stop it, nor one heading at it from beyond the circle its
     footprint sweeps (``sweep_reach``)."""
     from dancebots import robot
-    from dancebots.perception.tracks import TRACKED
-    from dancebots.robot import BrainState, SensingConfig
+    from dancebots.robot import SensingConfig
 
     brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
                        sensing=SensingConfig(stop_rule="predicted"), follower="path")
@@ -649,13 +657,8 @@ def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
 
     def step(speed_towards: float, gap: float = 0.10) -> tuple[Command, BrainState]:
         towards = (s * speed_towards, -c * speed_towards)  # -y in base_link, own map frame
-        at = (seen[0], 0.5 * brain.sensing.width + gap)
-        state = BrainState(obstacles=np.array([[at[0], at[1], 0.0, 1.0]]),
-                           seen_from=pose, cloud_stamp=now - 0.3,
-                           point_velocity=np.array([towards]),
-                           point_kind=np.array([TRACKED], dtype=np.int8))
-        state, command, _ = brain.step(state, now, pose, None, clock=now)
-        return command, state
+        return _step_with_tracked(brain, now, pose, (seen[0], 0.5 * brain.sensing.width + gap),
+                                  towards)
 
     for speed in (0.5, 0.2):  # 0.2 m/s: there only by the time a stop took effect
         command, state = step(speed)
