@@ -771,6 +771,25 @@ def test_a_robot_that_is_not_held_does_not_turn_into_a_stranger_beside_it() -> N
     assert not held
 
 
+@pytest.mark.parametrize("gap", [0.40, 0.50])
+def test_a_robot_held_for_a_stranger_does_not_turn_while_one_is_near(gap: float) -> None:
+    """A robot held for a stranger standing in its corridor (within the stop distance, beyond
+    the circle its footprint sweeps) and turned 0.5 rad off its place's heading stands
+    still: no turn while a stranger is within NEAR_GAP (it turned at 0.37 rad/s, its corners
+    swinging at 0.25 m/s beside the person; dense crowd seed 94, t = 109.9 s: a held R4
+    turned at 0.045 rad/s and its corner met a child who ran at it within the LIDAR's
+    latency)."""
+    brain, now, pose = _turning_robot()
+    assert brain.sweep_reach < gap < brain.sensing.detection.stop_distance
+    state = BrainState(obstacles=np.array([[0.5 * brain.sensing.length + gap, 0.0, 0.0, 1.0]]),
+                       seen_from=pose, cloud_stamp=now)
+    for k in range(2):
+        state, command, _ = brain.step(state, now + 0.1 * k, pose, None, clock=now + 0.1 * k)
+    assert command == Command(0.0, 0.0)
+    assert state.held
+    assert state.holds_show
+
+
 def test_a_stranger_beside_a_mate_does_not_hide_in_the_mates_disc_from_the_turn_rule(
 ) -> None:
     """A robot that turns (its heading 0.5 rad off its place's) with a child between it and

@@ -217,7 +217,8 @@ after the show (every place on its final slot: ``rest_from``, the path follower'
 places a few seconds after the plan's end) it does not move at all: it goes to its final
 slot once no
 stranger is this near, or :data:`AFTER_SHOW_WAIT` after one came near (a child running round
-a parking robot met it backing up)."""
+a parking robot met it backing up). A robot held for a stranger does not turn while one is
+this near (it stands)."""
 CORNER_SPEED = 0.25
 """m/s: the fastest a robot's corners swing about its centre as it turns with a stranger
 within :data:`NEAR_GAP` (ISO 10218-1's reduced speed for working beside people, 250 mm/s)."""
@@ -866,6 +867,13 @@ class RobotBrain:
                 # its footprint sweeps (its corners' swing beyond its sides); once only when
                 # held, and a standing robot that the show moved on turned its rear corner
                 # into a child squeezing past it (children crowd seed 34, t = 218.0 s)
+                angular = 0.0
+            if angular != 0.0 and held and holds_show and body_nearest < NEAR_GAP:
+                # held for a stranger, it stands: no turn while one is within NEAR_GAP (its
+                # turn only corrects its heading; the show waits for it anyway). A held R4
+                # turned at 0.045 rad/s, nothing within the circle its footprint sweeps by
+                # 9 mm in a cloud 0.3 s old, and its corner met a child who had turned and
+                # run at it meanwhile (dense crowd seed 94, t = 109.9 s)
                 angular = 0.0
             if angular != 0.0 and predicted[2] < self.sweep_reach:
                 # ``predicted``: nor while a tracked stranger will be within that circle by

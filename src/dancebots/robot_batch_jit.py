@@ -876,6 +876,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     mate_radius[r])
             if angular != 0.0 and b_nearest < sweep_reach:  # a stranger within it: no turn
                 angular = 0.0
+            if angular != 0.0 and held and holds_show and b_nearest < rules[NEAR_GAP]:
+                angular = 0.0  # held for a stranger: no turn while one is near
             if angular != 0.0 and p_nearest < sweep_reach:  # a stranger will be within it
                 angular = 0.0
             if not held and behind > rules[HOLD_LAG]:
