@@ -779,15 +779,24 @@ def test_a_robot_held_for_a_stranger_does_not_turn_while_one_is_near(gap: float)
     swinging at 0.25 m/s beside the person; dense crowd seed 94, t = 109.9 s: a held R4
     turned at 0.045 rad/s and its corner met a child who ran at it within the LIDAR's
     latency)."""
+    from dancebots.robot import SensingConfig
+
     brain, now, pose = _turning_robot()
     assert brain.sweep_reach < gap < brain.sensing.detection.stop_distance
-    state = BrainState(obstacles=np.array([[0.5 * brain.sensing.length + gap, 0.0, 0.0, 1.0]]),
-                       seen_from=pose, cloud_stamp=now)
-    for k in range(2):
-        state, command, _ = brain.step(state, now + 0.1 * k, pose, None, clock=now + 0.1 * k)
+    ahead = np.array([[0.5 * brain.sensing.length + gap, 0.0, 0.0, 1.0]])
+    state, command, _ = brain.step(BrainState(obstacles=ahead, seen_from=pose, cloud_stamp=now),
+                                   now, pose, None, clock=now)
     assert command == Command(0.0, 0.0)
     assert state.held
     assert state.holds_show
+    # the thesis's follower is as written: held, it turns (thesis 5.2's rotation rule)
+    thesis = RobotBrain(brain.plan, "R1", FollowerParams(), follower="thesis",
+                        sensing=SensingConfig(stop_rule="fixed"))
+    state, turning, _ = thesis.step(BrainState(obstacles=ahead, seen_from=pose, cloud_stamp=now),
+                                    now, pose, None, clock=now)
+    assert state.held
+    assert turning.linear == 0.0
+    assert abs(turning.angular) > 0.1
 
 
 def test_a_stranger_beside_a_mate_does_not_hide_in_the_mates_disc_from_the_turn_rule(

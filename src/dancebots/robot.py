@@ -868,7 +868,8 @@ class RobotBrain:
                 # held, and a standing robot that the show moved on turned its rear corner
                 # into a child squeezing past it (children crowd seed 34, t = 218.0 s)
                 angular = 0.0
-            if angular != 0.0 and held and holds_show and body_nearest < NEAR_GAP:
+            if (angular != 0.0 and held and holds_show and knows_strangers
+                    and sensing.stop_rule != "ssm" and body_nearest < NEAR_GAP):
                 # held for a stranger, it stands: no turn while one is within NEAR_GAP (its
                 # turn only corrects its heading; the show waits for it anyway). A held R4
                 # turned at 0.045 rad/s, nothing within the circle its footprint sweeps by
