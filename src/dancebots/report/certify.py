@@ -77,9 +77,8 @@ class RunSummary:
     for a show that finished: ``RunMetrics.show_reached``); contacts_moving_away: of
     contacts_moving, those in which the robot's footprint moved away from the person or
     slid past (its speed towards them, ``CollisionEvent.closing``, 0 or less: ISO/TS 15066
-    counts the speed towards the
-    person), told apart for the reader, still counted as the robot's
-    (``report.metrics.RunMetrics``).
+    counts the speed towards the person), told apart for the reader, still counted as the
+    robot's (``report.metrics.RunMetrics``).
     """
 
     seed: int
