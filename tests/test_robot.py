@@ -634,6 +634,61 @@ def test_the_predicted_stop_looks_ahead_by_the_robots_stopping_time(
     assert not state.held
 
 
+def test_the_predicted_stop_distance_adds_the_robots_own_way_until_it_stands() -> None:
+    """|v| T + v^2 / 2a on top of the stop distance, either way, and nothing standing."""
+    from dancebots.robot import PREDICTED_STOP_TIME, predicted_stop_distance
+
+    assert predicted_stop_distance(0.55, 0.0, 1.0) == 0.55
+    for speed in (0.4, -0.4):
+        assert predicted_stop_distance(0.55, speed, 1.0) == pytest.approx(
+            0.55 + 0.4 * PREDICTED_STOP_TIME + 0.08)
+    assert predicted_stop_distance(0.55, 0.4, 0.5) == pytest.approx(
+        0.55 + 0.4 * PREDICTED_STOP_TIME + 0.16)
+
+
+def test_the_predicted_stop_counts_the_robots_own_way_to_a_stranger_running_at_it(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A stranger running head-on at R1 at 1.5 m/s whose predicted point lands a little
+    beyond the stop distance ahead of R1's front, but within it plus R1's own way until it
+    stands (``predicted_stop_distance``): R1 stops and holds the show (dense open-day crowd
+    seed 223: R2 at 0.39 m/s stopped when the child's point came within 0.55 m and was still
+    braking when they met). Without the robot's own way it drives on; so does R1 with the
+    stranger beyond the stop distance plus its own way."""
+    from dancebots import robot
+    from dancebots.robot import PREDICTED_STOP_TIME, BrainState, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    pose = brain.slot_at(now).pose
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    free = brain.step(BrainState(), now, pose, None, clock=now)[1].linear
+    assert free > 0.2  # what R1 drives with nothing near
+    stop = brain.sensing.detection.stop_distance
+    own_way = robot.predicted_stop_distance(stop, free, brain.sensing.ssm.deceleration) - stop
+    speed = 1.5  # m/s, head-on (-x in base_link)
+    running = (-c * speed, -s * speed)  # own map frame
+
+    def step(gap: float) -> tuple[Command, BrainState]:
+        """The stranger's predicted point (0.3 s of age and PREDICTED_STOP_TIME) ``gap`` m
+        before R1's front."""
+        seen = (0.5 * brain.sensing.length + gap + speed * (0.3 + PREDICTED_STOP_TIME), 0.0)
+        return _step_with_tracked(brain, now, pose, seen, running)
+
+    command, state = step(stop + 0.5 * own_way)
+    assert command.linear == 0.0
+    assert state.held
+    assert state.holds_show
+    command, state = step(stop + 1.5 * own_way)
+    assert command.linear > 0.2
+    assert not state.held
+    monkeypatch.setattr(robot, "predicted_stop_distance",
+                        lambda stop_distance, speed, deceleration: stop_distance)
+    command, state = step(stop + 0.5 * own_way)
+    assert command.linear > 0.2
+    assert not state.held
+
+
 def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """A tracked stranger seen 0.3 s ago 0.10 m beside R1's rear corner, walking at it at

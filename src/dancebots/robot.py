@@ -73,7 +73,7 @@ if TYPE_CHECKING:  # SSM's tracker (SciPy) is imported where the ssm stop rule r
 
 __all__ = ["DETECTORS", "FOLLOWERS", "STOP_RULES", "BrainOptions", "BrainState", "Command",
            "Detector", "Follower", "RobotBrain", "SensingConfig", "StopRule", "brain_for",
-           "default_stop_rule", "turns_on_the_spot"]
+           "default_stop_rule", "predicted_stop_distance", "turns_on_the_spot"]
 
 Follower = Literal["tracking", "path", "thesis"]
 FOLLOWERS: tuple[Follower, ...] = get_args(Follower)
@@ -230,6 +230,20 @@ PACE_MIN = 0.2
 """A robot that drives less than this share of the plan's speeds holds the show instead of
 pacing it (a crawl looks like a stop to the audience, and a robot creeping towards its stop
 distance on its approach limit would let the clock creep on while it stands)."""
+
+
+def predicted_stop_distance(stop_distance: float, speed: float, deceleration: float) -> float:
+    """m: how near (ahead or behind, in its corridor) a tracked stranger's predicted point
+    (:data:`PREDICTED_STOP_TIME` on) may come before the ``predicted`` rule stops a robot
+    driving ``speed`` m/s (either sign) that brakes at ``deceleration`` m/s^2: the stop
+    distance (thesis 5.2's 0.55 m) plus the robot's own way while the stop takes effect and
+    while it brakes, |v| T + v^2 / 2a (ISO 13855's S = K T + C with the robot's own motion, as
+    ``perception.ssm.protective_distance`` counts it). The person is moved on for the stopping
+    time; the robot was not: a child ran head-on at 1.9 m/s at R2 driving at 0.39 m/s, and
+    R2 stopped when the child's predicted point came within 0.55 m and was still braking at
+    0.08 m/s when they met (dense open-day crowd seed 223 of 62d78ab, t = 58.6 s)."""
+    return stop_distance + abs(speed) * PREDICTED_STOP_TIME + speed * speed / (
+        2.0 * deceleration)
 
 
 def _pace_left(linear: float, angular: float, speed: float, angular_speed: float,
@@ -810,9 +824,11 @@ class RobotBrain:
                         linear = angular = 0.0
             elif (sensing.stop_rule == "predicted" and go_linear != 0.0
                   and (predicted[0] if go_linear > 0 else predicted[1])
-                  < sensing.detection.stop_distance):
+                  < predicted_stop_distance(sensing.detection.stop_distance, go_linear,
+                                            sensing.ssm.deceleration)):
                 # a tracked person will be in the corridor by now: thesis 5.2's stop, on
-                # where it will be (it holds the show: a person, not a mate on its place)
+                # where it will be (it holds the show: a person, not a mate on its place),
+                # with the robot's own way until it stands (:func:`predicted_stop_distance`)
                 held = holds_show = True
                 linear = 0.0
             elif (flags.front and linear > 0) or (flags.rear and linear < 0):

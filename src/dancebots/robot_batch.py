@@ -155,7 +155,8 @@ class BatchBrains:
             ADVANCE_MIN, 1.0 if sensing.lidar else 0.0, first.plan.duration, first.rest_from,
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
             robot.PREDICTED_STOP_TIME, 1.0 if first.paced else 0.0, robot.PACE_MARGIN,
-            robot.PACE_MIN, robot.PAUSE_STILL, robot.PAUSE_STILL_AFTER, robot.FINAL_NO_ROOM])
+            robot.PACE_MIN, robot.PAUSE_STILL, robot.PAUSE_STILL_AFTER, robot.FINAL_NO_ROOM,
+            sensing.ssm.deceleration])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),

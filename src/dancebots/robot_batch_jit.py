@@ -57,7 +57,8 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
  PARKED_GAP, MAKE_ROOM_SPEED, MAKE_ROOM_FLOOR, NEAR_GAP, CORNER_SPEED, AFTER_SHOW_WAIT,
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
- PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER, FINAL_NO_ROOM) = range(31)
+ PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER, FINAL_NO_ROOM,
+ PREDICTED_DECELERATION) = range(32)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -833,8 +834,11 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 held = holds_show = waiting = True
                 linear = angular = 0.0
             elif (predicted and go_linear != 0.0
-                  and (p_front if go_linear > 0 else p_rear) < stop):
-                # a tracked person will be in the corridor by now (``_predicted_gaps``)
+                  and (p_front if go_linear > 0 else p_rear)
+                  < stop + abs(go_linear) * rules[PREDICTED_STOP_TIME]
+                  + go_linear * go_linear / (2.0 * rules[PREDICTED_DECELERATION])):
+                # a tracked person will be in the corridor by now (``_predicted_gaps``),
+                # with the robot's own way until it stands (``robot.predicted_stop_distance``)
                 held = holds_show = True
                 linear = 0.0
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
