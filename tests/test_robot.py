@@ -689,6 +689,48 @@ def test_the_predicted_stop_counts_the_robots_own_way_to_a_stranger_running_at_i
     assert not state.held
 
 
+def test_a_predicted_stop_lasts_until_the_person_has_left_the_corridor_a_while() -> None:
+    """R1 stopped by the ``predicted`` rule for a person whose predicted point is in its
+    corridor stays stopped, holding the show, for PREDICTED_HOLD_OVER after the last tick
+    that showed them there (the tracked velocities are noisy: a point predicted 0.6 s on
+    flickered out of the corridor for a tick in three, and the formation's clock ran a tick
+    and stood again), then drives on."""
+    from dancebots.robot import PREDICTED_HOLD_OVER, SensingConfig
+
+    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
+                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
+    now = 1.0
+    pose = brain.slot_at(now).pose
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    ahead = (0.5 * brain.sensing.length + 1.0, 0.0)  # base_link
+    coming = (-c * 1.0, -s * 1.0)  # head-on at 1 m/s: 0.4 m before the front by now
+    command, state = _step_with_tracked(brain, now, pose, ahead, coming)
+    assert command.linear == 0.0
+    assert state.held
+    assert state.holds_show
+    assert state.predicted_stop_at == now
+    assert pytest.approx(0.3) == PREDICTED_HOLD_OVER
+
+    def step_clear(state: BrainState, at: float) -> tuple[Command, BrainState]:
+        """A tick at ``at`` (show time and clock) with nothing seen."""
+        clear = replace(state, obstacles=np.zeros((0, 4)), point_velocity=None,
+                        point_kind=None, cloud_stamp=None)
+        state, command, _ = brain.step(clear, at, pose, None, clock=at)
+        return command, state
+
+    for at in (now + 0.1, now + 0.2):
+        command, held_over = step_clear(state, at)
+        assert command.linear == 0.0
+        assert held_over.held
+        assert held_over.holds_show
+        assert held_over.predicted_stop_at == now  # (the delay runs from the last sighting)
+        state = held_over
+    command, state = step_clear(state, now + 0.3)
+    assert command.linear > 0.1
+    assert not state.held
+    assert not state.holds_show
+
+
 def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """A tracked stranger seen 0.3 s ago 0.10 m beside R1's rear corner, walking at it at

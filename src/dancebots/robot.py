@@ -179,6 +179,16 @@ stopping time): a child running at 1.7 m/s at a robot driving to its final slot 
 its corridor in the data only when the robot could no longer stop short of it (open-day
 crowd seed 668 of a variant that kept robots near their places still while the show
 waited)."""
+PREDICTED_HOLD_OVER = 0.3
+"""s: a robot the ``predicted`` rule stopped for a tracked person in its corridor stays
+stopped, holding the show, until no point of them has been predicted there for this long (a
+restart delay; it stops whichever way it would drive). The tracked velocities are noisy, and
+a point predicted 0.6 s on left the corridor and entered it again from one scan to the next:
+a person walking beside R2's corridor let it go for one tick in three, and the formation's
+shared clock ran a tick and stood again (open-day crowd seed 0 of 63568bc, t = 29.8-30.1 s;
+most of the formation's lurches were of this kind). The same delay for the lag rule
+(:data:`HOLD_LAG`) was tried in a variant not kept: over open-day crowd seeds 0-5 it cut
+the brief clock runs from 52 to 44 and stood the clock 29 % longer."""
 SLOWED = 0.02
 """m/s or rad/s by which a command must be cut to count as slowed (:data:`HOLD_LAG`)."""
 GIVE_WAY_SPEED = 0.05
@@ -335,7 +345,9 @@ class BrainState:
     (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
     gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
     before (S,) m/s); the robot's clock (s) at the first tick at which its show time had
-    not advanced (``paused_since``, None while it advances)."""
+    not advanced (``paused_since``, None while it advances); the last tick (its clock, s) at
+    which the ``predicted`` rule stopped it for a person in its corridor
+    (``predicted_stop_at``: :data:`PREDICTED_HOLD_OVER`)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -357,6 +369,7 @@ class BrainState:
     closing: tuple[float, np.ndarray, np.ndarray] | None = None
     pace: float = 1.0
     paused_since: float | None = None
+    predicted_stop_at: float | None = None
 
     @property
     def holding_the_show(self) -> bool:
@@ -675,6 +688,7 @@ class RobotBrain:
         paused_since = ((now if state.paused_since is None else state.paused_since)
                         if paused else None)
         stood_for = 0.0 if paused_since is None else now - paused_since  # s the clock stood
+        predicted_stop_at = state.predicted_stop_at
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
             strangers: Perception | None = None  # the points that are no mate on its place
@@ -776,6 +790,9 @@ class RobotBrain:
                 body_nearest = min(near.nearest, self._nearest_beyond_mates(
                     obstacles, height_step, seen_from or pose, pose,
                     self._mate_centres(show_time, mates_heard), seen.nearest))
+            in_corridor = (go_linear != 0.0 and (predicted[0] if go_linear > 0 else predicted[1])
+                           < predicted_stop_distance(sensing.detection.stop_distance, go_linear,
+                                                     sensing.ssm.deceleration))
             if body_nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -822,15 +839,18 @@ class RobotBrain:
                     if abs(linear) <= SLOWED and not may_turn:
                         # standing, it does not swing a corner out at a person walking up
                         linear = angular = 0.0
-            elif (sensing.stop_rule == "predicted" and go_linear != 0.0
-                  and (predicted[0] if go_linear > 0 else predicted[1])
-                  < predicted_stop_distance(sensing.detection.stop_distance, go_linear,
-                                            sensing.ssm.deceleration)):
+            elif sensing.stop_rule == "predicted" and go_linear != 0.0 and (
+                    in_corridor or (state.predicted_stop_at is not None
+                                    and now - state.predicted_stop_at
+                                    < PREDICTED_HOLD_OVER - 1e-9)):
                 # a tracked person will be in the corridor by now: thesis 5.2's stop, on
                 # where it will be (it holds the show: a person, not a mate on its place),
-                # with the robot's own way until it stands (:func:`predicted_stop_distance`)
+                # with the robot's own way until it stands (:func:`predicted_stop_distance`),
+                # and PREDICTED_HOLD_OVER after
                 held = holds_show = True
                 linear = 0.0
+                if in_corridor:
+                    predicted_stop_at = now
             elif (flags.front and linear > 0) or (flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
@@ -949,7 +969,8 @@ class RobotBrain:
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
-                               closing=closing, pace=pace, paused_since=paused_since)
+                               closing=closing, pace=pace, paused_since=paused_since,
+                               predicted_stop_at=predicted_stop_at)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,
