@@ -245,7 +245,9 @@ distance on its approach limit would let the clock creep on while it stands)."""
 def predicted_stop_distance(stop_distance: float, speed: float, deceleration: float) -> float:
     """m: how near (ahead or behind, in its corridor) a tracked stranger's predicted point
     (:data:`PREDICTED_STOP_TIME` on) may come before the ``predicted`` rule stops a robot
-    driving ``speed`` m/s (either sign) that brakes at ``deceleration`` m/s^2: the stop
+    driving ``speed`` m/s (either sign; ``RobotBrain.step`` gives the speed it was told at
+    the last tick, 0 where that was none or the other way) that brakes at ``deceleration``
+    m/s^2: the stop
     distance (thesis 5.2's 0.55 m) plus the robot's own way while the stop takes effect and
     while it brakes, |v| T + v^2 / 2a (ISO 13855's S = K T + C with the robot's own motion, as
     ``perception.ssm.protective_distance`` counts it). The person is moved on for the stopping
@@ -347,7 +349,8 @@ class BrainState:
     before (S,) m/s); the robot's clock (s) at the first tick at which its show time had
     not advanced (``paused_since``, None while it advances); the last tick (its clock, s) at
     which the ``predicted`` rule stopped it for a person in its corridor
-    (``predicted_stop_at``: :data:`PREDICTED_HOLD_OVER`)."""
+    (``predicted_stop_at``: :data:`PREDICTED_HOLD_OVER`); and the linear speed it was told
+    at its last tick (``last_linear``, m/s: :func:`predicted_stop_distance`)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -370,6 +373,7 @@ class BrainState:
     pace: float = 1.0
     paused_since: float | None = None
     predicted_stop_at: float | None = None
+    last_linear: float = 0.0
 
     @property
     def holding_the_show(self) -> bool:
@@ -790,9 +794,13 @@ class RobotBrain:
                 body_nearest = min(near.nearest, self._nearest_beyond_mates(
                     obstacles, height_step, seen_from or pose, pose,
                     self._mate_centres(show_time, mates_heard), seen.nearest))
-            in_corridor = (go_linear != 0.0 and (predicted[0] if go_linear > 0 else predicted[1])
-                           < predicted_stop_distance(sensing.detection.stop_distance, go_linear,
-                                                     sensing.ssm.deceleration))
+            # (its own way: at the speed it was told at the last tick, where that drives it the
+            # way it would go; a robot that stands has none)
+            in_corridor = go_linear != 0.0 and (
+                predicted[0] if go_linear > 0 else predicted[1]) < predicted_stop_distance(
+                    sensing.detection.stop_distance,
+                    state.last_linear if state.last_linear * go_linear > 0.0 else 0.0,
+                    sensing.ssm.deceleration)
             if body_nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -970,7 +978,8 @@ class RobotBrain:
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
                                closing=closing, pace=pace, paused_since=paused_since,
-                               predicted_stop_at=predicted_stop_at)
+                               predicted_stop_at=predicted_stop_at,
+                               last_linear=command.linear)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

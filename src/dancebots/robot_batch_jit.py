@@ -825,9 +825,12 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                         detect[Z_MAX], view, pose, length, width, stop,
                         detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
                 b_nearest = min(n_nearest, beyond)
+            # (its own way at the speed it was told at the last tick: commands[r] still holds
+            # it; ``robot.predicted_stop_distance``)
+            own = commands[r, 0] if commands[r, 0] * go_linear > 0.0 else 0.0
             in_corridor = go_linear != 0.0 and (p_front if go_linear > 0 else p_rear) < (
-                stop + abs(go_linear) * rules[PREDICTED_STOP_TIME]
-                + go_linear * go_linear / (2.0 * rules[PREDICTED_DECELERATION]))
+                stop + abs(own) * rules[PREDICTED_STOP_TIME]
+                + own * own / (2.0 * rules[PREDICTED_DECELERATION]))
             if b_nearest <= rules[OVERLAP] or (p_nearest <= rules[OVERLAP]
                                                and b_nearest < sweep_reach):
                 # (on or in its footprint, or a tracked stranger will be by now; the brain's
