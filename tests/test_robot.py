@@ -550,16 +550,15 @@ def test_after_the_show_a_robot_waits_for_a_stranger_only_so_long() -> None:
 
 def _step_with_tracked(brain: RobotBrain, now: float, pose: tuple[float, float, float],
                        at: tuple[float, float], velocity: tuple[float, float],
-                       last_linear: float = 0.0) -> tuple[Command, BrainState]:
+                       ) -> tuple[Command, BrainState]:
     """One step of ``brain`` at ``pose`` with one tracked point seen 0.3 s ago at ``at``
-    (``base_link`` at ``pose``, m), moving at ``velocity`` (own map frame, m/s), told
-    ``last_linear`` m/s at the last tick."""
+    (``base_link`` at ``pose``, m), moving at ``velocity`` (own map frame, m/s)."""
     from dancebots.perception.tracks import TRACKED
     from dancebots.robot import BrainState
 
     state = BrainState(obstacles=np.array([[at[0], at[1], 0.0, 1.0]]), seen_from=pose,
                        cloud_stamp=now - 0.3, point_velocity=np.array([velocity]),
-                       point_kind=np.array([TRACKED], dtype=np.int8), last_linear=last_linear)
+                       point_kind=np.array([TRACKED], dtype=np.int8))
     state, command, _ = brain.step(state, now, pose, None, clock=now)
     return command, state
 
@@ -653,8 +652,7 @@ def test_the_predicted_stop_counts_the_robots_own_way_to_a_stranger_running_at_i
     beyond the stop distance ahead of R1's front, but within it plus R1's own way until it
     stands (``predicted_stop_distance``): R1 stops and holds the show (dense open-day crowd
     seed 223: R2 at 0.39 m/s stopped when the child's point came within 0.55 m and was still
-    braking when they met). Its own way is at the speed it was told at the last tick: R1
-    standing there (told 0) drives on, as it does without the robot's own way, and with the
+    braking when they met). Without the robot's own way it drives on; so does R1 with the
     stranger beyond the stop distance plus its own way."""
     from dancebots import robot
     from dancebots.robot import PREDICTED_STOP_TIME, BrainState, SensingConfig
@@ -671,22 +669,16 @@ def test_the_predicted_stop_counts_the_robots_own_way_to_a_stranger_running_at_i
     speed = 1.5  # m/s, head-on (-x in base_link)
     running = (-c * speed, -s * speed)  # own map frame
 
-    def step(gap: float, last_linear: float = free) -> tuple[Command, BrainState]:
+    def step(gap: float) -> tuple[Command, BrainState]:
         """The stranger's predicted point (0.3 s of age and PREDICTED_STOP_TIME) ``gap`` m
-        before R1's front, R1 told ``last_linear`` at the last tick."""
+        before R1's front."""
         seen = (0.5 * brain.sensing.length + gap + speed * (0.3 + PREDICTED_STOP_TIME), 0.0)
-        return _step_with_tracked(brain, now, pose, seen, running, last_linear)
+        return _step_with_tracked(brain, now, pose, seen, running)
 
     command, state = step(stop + 0.5 * own_way)
     assert command.linear == 0.0
     assert state.held
     assert state.holds_show
-    assert state.last_linear == 0.0
-    for last_linear in (0.0, -free):  # it stood, or it reversed: no way towards the person
-        command, state = step(stop + 0.5 * own_way, last_linear)
-        assert command.linear > 0.2
-        assert not state.held
-        assert state.last_linear == command.linear
     command, state = step(stop + 1.5 * own_way)
     assert command.linear > 0.2
     assert not state.held
@@ -695,48 +687,6 @@ def test_the_predicted_stop_counts_the_robots_own_way_to_a_stranger_running_at_i
     command, state = step(stop + 0.5 * own_way)
     assert command.linear > 0.2
     assert not state.held
-
-
-def test_a_predicted_stop_lasts_until_the_person_has_left_the_corridor_a_while() -> None:
-    """R1 stopped by the ``predicted`` rule for a person whose predicted point is in its
-    corridor stays stopped, holding the show, for PREDICTED_HOLD_OVER after the last tick
-    that showed them there (the tracked velocities are noisy: a point predicted 0.6 s on
-    flickered out of the corridor for a tick in three, and the formation's clock ran a tick
-    and stood again), then drives on."""
-    from dancebots.robot import PREDICTED_HOLD_OVER, SensingConfig
-
-    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
-                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
-    now = 1.0
-    pose = brain.slot_at(now).pose
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    ahead = (0.5 * brain.sensing.length + 1.0, 0.0)  # base_link
-    coming = (-c * 1.0, -s * 1.0)  # head-on at 1 m/s: 0.4 m before the front by now
-    command, state = _step_with_tracked(brain, now, pose, ahead, coming)
-    assert command.linear == 0.0
-    assert state.held
-    assert state.holds_show
-    assert state.predicted_stop_at == now
-    assert pytest.approx(0.3) == PREDICTED_HOLD_OVER
-
-    def step_clear(state: BrainState, at: float) -> tuple[Command, BrainState]:
-        """A tick at ``at`` (show time and clock) with nothing seen."""
-        clear = replace(state, obstacles=np.zeros((0, 4)), point_velocity=None,
-                        point_kind=None, cloud_stamp=None)
-        state, command, _ = brain.step(clear, at, pose, None, clock=at)
-        return command, state
-
-    for at in (now + 0.1, now + 0.2):
-        command, held_over = step_clear(state, at)
-        assert command.linear == 0.0
-        assert held_over.held
-        assert held_over.holds_show
-        assert held_over.predicted_stop_at == now  # (the delay runs from the last sighting)
-        state = held_over
-    command, state = step_clear(state, now + 0.3)
-    assert command.linear > 0.1
-    assert not state.held
-    assert not state.holds_show
 
 
 def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(

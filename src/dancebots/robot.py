@@ -179,16 +179,6 @@ stopping time): a child running at 1.7 m/s at a robot driving to its final slot 
 its corridor in the data only when the robot could no longer stop short of it (open-day
 crowd seed 668 of a variant that kept robots near their places still while the show
 waited)."""
-PREDICTED_HOLD_OVER = 0.3
-"""s: a robot the ``predicted`` rule stopped for a tracked person in its corridor stays
-stopped, holding the show, until no point of them has been predicted there for this long (a
-restart delay; it stops whichever way it would drive). The tracked velocities are noisy, and
-a point predicted 0.6 s on left the corridor and entered it again from one scan to the next:
-a person walking beside R2's corridor let it go for one tick in three, and the formation's
-shared clock ran a tick and stood again (open-day crowd seed 0 of 63568bc, t = 29.8-30.1 s;
-most of the formation's lurches were of this kind). The same delay for the lag rule
-(:data:`HOLD_LAG`) was tried in a variant not kept: over open-day crowd seeds 0-5 it cut
-the brief clock runs from 52 to 44 and stood the clock 29 % longer."""
 SLOWED = 0.02
 """m/s or rad/s by which a command must be cut to count as slowed (:data:`HOLD_LAG`)."""
 GIVE_WAY_SPEED = 0.05
@@ -245,9 +235,7 @@ distance on its approach limit would let the clock creep on while it stands)."""
 def predicted_stop_distance(stop_distance: float, speed: float, deceleration: float) -> float:
     """m: how near (ahead or behind, in its corridor) a tracked stranger's predicted point
     (:data:`PREDICTED_STOP_TIME` on) may come before the ``predicted`` rule stops a robot
-    driving ``speed`` m/s (either sign; ``RobotBrain.step`` gives the speed it was told at
-    the last tick, 0 where that was none or the other way) that brakes at ``deceleration``
-    m/s^2: the stop
+    driving ``speed`` m/s (either sign) that brakes at ``deceleration`` m/s^2: the stop
     distance (thesis 5.2's 0.55 m) plus the robot's own way while the stop takes effect and
     while it brakes, |v| T + v^2 / 2a (ISO 13855's S = K T + C with the robot's own motion, as
     ``perception.ssm.protective_distance`` counts it). The person is moved on for the stopping
@@ -347,10 +335,7 @@ class BrainState:
     (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
     gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
     before (S,) m/s); the robot's clock (s) at the first tick at which its show time had
-    not advanced (``paused_since``, None while it advances); the last tick (its clock, s) at
-    which the ``predicted`` rule stopped it for a person in its corridor
-    (``predicted_stop_at``: :data:`PREDICTED_HOLD_OVER`); and the linear speed it was told
-    at its last tick (``last_linear``, m/s: :func:`predicted_stop_distance`)."""
+    not advanced (``paused_since``, None while it advances)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -372,8 +357,6 @@ class BrainState:
     closing: tuple[float, np.ndarray, np.ndarray] | None = None
     pace: float = 1.0
     paused_since: float | None = None
-    predicted_stop_at: float | None = None
-    last_linear: float = 0.0
 
     @property
     def holding_the_show(self) -> bool:
@@ -692,7 +675,6 @@ class RobotBrain:
         paused_since = ((now if state.paused_since is None else state.paused_since)
                         if paused else None)
         stood_for = 0.0 if paused_since is None else now - paused_since  # s the clock stood
-        predicted_stop_at = state.predicted_stop_at
         if pose is not None and show_time >= 0.0:
             seen = CLEAR
             strangers: Perception | None = None  # the points that are no mate on its place
@@ -794,13 +776,6 @@ class RobotBrain:
                 body_nearest = min(near.nearest, self._nearest_beyond_mates(
                     obstacles, height_step, seen_from or pose, pose,
                     self._mate_centres(show_time, mates_heard), seen.nearest))
-            # (its own way: at the speed it was told at the last tick, where that drives it the
-            # way it would go; a robot that stands has none)
-            in_corridor = go_linear != 0.0 and (
-                predicted[0] if go_linear > 0 else predicted[1]) < predicted_stop_distance(
-                    sensing.detection.stop_distance,
-                    state.last_linear if state.last_linear * go_linear > 0.0 else 0.0,
-                    sensing.ssm.deceleration)
             if body_nearest <= OVERLAP and knows_strangers:
                 # something that is no mate on its place on or in its footprint (a person who
                 # stands in it: the stop zones ahead and behind do not see it): it stays
@@ -847,18 +822,15 @@ class RobotBrain:
                     if abs(linear) <= SLOWED and not may_turn:
                         # standing, it does not swing a corner out at a person walking up
                         linear = angular = 0.0
-            elif sensing.stop_rule == "predicted" and go_linear != 0.0 and (
-                    in_corridor or (state.predicted_stop_at is not None
-                                    and now - state.predicted_stop_at
-                                    < PREDICTED_HOLD_OVER - 1e-9)):
+            elif (sensing.stop_rule == "predicted" and go_linear != 0.0
+                  and (predicted[0] if go_linear > 0 else predicted[1])
+                  < predicted_stop_distance(sensing.detection.stop_distance, go_linear,
+                                            sensing.ssm.deceleration)):
                 # a tracked person will be in the corridor by now: thesis 5.2's stop, on
                 # where it will be (it holds the show: a person, not a mate on its place),
-                # with the robot's own way until it stands (:func:`predicted_stop_distance`),
-                # and PREDICTED_HOLD_OVER after
+                # with the robot's own way until it stands (:func:`predicted_stop_distance`)
                 held = holds_show = True
                 linear = 0.0
-                if in_corridor:
-                    predicted_stop_at = now
             elif (flags.front and linear > 0) or (flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
                 # it holds the formation's show clock unless only a mate on its place holds it
@@ -977,9 +949,7 @@ class RobotBrain:
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
-                               closing=closing, pace=pace, paused_since=paused_since,
-                               predicted_stop_at=predicted_stop_at,
-                               last_linear=command.linear)
+                               closing=closing, pace=pace, paused_since=paused_since)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

@@ -156,7 +156,7 @@ class BatchBrains:
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
             robot.PREDICTED_STOP_TIME, 1.0 if first.paced else 0.0, robot.PACE_MARGIN,
             robot.PACE_MIN, robot.PAUSE_STILL, robot.PAUSE_STILL_AFTER, robot.FINAL_NO_ROOM,
-            sensing.ssm.deceleration, robot.PREDICTED_HOLD_OVER])
+            sensing.ssm.deceleration])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
@@ -194,7 +194,6 @@ class BatchBrains:
         self.event_values = np.zeros(count)
         self.paces = np.ones(count)
         self.paused_since = np.full(count, np.nan)
-        self.predicted_stop_at = np.full(count, np.nan)
         self.no_rates = np.ones(count)
 
     def references(self, show_times: FloatArray,
@@ -264,7 +263,7 @@ class BatchBrains:
             self.track_count, self.track_stamp, self.cloud_stamp, self.point_velocity,
             self.point_kind, self.point_count,
             self.no_rates if rates is None else np.ascontiguousarray(rates, dtype=np.float64),
-            self.paces, self.paused_since, self.predicted_stop_at)
+            self.paces, self.paused_since)
         status, holding, asking, waiting = self._jit.tick_outputs(self.flags, self.safety)
         events = (tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist())
                   if np.count_nonzero(self.events) else ())

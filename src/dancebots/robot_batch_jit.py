@@ -58,7 +58,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
  PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER, FINAL_NO_ROOM,
- PREDICTED_DECELERATION, PREDICTED_HOLD_OVER) = range(33)
+ PREDICTED_DECELERATION) = range(32)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -605,8 +605,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 track_count: NDArray[np.int64], track_stamp: FloatArray,
                 cloud_stamp: FloatArray, point_velocity: FloatArray,
                 point_kind: NDArray[np.int8], point_count: NDArray[np.int64],
-                rates: FloatArray, paces: FloatArray, paused_since: FloatArray,
-                predicted_stop_at: FloatArray) -> None:
+                rates: FloatArray, paces: FloatArray, paused_since: FloatArray) -> None:
     """One control tick of every robot (``RobotBrain.step``), in place.
 
     Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
@@ -641,8 +640,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     since its last tick; out: paces (R,), the share of the plan's speeds each can follow
     (``robot._pace_left``; 1 without it).
     State, updated: paused_since (R,) each robot's clock at the first tick at which its show
-    time had not advanced (NaN: it advances); predicted_stop_at (R,) its clock at the last
-    tick the ``predicted`` rule stopped it for a person in its corridor (NaN: never).
+    time had not advanced (NaN: it advances).
     """
     count = poses.shape[0]
     capacity = history.shape[1]
@@ -825,12 +823,6 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                         detect[Z_MAX], view, pose, length, width, stop,
                         detect[CORRIDOR_MARGIN], rules[FORCE_RADIUS], rules[FORCE_GAIN])
                 b_nearest = min(n_nearest, beyond)
-            # (its own way at the speed it was told at the last tick: commands[r] still holds
-            # it; ``robot.predicted_stop_distance``)
-            own = commands[r, 0] if commands[r, 0] * go_linear > 0.0 else 0.0
-            in_corridor = go_linear != 0.0 and (p_front if go_linear > 0 else p_rear) < (
-                stop + abs(own) * rules[PREDICTED_STOP_TIME]
-                + own * own / (2.0 * rules[PREDICTED_DECELERATION]))
             if b_nearest <= rules[OVERLAP] or (p_nearest <= rules[OVERLAP]
                                                and b_nearest < sweep_reach):
                 # (on or in its footprint, or a tracked stranger will be by now; the brain's
@@ -841,16 +833,14 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                   and (linear != 0.0 or angular != 0.0)):
                 held = holds_show = waiting = True
                 linear = angular = 0.0
-            elif predicted and go_linear != 0.0 and (in_corridor or (
-                    not math.isnan(predicted_stop_at[r])
-                    and now - predicted_stop_at[r] < rules[PREDICTED_HOLD_OVER] - 1e-9)):
+            elif (predicted and go_linear != 0.0
+                  and (p_front if go_linear > 0 else p_rear)
+                  < stop + abs(go_linear) * rules[PREDICTED_STOP_TIME]
+                  + go_linear * go_linear / (2.0 * rules[PREDICTED_DECELERATION])):
                 # a tracked person will be in the corridor by now (``_predicted_gaps``),
-                # with the robot's own way until it stands (``robot.predicted_stop_distance``),
-                # and PREDICTED_HOLD_OVER after
+                # with the robot's own way until it stands (``robot.predicted_stop_distance``)
                 held = holds_show = True
                 linear = 0.0
-                if in_corridor:
-                    predicted_stop_at[r] = now
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
                 held = True
                 holds_show = (near_front and linear > 0) or (near_rear and linear < 0)
