@@ -274,12 +274,27 @@ def test_only_the_brains_it_mirrors_are_batched() -> None:
     assert not batch_supported([])
     with pytest.raises(ValueError, match="not batch_supported"):
         BatchBrains(brains(follower="thesis"))
+    # the ``predicted`` rule brakes at the SSM deceleration: one for all, or no batch
+    mixed = brains(follower="path", stop_rule="predicted")
+    mixed[1].sensing = replace(mixed[1].sensing, ssm=replace(mixed[1].sensing.ssm,
+                                                             deceleration=0.5))
+    assert not batch_supported(mixed)
 
 
 def test_the_kernel_shares_the_brains_constants() -> None:
     from dancebots import robot_batch_jit
 
     assert robot_batch_jit.MAKE_ROOM_SHIFTS == robot.MAKE_ROOM_SHIFTS
+    plan = plan_of("robots A B\nstart\nrow A,B 0 1\nmove 2 0\n")
+    batch = BatchBrains([brain_for(plan, name, BUILTIN_ROBOT_TYPES["SIM"], BrainOptions(
+        follower="path", stop_rule="predicted")) for name in plan.robots])
+    first = batch.brains[0]
+    rules = batch.rules
+    assert len(rules) == robot_batch_jit.SSM_DECELERATION + 1  # (the last index)
+    assert rules[robot_batch_jit.SSM_DECELERATION] == first.sensing.ssm.deceleration
+    assert rules[robot_batch_jit.PREDICTED_STOP_TIME] == robot.PREDICTED_STOP_TIME
+    assert rules[robot_batch_jit.OVERLAP] == robot.OVERLAP
+    assert rules[robot_batch_jit.FINAL_NO_ROOM] == robot.FINAL_NO_ROOM
 
 
 @given(st.one_of(st.floats(-1e6, 1e6), st.sampled_from(

@@ -96,9 +96,10 @@ walking speed, comes nearer than a margin to the area it sweeps until it stands;
 person (``perception.tracks``) moved on at its velocity for the data's age (the LIDAR's
 latency and the time since the scan), so that a person who walks into the corridor while the
 cloud is on its way stops the robot too (the compensated detector moves the points by the
-robot's own motion only); formation mates where they should be or said they are are not
-tracked. The default (:func:`default_stop_rule`): ``predicted``, ``fixed`` with the thesis's
-follower."""
+robot's own motion only), within the stop distance plus the robot's own way until it stands
+(:func:`predicted_stop_distance`); formation mates where they should be or said they are
+are not tracked. The default (:func:`default_stop_rule`): ``predicted``, ``fixed`` with the
+thesis's follower."""
 
 
 def turns_on_the_spot(linear: float, angular: float, width: float) -> bool:
@@ -233,15 +234,18 @@ distance on its approach limit would let the clock creep on while it stands)."""
 
 
 def predicted_stop_distance(stop_distance: float, speed: float, deceleration: float) -> float:
-    """m: how near (ahead or behind, in its corridor) a tracked stranger's predicted point
-    (:data:`PREDICTED_STOP_TIME` on) may come before the ``predicted`` rule stops a robot
-    driving ``speed`` m/s (either sign) that brakes at ``deceleration`` m/s^2: the stop
-    distance (thesis 5.2's 0.55 m) plus the robot's own way while the stop takes effect and
-    while it brakes, |v| T + v^2 / 2a (ISO 13855's S = K T + C with the robot's own motion, as
-    ``perception.ssm.protective_distance`` counts it). The person is moved on for the stopping
-    time; the robot was not: a child ran head-on at 1.9 m/s at R2 driving at 0.39 m/s, and
-    R2 stopped when the child's predicted point came within 0.55 m and was still braking at
-    0.08 m/s when they met (dense open-day crowd seed 223 of 62d78ab, t = 58.6 s)."""
+    """m: a tracked stranger's predicted point (moved on for the data's age and
+    :data:`PREDICTED_STOP_TIME`) nearer than this ahead (behind) in its corridor stops a
+    robot that would drive ``speed`` m/s (either sign) and brakes at ``deceleration``
+    m/s^2 under the ``predicted`` rule: the stop distance (thesis 5.2's 0.55 m) plus the
+    robot's own way until it stands, |v| T + v^2 / 2a (T: a tick and the drive's lag, in
+    which it drives on; the robot's terms of ISO/TS 15066's S_p,
+    ``perception.ssm.protective_distance``).
+    The person's way while the robot brakes (v_h v / a) is not added: ``ssm`` counts it and
+    stalls crowded shows. Before, the person was moved on and the robot was not: a child ran
+    head-on at 1.8-2.0 m/s at R2 driving at 0.39 m/s; R2 stopped when the child's predicted
+    point came within 0.55 m and moved at 0.12 m/s a tick before they met (closing at
+    0.08 m/s; dense open-day crowd seed 223 of 62d78ab, t = 58.6 s)."""
     return stop_distance + abs(speed) * PREDICTED_STOP_TIME + speed * speed / (
         2.0 * deceleration)
 
@@ -296,7 +300,8 @@ class SensingConfig:
     no sensor-age check), its detector, the force field's reach (m, 0: off), the approach
     gain (1/s, 0: off), whether to use the compiled perception (else the NumPy reference;
     same results), the detection and safety parameters, the stop rule (:data:`STOP_RULES`)
-    and, for ``ssm``, its parameters and its tracker's (None: ``TrackParams()``);
+    and, for ``ssm``, its parameters and its tracker's (None: ``TrackParams()``; ``predicted``
+    tracks too, and brakes at ``ssm.deceleration``: :func:`predicted_stop_distance`);
     ``mate_reach``: the largest half diagonal of a formation mate, m (None: the robot's own),
     for :data:`MATE_BODY_MARGIN`.
 

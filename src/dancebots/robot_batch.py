@@ -35,7 +35,8 @@ def batch_supported(brains: list[RobotBrain]) -> bool:
     """Whether :class:`BatchBrains` decides as these brains do: one plan and grid, the
     ``tracking`` or ``path`` follower, the ``fixed`` or ``predicted`` stop rule, the
     ``compensated`` detector (or no LIDAR), the compiled perception, the same stop rule,
-    detection, tracker, safety and tracking gains for all."""
+    detection, tracker, SSM parameters (the ``predicted`` rule brakes at their
+    deceleration), safety and tracking gains for all."""
     if not brains:
         return False
     first = brains[0]
@@ -44,7 +45,7 @@ def batch_supported(brains: list[RobotBrain]) -> bool:
         b.follower in ("tracking", "path") and b.sensing.stop_rule in ("fixed", "predicted")
         and b.sensing.stop_rule == first.sensing.stop_rule
         and b.sensing.tracks == first.sensing.tracks
-        and b._ssm_detection == first._ssm_detection
+        and b._ssm_detection == first._ssm_detection and b.sensing.ssm == first.sensing.ssm
         and (b.sensing.detector == "compensated" or not b.sensing.lidar)
         and b.sensing.compiled and b.plan is first.plan
         and b.grid_period == first.grid_period and b.sensing.lidar == first.sensing.lidar

@@ -591,7 +591,8 @@ def add_stop_rule_argument(parser: argparse.ArgumentParser) -> None:
     """--stop-rule: when a robot stops for what it sees (``BrainOptions.stop_rule``)."""
     parser.add_argument("--stop-rule", choices=STOP_RULES, default=None,
                         help="predicted (default; fixed with --follower thesis): fixed on the "
-                        "points of tracked people moved on at their speed for the data's age; "
+                        "points of tracked people moved on at their speed for the data's age, "
+                        "within 0.55 m plus the robot's own way until it stands; "
                         "fixed (thesis 5.2): a robot stops when a point is within "
                         "0.55 m ahead of it (behind, reversing); closing: fixed, and a robot "
                         "stands while a person approaches it (at 0.5 m/s or more, measured "
