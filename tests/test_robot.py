@@ -554,7 +554,6 @@ def _step_with_tracked(brain: RobotBrain, now: float, pose: tuple[float, float, 
     """One step of ``brain`` at ``pose`` with one tracked point seen 0.3 s ago at ``at``
     (``base_link`` at ``pose``, m), moving at ``velocity`` (own map frame, m/s)."""
     from dancebots.perception.tracks import TRACKED
-    from dancebots.robot import BrainState
 
     state = BrainState(obstacles=np.array([[at[0], at[1], 0.0, 1.0]]), seen_from=pose,
                        cloud_stamp=now - 0.3, point_velocity=np.array([velocity]),

@@ -45,7 +45,7 @@ def batch_supported(brains: list[RobotBrain]) -> bool:
         b.follower in ("tracking", "path") and b.sensing.stop_rule in ("fixed", "predicted")
         and b.sensing.stop_rule == first.sensing.stop_rule
         and b.sensing.tracks == first.sensing.tracks
-        and b._ssm_detection == first._ssm_detection and b.sensing.ssm == first.sensing.ssm
+        and b.sensing.ssm == first.sensing.ssm  # (with the detection: ``_ssm_detection``)
         and (b.sensing.detector == "compensated" or not b.sensing.lidar)
         and b.sensing.compiled and b.plan is first.plan
         and b.grid_period == first.grid_period and b.sensing.lidar == first.sensing.lidar
