@@ -174,7 +174,7 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if paused and not final:  # ``control.tracking.paused_step``
         linear, angular = _paused(gains, max_linear, ex, ey, heading_error, fy, backwards)
         return _saturate(linear, angular, max_linear, max_angular)
-    distance = math.hypot(ex, ey)
+    distance = math.sqrt(ex * ex + ey * ey)  # (``math.hypot`` rounds otherwise in numba)
     backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
     push = (-1.0 if backwards else 1.0) * gains[FORCE_GAIN_STEER] * fy
     if distance > gains[SETTLE_DISTANCE] and not final:

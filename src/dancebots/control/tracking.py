@@ -503,7 +503,7 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     if reference.paused and not reference.final:
         return _saturate(*paused_step(params, ex, ey, heading_error, fy, reference.backwards),
                          params)
-    distance = math.hypot(ex, ey)
+    distance = math.sqrt(ex * ex + ey * ey)  # (not hypot: numba's rounds otherwise)
     backwards = ex < 0.0 and distance < params.reverse_distance
     push = (-1.0 if backwards else 1.0) * params.force_gain * fy  # away from what pushes
     if distance > params.settle_distance and not reference.final:
@@ -605,7 +605,8 @@ def turn_then_drive_step(params: TrackingParams, ex: float, ey: float, heading_e
                < turn_onto_slot(params, heading_error, forwards))
     bearing = backwards if reverse else forwards
     direction = -1.0 if reverse else 1.0
-    linear = direction * min(params.arrival_gain * math.hypot(ex, ey), params.max_linear) * max(
+    distance = math.sqrt(ex * ex + ey * ey)  # (as tracking_step's)
+    linear = direction * min(params.arrival_gain * distance, params.max_linear) * max(
         1.0 - abs(bearing) / params.approach_tilt, 0.0)
     angular = params.turn_gain * bearing
     if linear != 0.0:
