@@ -157,7 +157,7 @@ class BatchBrains:
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
             robot.PREDICTED_STOP_TIME, 1.0 if first.paced else 0.0, robot.PACE_MARGIN,
             robot.PACE_MIN, robot.PAUSE_STILL, robot.PAUSE_STILL_AFTER, robot.FINAL_NO_ROOM,
-            sensing.ssm.deceleration])
+            sensing.ssm.deceleration, robot.PREDICTED_RELEASE])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),

@@ -58,7 +58,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
  PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER, FINAL_NO_ROOM,
- SSM_DECELERATION) = range(32)
+ SSM_DECELERATION, PREDICTED_RELEASE) = range(33)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -863,7 +863,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             elif (predicted and go_linear != 0.0
                   and (p_front if go_linear > 0 else p_rear)
                   < stop + abs(go_linear) * rules[PREDICTED_STOP_TIME]
-                  + go_linear * go_linear / (2.0 * rules[SSM_DECELERATION])):
+                  + go_linear * go_linear / (2.0 * rules[SSM_DECELERATION])
+                  + (rules[PREDICTED_RELEASE] if flags[r, 1] else 0.0)):
                 # a tracked person will be in the corridor by now (``_predicted_gaps``),
                 # with the robot's own way until it stands (``robot.predicted_stop_distance``)
                 held = holds_show = True
