@@ -190,7 +190,7 @@ class BatchBrains:
         self.point_count = np.full(count, -1, dtype=np.int64)
         # outputs
         self.commands = np.zeros((count, 2))
-        self.flags = np.zeros((count, 4), dtype=bool)
+        self.flags = np.zeros((count, 5), dtype=bool)
         self.events = np.zeros(count, dtype=np.int64)
         self.event_values = np.zeros(count)
         self.paces = np.ones(count)

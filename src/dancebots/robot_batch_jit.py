@@ -185,11 +185,27 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
         settle_linear, settle_angular = _settle(gains, ex, heading_error)
         return _saturate(settle_linear, settle_angular, max_linear, max_angular)
-    c_error, s_error = math.cos(heading_error), math.sin(heading_error)
-    along = ex * c_error + ey * s_error
-    aside = ex * s_error - ey * c_error
-    if (gains[ARRIVAL_DISTANCE] < distance <= gains[APPROACH_DISTANCE]
-            and c_error <= math.cos(gains[APPROACH_HEADING])):
+    if gains[ARRIVAL_DISTANCE] < distance <= gains[APPROACH_DISTANCE]:
+        c_error, s_error = math.cos(heading_error), math.sin(heading_error)
+        if c_error > math.cos(gains[APPROACH_HEADING]):
+            # ``control.tracking.approach_step``
+            along = ex * c_error + ey * s_error
+            aside = ex * s_error - ey * c_error
+            if abs(along) > gains[ARRIVAL_DISTANCE]:
+                direction = 1.0 if along > 0.0 else -1.0
+                tilt = min(max(gains[TILT_GAIN] * aside, -gains[APPROACH_TILT]),
+                           gains[APPROACH_TILT])
+                target_error = heading_error - direction * tilt
+                linear = direction * min(gains[ARRIVAL_GAIN] * abs(along), max_linear) * max(
+                    1.0 - abs(target_error) / gains[APPROACH_TILT], 0.0)
+                angular = gains[TURN_GAIN] * target_error
+                if linear != 0.0:
+                    angular += direction * gains[FORCE_GAIN_STEER] * fy
+                return _saturate(linear, angular, max_linear, max_angular)
+            if abs(heading_error) > gains[HEADING_TOLERANCE]:
+                return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear,
+                                 max_angular)
+            return 0.0, 0.0
         # ``control.tracking.turn_then_drive_step``
         forwards = math.atan2(ey, ex)
         back = _wrap(forwards - math.pi)
@@ -203,23 +219,6 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         if linear != 0.0:
             angular += direction * gains[FORCE_GAIN_STEER] * fy
         return _saturate(linear, angular, max_linear, max_angular)
-    if (distance <= gains[APPROACH_DISTANCE]
-            and c_error > math.cos(gains[APPROACH_HEADING])):
-        # ``control.tracking.approach_step``
-        if abs(along) > gains[ARRIVAL_DISTANCE]:
-            direction = 1.0 if along > 0.0 else -1.0
-            tilt = min(max(gains[TILT_GAIN] * aside, -gains[APPROACH_TILT]),
-                       gains[APPROACH_TILT])
-            target_error = heading_error - direction * tilt
-            linear = direction * min(gains[ARRIVAL_GAIN] * abs(along), max_linear) * max(
-                1.0 - abs(target_error) / gains[APPROACH_TILT], 0.0)
-            angular = gains[TURN_GAIN] * target_error
-            if linear != 0.0:
-                angular += direction * gains[FORCE_GAIN_STEER] * fy
-            return _saturate(linear, angular, max_linear, max_angular)
-        if abs(heading_error) > gains[HEADING_TOLERANCE]:
-            return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
-        return 0.0, 0.0
     if distance > gains[ARRIVAL_DISTANCE]:
         linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,
                                    backwards)
@@ -530,7 +529,7 @@ def _grid_index(show_time: float, period: float, grid_end: float,
 def tick_outputs(flags: NDArray[np.bool_], safety: FloatArray,
                  ) -> tuple[NDArray[np.int8], NDArray[np.bool_], NDArray[np.bool_],
                             NDArray[np.bool_]]:
-    """What ``BatchBrains.step`` reports of a tick's flags (R, 4) and safety (R, 5)
+    """What ``BatchBrains.step`` reports of a tick's flags (R, 5) and safety (R, 5)
     (``brains_tick``): each robot's status (R,) (0 running, 1 stopped, 2 error), whether it
     holds the show (R,) (it holds it, or its safety is in error), asks for room (R,) (it
     holds the show, stopped, no error) and waits (R,)."""
@@ -653,8 +652,9 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     has_seen_from; last_show_time (R,) (NaN: none); making_room (R,); near_since (R,) (NaN);
     safety (R, 5) error (0/1), last cloud, first tick, stopped since, last beep (NaN: None)
     with lookup_failures (R,).
-    Out: commands (R, 2); flags (R, 4) held, holds the show, waiting, stopped (the safety's
-    stopped state); events (R,) an EVENT_ code and event_values (R,) its figure.
+    Out: commands (R, 2); flags (R, 5) held, holds the show, waiting, stopped (the safety's
+    stopped state), held by the ``predicted`` corridor stop (read at the next tick:
+    ``robot.PREDICTED_RELEASE``); events (R,) an EVENT_ code and event_values (R,) its figure.
     The ``predicted`` stop rule (rules[PREDICTED]): its tracker's parameters track_params
     (indexed above) and, per robot, state updated: tracks (``perception.tracks_jit.
     track_cloud``) in track_states (R, K, 4), track_covariances (R, K, 4, 4), track_hits,
@@ -736,7 +736,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             point_count[r] = n
         linear, angular = 0.0, 0.0
         pace = 1.0
-        held = holds_show = waiting = False
+        held = holds_show = waiting = corridor_stop = False
         near_time = math.nan
         room = 0.0
         paused = (not math.isnan(last_show_time[r])
@@ -864,10 +864,11 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                   and (p_front if go_linear > 0 else p_rear)
                   < stop + abs(go_linear) * rules[PREDICTED_STOP_TIME]
                   + go_linear * go_linear / (2.0 * rules[SSM_DECELERATION])
-                  + (rules[PREDICTED_RELEASE] if flags[r, 1] else 0.0)):
+                  + (rules[PREDICTED_RELEASE] if flags[r, 4] else 0.0)):
                 # a tracked person will be in the corridor by now (``_predicted_gaps``),
-                # with the robot's own way until it stands (``robot.predicted_stop_distance``)
-                held = holds_show = True
+                # with the robot's own way until it stands (``robot.predicted_stop_distance``),
+                # let go a margin beyond (``robot.PREDICTED_RELEASE``)
+                held = holds_show = corridor_stop = True
                 linear = 0.0
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
                 held = True
@@ -985,6 +986,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         last_show_time[r] = show_time
         flags[r, 0], flags[r, 1], flags[r, 2] = held, holds_show, waiting
         flags[r, 3] = not math.isnan(safety[r, 3])
+        flags[r, 4] = corridor_stop
         paces[r] = pace
 
 

@@ -640,7 +640,7 @@ def test_the_compiled_tracking_law_is_the_reference(
         pose: tuple[float, float, float], place: tuple[float, float, float], speed: float,
         angular_speed: float, final: bool, paused: bool, backwards: bool, fy: float) -> None:
     """``robot_batch_jit._tracking`` (the batched brains' law) is ``tracking_step``, the
-    paused law included."""
+    paused law included, bit for bit."""
     from dancebots.robot_batch import _gains
     from dancebots.robot_batch_jit import _tracking
 
@@ -651,7 +651,7 @@ def test_the_compiled_tracking_law_is_the_reference(
                                                          paused, backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
                     speed, angular_speed, final, fy, paused, backwards)
-    assert got == pytest.approx(expected, abs=1e-9)
+    assert got == expected  # bit for bit (the batch and the brains run the same runs)
 
 
 @settings(max_examples=300, deadline=None)
@@ -677,4 +677,4 @@ def test_the_compiled_law_is_the_reference_near_a_place(
                                                          backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
                     speed, angular, final, fy, paused, backwards)
-    assert got == pytest.approx(expected, abs=1e-9)
+    assert got == expected  # bit for bit (the batch and the brains run the same runs)

@@ -517,7 +517,7 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
                          params)
     if params.arrival_distance < distance <= params.settle_distance:
         return _saturate(*settle_step(params, ex, heading_error), params)
-    if distance <= params.approach_distance and distance > params.arrival_distance:
+    if params.arrival_distance < distance <= params.approach_distance:
         if math.cos(heading_error) > math.cos(params.approach_heading):
             return _saturate(*approach_step(params, ex, ey, heading_error, fy), params)
         return _saturate(*turn_then_drive_step(params, ex, ey, heading_error, fy), params)
