@@ -550,19 +550,14 @@ def test_after_the_show_a_robot_waits_for_a_stranger_only_so_long() -> None:
 
 def _step_with_tracked(brain: RobotBrain, now: float, pose: tuple[float, float, float],
                        at: tuple[float, float], velocity: tuple[float, float],
-                       corridor_stop: bool = False, holds_show: bool = False,
                        ) -> tuple[Command, BrainState]:
     """One step of ``brain`` at ``pose`` with one tracked point seen 0.3 s ago at ``at``
-    (``base_link`` at ``pose``, m), moving at ``velocity`` (own map frame, m/s); at the tick
-    before the ``predicted`` corridor stop held the robot (``corridor_stop``, and then it
-    held the show), or it held the show (``holds_show``) for something else."""
+    (``base_link`` at ``pose``, m), moving at ``velocity`` (own map frame, m/s)."""
     from dancebots.perception.tracks import TRACKED
 
     state = BrainState(obstacles=np.array([[at[0], at[1], 0.0, 1.0]]), seen_from=pose,
                        cloud_stamp=now - 0.3, point_velocity=np.array([velocity]),
-                       point_kind=np.array([TRACKED], dtype=np.int8),
-                       held=corridor_stop or holds_show,
-                       holds_show=corridor_stop or holds_show, corridor_stop=corridor_stop)
+                       point_kind=np.array([TRACKED], dtype=np.int8))
     state, command, _ = brain.step(state, now, pose, None, clock=now)
     return command, state
 
@@ -691,51 +686,6 @@ def test_the_predicted_stop_counts_the_robots_own_way_to_a_stranger_running_at_i
     command, state = step(stop + 0.5 * own_way)
     assert command.linear > 0.2
     assert not state.held
-
-
-def test_a_predicted_stop_lets_go_only_once_the_point_is_a_margin_beyond_it() -> None:
-    """A robot that the corridor stop held at the tick before stays stopped for a stranger's
-    predicted point up to ``PREDICTED_RELEASE`` beyond its stop distance (a hysteresis in
-    space); one that it did not hold drives on there, as does one that held the show for
-    something else. Before, a point that flickered out of the stop distance for a tick let
-    the formation's clock run and stop again (most of the open-day crowd's brief clock runs,
-    0.35 s or less between two stands)."""
-    from dancebots import robot
-    from dancebots.robot import PREDICTED_RELEASE, PREDICTED_STOP_TIME, SensingConfig
-
-    brain = RobotBrain(plan_of(PLAN_TEXT), "R1", FollowerParams(),
-                       sensing=SensingConfig(stop_rule="predicted"), follower="path")
-    now = 1.0
-    pose = brain.slot_at(now).pose
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    free = brain.step(BrainState(), now, pose, None, clock=now)[1].linear
-    stops_at = robot.predicted_stop_distance(brain.sensing.detection.stop_distance, free,
-                                             brain.sensing.ssm.deceleration)
-    speed = 1.0  # m/s, head-on
-
-    def step(gap: float, corridor_stop: bool = False,
-             holds_show: bool = False) -> tuple[Command, BrainState]:
-        seen = (0.5 * brain.sensing.length + gap + speed * (0.3 + PREDICTED_STOP_TIME), 0.0)
-        return _step_with_tracked(brain, now, pose, seen, (-c * speed, -s * speed),
-                                  corridor_stop, holds_show)
-
-    within = stops_at + 0.5 * PREDICTED_RELEASE
-    command, state = step(within)
-    assert command.linear > 0.2
-    assert not state.holds_show
-    assert not state.corridor_stop
-    command, state = step(within, holds_show=True)  # held for something else
-    assert command.linear > 0.2
-    assert not state.corridor_stop
-    command, state = step(within, corridor_stop=True)
-    assert command.linear == 0.0
-    assert state.held
-    assert state.holds_show
-    assert state.corridor_stop
-    command, state = step(stops_at + 1.5 * PREDICTED_RELEASE, corridor_stop=True)
-    assert command.linear > 0.2
-    assert not state.holds_show
-    assert not state.corridor_stop
 
 
 def test_the_predicted_rule_stands_a_robot_still_before_a_stranger_reaches_it(

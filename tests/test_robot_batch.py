@@ -290,9 +290,8 @@ def test_the_kernel_shares_the_brains_constants() -> None:
         follower="path", stop_rule="predicted")) for name in plan.robots])
     first = batch.brains[0]
     rules = batch.rules
-    assert len(rules) == robot_batch_jit.PREDICTED_RELEASE + 1  # (the last index)
+    assert len(rules) == robot_batch_jit.SSM_DECELERATION + 1  # (the last index)
     assert rules[robot_batch_jit.SSM_DECELERATION] == first.sensing.ssm.deceleration
-    assert rules[robot_batch_jit.PREDICTED_RELEASE] == robot.PREDICTED_RELEASE
     assert rules[robot_batch_jit.PREDICTED_STOP_TIME] == robot.PREDICTED_STOP_TIME
     assert rules[robot_batch_jit.OVERLAP] == robot.OVERLAP
     assert rules[robot_batch_jit.FINAL_NO_ROOM] == robot.FINAL_NO_ROOM

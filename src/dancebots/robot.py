@@ -180,12 +180,6 @@ stopping time): a child running at 1.7 m/s at a robot driving to its final slot 
 its corridor in the data only when the robot could no longer stop short of it (open-day
 crowd seed 668 of a variant that kept robots near their places still while the show
 waited)."""
-PREDICTED_RELEASE = 0.15
-"""m: a robot that the ``predicted`` rule's corridor stop held at the tick before stays
-stopped by it until the stranger's predicted point is this much beyond its stop distance
-(:func:`predicted_stop_distance`): a hysteresis in space. A point that crossed the
-stop distance for a tick let the clock run and stopped it again, the formation lurching on a
-few cm (open-day crowd seeds 0-3: 56 clock runs of 0.35 s or less, 33 with this margin)."""
 SLOWED = 0.02
 """m/s or rad/s by which a command must be cut to count as slowed (:data:`HOLD_LAG`)."""
 GIVE_WAY_SPEED = 0.05
@@ -346,8 +340,7 @@ class BrainState:
     (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
     gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
     before (S,) m/s); the robot's clock (s) at the first tick at which its show time had
-    not advanced (``paused_since``, None while it advances); whether the ``predicted`` rule's
-    corridor stop held it (``corridor_stop``: it lets go :data:`PREDICTED_RELEASE` beyond)."""
+    not advanced (``paused_since``, None while it advances)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -369,7 +362,6 @@ class BrainState:
     closing: tuple[float, np.ndarray, np.ndarray] | None = None
     pace: float = 1.0
     paused_since: float | None = None
-    corridor_stop: bool = False
 
     @property
     def holding_the_show(self) -> bool:
@@ -681,7 +673,7 @@ class RobotBrain:
         command = STOP
         pace = 1.0
         full_speed = full_angular = 0.0
-        held = holds_show = waiting = corridor_stop = False
+        held = holds_show = waiting = False
         near_since: float | None = None  # after the show: since when a stranger is near
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
         paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
@@ -838,13 +830,11 @@ class RobotBrain:
             elif (sensing.stop_rule == "predicted" and go_linear != 0.0
                   and (predicted[0] if go_linear > 0 else predicted[1])
                   < predicted_stop_distance(sensing.detection.stop_distance, go_linear,
-                                            sensing.ssm.deceleration)
-                  + (PREDICTED_RELEASE if state.corridor_stop else 0.0)):
+                                            sensing.ssm.deceleration)):
                 # a tracked person will be in the corridor by now: thesis 5.2's stop, on
                 # where it will be (it holds the show: a person, not a mate on its place),
-                # with the robot's own way until it stands (:func:`predicted_stop_distance`),
-                # let go a margin beyond (:data:`PREDICTED_RELEASE`)
-                held = holds_show = corridor_stop = True
+                # with the robot's own way until it stands (:func:`predicted_stop_distance`)
+                held = holds_show = True
                 linear = 0.0
             elif (flags.front and linear > 0) or (flags.rear and linear < 0):
                 held = True  # thesis 5.2: the flags prevent moving that way
@@ -964,8 +954,7 @@ class RobotBrain:
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
-                               closing=closing, pace=pace, paused_since=paused_since,
-                               corridor_stop=corridor_stop)
+                               closing=closing, pace=pace, paused_since=paused_since)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

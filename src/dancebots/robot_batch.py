@@ -157,7 +157,7 @@ class BatchBrains:
             1.0 if sensing.stop_rule == "predicted" else 0.0, first._ssm_detection.crop_half,
             robot.PREDICTED_STOP_TIME, 1.0 if first.paced else 0.0, robot.PACE_MARGIN,
             robot.PACE_MIN, robot.PAUSE_STILL, robot.PAUSE_STILL_AFTER, robot.FINAL_NO_ROOM,
-            sensing.ssm.deceleration, robot.PREDICTED_RELEASE])
+            sensing.ssm.deceleration])
         tracker = sensing.tracks or TrackParams()
         self.track_params = np.array([
             tracker.cluster_gap, tracker.max_width, tracker.gate, float(tracker.min_hits),
@@ -190,7 +190,7 @@ class BatchBrains:
         self.point_count = np.full(count, -1, dtype=np.int64)
         # outputs
         self.commands = np.zeros((count, 2))
-        self.flags = np.zeros((count, 5), dtype=bool)
+        self.flags = np.zeros((count, 4), dtype=bool)
         self.events = np.zeros(count, dtype=np.int64)
         self.event_values = np.zeros(count)
         self.paces = np.ones(count)

@@ -58,7 +58,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
  SLOW_TURN_LAG, SENSOR_TIMEOUT, MAX_LOOKUP_FAILURES, BEEP_PERIOD, ADVANCE_MIN, LIDAR,
  PLAN_DURATION, REST_FROM, PREDICTED, SSM_REACH, PREDICTED_STOP_TIME, PACED,
  PACE_MARGIN, PACE_MIN, PAUSE_STILL, PAUSE_STILL_AFTER, FINAL_NO_ROOM,
- SSM_DECELERATION, PREDICTED_RELEASE) = range(33)
+ SSM_DECELERATION) = range(32)
 # indices of the tracker's parameters (``perception.tracks.TrackParams``) in ``track_params``
 (CLUSTER_GAP, MAX_WIDTH, GATE, MIN_HITS, MAX_MISSES, ACCELERATION_NOISE,
  MEASUREMENT_NOISE) = range(7)
@@ -529,7 +529,7 @@ def _grid_index(show_time: float, period: float, grid_end: float,
 def tick_outputs(flags: NDArray[np.bool_], safety: FloatArray,
                  ) -> tuple[NDArray[np.int8], NDArray[np.bool_], NDArray[np.bool_],
                             NDArray[np.bool_]]:
-    """What ``BatchBrains.step`` reports of a tick's flags (R, 5) and safety (R, 5)
+    """What ``BatchBrains.step`` reports of a tick's flags (R, 4) and safety (R, 5)
     (``brains_tick``): each robot's status (R,) (0 running, 1 stopped, 2 error), whether it
     holds the show (R,) (it holds it, or its safety is in error), asks for room (R,) (it
     holds the show, stopped, no error) and waits (R,)."""
@@ -652,9 +652,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     has_seen_from; last_show_time (R,) (NaN: none); making_room (R,); near_since (R,) (NaN);
     safety (R, 5) error (0/1), last cloud, first tick, stopped since, last beep (NaN: None)
     with lookup_failures (R,).
-    Out: commands (R, 2); flags (R, 5) held, holds the show, waiting, stopped (the safety's
-    stopped state), held by the ``predicted`` corridor stop (read at the next tick:
-    ``robot.PREDICTED_RELEASE``); events (R,) an EVENT_ code and event_values (R,) its figure.
+    Out: commands (R, 2); flags (R, 4) held, holds the show, waiting, stopped (the safety's
+    stopped state); events (R,) an EVENT_ code and event_values (R,) its figure.
     The ``predicted`` stop rule (rules[PREDICTED]): its tracker's parameters track_params
     (indexed above) and, per robot, state updated: tracks (``perception.tracks_jit.
     track_cloud``) in track_states (R, K, 4), track_covariances (R, K, 4, 4), track_hits,
@@ -736,7 +735,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             point_count[r] = n
         linear, angular = 0.0, 0.0
         pace = 1.0
-        held = holds_show = waiting = corridor_stop = False
+        held = holds_show = waiting = False
         near_time = math.nan
         room = 0.0
         paused = (not math.isnan(last_show_time[r])
@@ -863,12 +862,10 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
             elif (predicted and go_linear != 0.0
                   and (p_front if go_linear > 0 else p_rear)
                   < stop + abs(go_linear) * rules[PREDICTED_STOP_TIME]
-                  + go_linear * go_linear / (2.0 * rules[SSM_DECELERATION])
-                  + (rules[PREDICTED_RELEASE] if flags[r, 4] else 0.0)):
+                  + go_linear * go_linear / (2.0 * rules[SSM_DECELERATION])):
                 # a tracked person will be in the corridor by now (``_predicted_gaps``),
-                # with the robot's own way until it stands (``robot.predicted_stop_distance``),
-                # let go a margin beyond (``robot.PREDICTED_RELEASE``)
-                held = holds_show = corridor_stop = True
+                # with the robot's own way until it stands (``robot.predicted_stop_distance``)
+                held = holds_show = True
                 linear = 0.0
             elif (flag_front and linear > 0) or (flag_rear and linear < 0):
                 held = True
@@ -986,7 +983,6 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         last_show_time[r] = show_time
         flags[r, 0], flags[r, 1], flags[r, 2] = held, holds_show, waiting
         flags[r, 3] = not math.isnan(safety[r, 3])
-        flags[r, 4] = corridor_stop
         paces[r] = pace
 
 

@@ -43,10 +43,10 @@ def test_the_formation_waits_for_a_robot_a_bystander_holds(profile: str) -> None
     run = _run(hold="together", **extra)
     together = run_metrics(run)
     alone = run_metrics(_run(hold="alone", **extra))
-    # while R1 waits for the bystander, every robot stays within 10 cm of its place (4.5
-    # cm); in the realistic profile within what a robot at the plan's speed coasts once the
-    # clock stops at once: its actuator lag and the tick in which the hold reaches it (12
-    # cm: R3 ends 11.4 cm past its place)
+    # while R1 waits for the bystander, every robot stays within 10 cm of its place; in the
+    # realistic profile within what a robot at the plan's speed coasts once the clock stops
+    # at once (``together``; ``paced`` slows the formation first, below): its actuator lag
+    # and the tick in which the hold reaches it (12 cm: R3 ends 10.8 cm past its place)
     speed = float(np.abs(run.reference[:, :, 3]).max())
     coasting = speed * (REALISTIC.lag + run.config.control_period)
     assert together.held_place_error is not None
@@ -70,22 +70,14 @@ def test_a_paced_formation_waits_for_the_bystander_as_closely(profile: str) -> N
     """``--hold paced``: R1, slowed and left behind on its way to the bystander, paces the
     clock while it drives a fifth of the plan's speed or more, and holds it below that (no
     creeping clock while it stands at its stop distance): the formation keeps within issue
-    13's 10 cm of its places (5.5 cm; ``together`` 4.5 cm) and waits for the bystander. In
-    the realistic profile it keeps within what a robot at the plan's speed coasts once the
-    clock stops, as ``together``, and that is more than issue 13's 10 cm (which is for the
-    ideal run): R1 stops at once for the bystander, nothing slows the formation first, and
-    R3, at 0.35 m/s, coasts 11.4 cm past its place, as with ``together``. (9.8 cm before
-    ``PREDICTED_RELEASE``: R1's stop let go for a tick 0.2 s after it began, the clock ran
-    0.14 s on, the places moved that much towards where the robots had coasted, and the
-    formation lurched: the last assertion.)"""
+    13's 10 cm of its places, as ``together`` (9.7 / 9.3 cm), and waits for the bystander.
+    (Realistic: 9.5 cm since the paused law, R1 on the tick the show resumes, which it
+    still paces; 8.5 cm before, when that tick, 9.9 cm behind, came one after the hold.)"""
     extra = {"profile": REALISTIC} if profile == "realistic" else {}
     result = _run(hold="paced", **extra)
     metrics = run_metrics(result)
-    speed = float(np.abs(result.reference[:, :, 3]).max())
-    coasting = speed * (REALISTIC.lag + result.config.control_period)
     assert metrics.held_place_error is not None
-    assert metrics.held_place_error <= (0.10 if profile == "ideal" else max(0.10, coasting))
-    assert clock_restarts(result).brief == 0  # no lurch: it stood for the bystander at once
+    assert metrics.held_place_error <= 0.1
     assert run_verdict(metrics).clean
     assert metrics.clock_stood >= 5.0  # R1 held until the bystander walks off
     assert metrics.clock_stood_for_people == pytest.approx(metrics.clock_stood)
