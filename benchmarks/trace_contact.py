@@ -34,35 +34,26 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--show", default=str(ROOT / "src/dancebots/data/open_day.dance"))
     args = parser.parse_args(argv)
 
-    from dancebots.report.certify import CertifyJob, load_job
-    from dancebots.robot import BrainOptions
-    from dancebots.shows.formation import SimConfig, simulate
-    from dancebots.sim.kinematics import PROFILES
-    from dancebots.sim.lidar import LidarConfig
-    from dancebots.sim.setup import prepare_show
+    from dancebots.geometry import Pose
+    from dancebots.report.certify import CertifyJob, simulate_seed
 
     job = CertifyJob(scenario=args.show, world=args.world)
-    show = load_job(job)
-    if not show.valid or show.plan is None or show.report is None or (
-            show.report.placement is None):
-        print("; ".join(d.message for d in show.diagnostics), file=sys.stderr)
+    try:
+        result = simulate_seed(job, args.seed)
+    except ValueError as error:  # (the show's diagnostics)
+        print(error, file=sys.stderr)
         return 2
-    arena, placement = prepare_show(show.report.placement)
-    if args.robot not in placement.robots:
-        print(f"no robot {args.robot!r}; the show has {', '.join(placement.robots)}",
+    if args.robot not in result.robots:
+        print(f"no robot {args.robot!r}; the show has {', '.join(result.robots)}",
               file=sys.stderr)
         return 2
-    config = SimConfig(profile=PROFILES[job.profile], seed=args.seed, lidar=LidarConfig(),
-                       brain=BrainOptions(follower="path", stop_rule="predicted"),
-                       scan_ahead=False)
-    result = simulate(show.plan, arena, placement, config)
     for contact in result.collisions:
         print(f"contact t = {contact.time:.1f} s: {contact.robot} with {contact.other}, "
               f"robot moving: {contact.moving}, closing {contact.closing} m/s")
     if not len(result.spectators):
         print("no people in this world", file=sys.stderr)
         return 2
-    i = placement.robots.index(args.robot)
+    i = list(result.robots).index(args.robot)
     times = result.times
     window = np.flatnonzero((times >= args.t0) & (times <= args.t1))
     if not len(window):
@@ -75,17 +66,16 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{args.robot} and person {person} (radius {result.spectator_radii[person]:.2f} m)")
     print("     t   v_cmd  w_cmd      v      w stat  show   person_x person_y  vx_ahead vy_left")
     for k in window.tolist():
-        x, y, heading = result.poses[i, k]
-        c, s = np.cos(heading), np.sin(heading)
-        dx, dy = result.spectators[person, k] - (x, y)
+        x, y, heading = (float(q) for q in result.poses[i, k])
+        ahead, left = Pose(x, y, heading).to_local(*result.spectators[person, k])
         step = result.spectators[person, k] - result.spectators[person, max(k - 1, 0)]
         dt = times[k] - times[max(k - 1, 0)] or 1.0
-        vx, vy = step / dt
+        v_ahead, v_left = Pose(0.0, 0.0, heading).to_local(*(step / dt))  # (a velocity)
         show_time = result.show_time[i, k]
         print(f"{times[k]:6.1f} {result.commands[i, k, 0]:6.3f} {result.commands[i, k, 1]:6.3f} "
               f"{result.velocities[i, k, 0]:6.3f} {result.velocities[i, k, 1]:6.3f} "
-              f"{result.status[i, k]:4d} {show_time:5.1f} {c * dx + s * dy:9.2f} "
-              f"{-s * dx + c * dy:8.2f} {c * vx + s * vy:9.2f} {-s * vx + c * vy:7.2f}")
+              f"{result.status[i, k]:4d} {show_time:5.1f} {ahead:9.2f} "
+              f"{left:8.2f} {v_ahead:9.2f} {v_left:7.2f}")
     return 0
 
 

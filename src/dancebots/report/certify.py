@@ -20,10 +20,11 @@ if TYPE_CHECKING:
     from dancebots.loading import LoadedShow
     from dancebots.plan.planner import Plan
     from dancebots.report.metrics import RunMetrics
+    from dancebots.shows.formation import RunResult
     from dancebots.sim.setup import Arena, Placement
 
 __all__ = ["PEOPLE_KEPT_WAITING", "Certificate", "CertifyJob", "RunSummary", "certificate",
-           "job_has_crowds", "load_job", "run_seed", "summarise"]
+           "job_has_crowds", "load_job", "run_seed", "simulate_seed", "summarise"]
 
 PEOPLE_KEPT_WAITING = 0.9
 """The share of the stood clock with a person near that says people, not the show, kept the
@@ -150,13 +151,10 @@ def job_has_crowds(job: CertifyJob) -> bool:
     return bool(_loaded(job)[1].crowds)
 
 
-def run_seed(job: CertifyJob, seed: int) -> RunSummary:
-    """Simulate ``job`` with ``seed`` (the profile's noise and every crowd's draw) and
-    summarise it (:func:`summarise`)."""
-    import time
-
-    from dancebots.report.metrics import run_metrics
-    from dancebots.report.verdict import run_verdict
+def simulate_seed(job: CertifyJob, seed: int) -> RunResult:
+    """The run of ``job`` with ``seed`` (the profile's noise and every crowd's draw), as
+    certification runs it (``benchmarks/trace_contact.py`` traces one; ValueError for a show
+    :func:`load_job` finds invalid)."""
     from dancebots.robot import BrainOptions
     from dancebots.shows.formation import SimConfig, simulate
     from dancebots.sim.kinematics import PROFILES
@@ -169,8 +167,20 @@ def run_seed(job: CertifyJob, seed: int) -> RunSummary:
                                           stop_rule=job.stop_rule),  # type: ignore[arg-type]
                        hold=job.hold,  # type: ignore[arg-type]
                        scan_ahead=False)  # (the processes fill the cores)
+    return simulate(plan, arena, placement, config)
+
+
+def run_seed(job: CertifyJob, seed: int) -> RunSummary:
+    """Simulate ``job`` with ``seed`` (:func:`simulate_seed`) and summarise it
+    (:func:`summarise`)."""
+    import time
+
+    from dancebots.report.metrics import run_metrics
+    from dancebots.report.verdict import run_verdict
+
+    _loaded(job)  # (loaded once per process, before the clock starts, as before)
     started = time.perf_counter()
-    result = simulate(plan, arena, placement, config)
+    result = simulate_seed(job, seed)
     metrics = run_metrics(result)
     verdict = run_verdict(metrics, job.final_tolerance)
     return summarise(seed, metrics, verdict.failures, time.perf_counter() - started)
