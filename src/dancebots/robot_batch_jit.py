@@ -48,7 +48,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
 (GAIN_X, GAIN_Y, GAIN_THETA, ARRIVAL_DISTANCE, SETTLE_DISTANCE, HEADING_TOLERANCE,
  ARRIVAL_GAIN, TURN_GAIN, REVERSE_DISTANCE, FORCE_GAIN_STEER, HEADING_SPEED, PARK_ALPHA,
  PARK_THETA, WAIT_SPEED, APPROACH_DISTANCE, APPROACH_HEADING, TILT_GAIN,
- APPROACH_TILT) = range(18)
+ APPROACH_TILT, HANDOVER_TURN, PARKING_TURN_RATE) = range(20)
 # indices of the detection parameters (``perception.obstacles.DetectorParams``) in ``detect``
 (CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON,
  TURN_SHARE) = range(8)
@@ -116,6 +116,18 @@ def _parking(gains: FloatArray, distance: float, bearing: float, heading_error: 
 
 
 @njit(cache=True)
+def _turn_onto_slot(gains: FloatArray, heading_error: float, bearing: float) -> float:
+    """``control.tracking.turn_onto_slot``."""
+    start, end = heading_error, heading_error - bearing
+    low, high = min(start, end), max(start, end)
+    turn: float = abs(bearing) + abs(_wrap(end))
+    for k in (-2.0 * math.pi, 0.0, 2.0 * math.pi):
+        if low < k + gains[APPROACH_HEADING] and high > k - gains[APPROACH_HEADING]:
+            return turn + float(gains[HANDOVER_TURN])
+    return turn
+
+
+@njit(cache=True)
 def _paused(gains: FloatArray, max_linear: float, ex: float, ey: float, heading_error: float,
             fy: float, backwards: bool) -> tuple[float, float]:
     """``control.tracking.paused_step`` (unsaturated)."""
@@ -162,7 +174,7 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if paused and not final:  # ``control.tracking.paused_step``
         linear, angular = _paused(gains, max_linear, ex, ey, heading_error, fy, backwards)
         return _saturate(linear, angular, max_linear, max_angular)
-    distance = math.hypot(ex, ey)
+    distance = math.sqrt(ex * ex + ey * ey)  # (``math.hypot`` rounds otherwise in numba)
     backwards = ex < 0.0 and distance < gains[REVERSE_DISTANCE]
     push = (-1.0 if backwards else 1.0) * gains[FORCE_GAIN_STEER] * fy
     if distance > gains[SETTLE_DISTANCE] and not final:
@@ -170,35 +182,51 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         drive = min(gains[ARRIVAL_GAIN] * distance, max_linear) * max(math.cos(bearing), 0.0)
         return _saturate(-drive if backwards else drive, gains[TURN_GAIN] * bearing + push,
                          max_linear, max_angular)
+    # ``TrackingParams.parking_turn_rate`` onto its final slot
+    top = min(max_angular, gains[PARKING_TURN_RATE]) if final else max_angular
     if gains[ARRIVAL_DISTANCE] < distance <= gains[SETTLE_DISTANCE]:
         settle_linear, settle_angular = _settle(gains, ex, heading_error)
-        return _saturate(settle_linear, settle_angular, max_linear, max_angular)
-    if (distance <= gains[APPROACH_DISTANCE]
-            and math.cos(heading_error) > math.cos(gains[APPROACH_HEADING])):
-        # ``control.tracking.approach_step``
+        return _saturate(settle_linear, settle_angular, max_linear, top)
+    if gains[ARRIVAL_DISTANCE] < distance <= gains[APPROACH_DISTANCE]:
         c_error, s_error = math.cos(heading_error), math.sin(heading_error)
-        along = ex * c_error + ey * s_error
-        aside = ex * s_error - ey * c_error
-        if abs(along) > gains[ARRIVAL_DISTANCE]:
-            direction = 1.0 if along > 0.0 else -1.0
-            tilt = min(max(gains[TILT_GAIN] * aside, -gains[APPROACH_TILT]),
-                       gains[APPROACH_TILT])
-            target_error = heading_error - direction * tilt
-            linear = direction * min(gains[ARRIVAL_GAIN] * abs(along), max_linear) * max(
-                1.0 - abs(target_error) / gains[APPROACH_TILT], 0.0)
-            angular = gains[TURN_GAIN] * target_error
-            if linear != 0.0:
-                angular += direction * gains[FORCE_GAIN_STEER] * fy
-            return _saturate(linear, angular, max_linear, max_angular)
-        if abs(heading_error) > gains[HEADING_TOLERANCE]:
-            return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
-        return 0.0, 0.0
+        if c_error > math.cos(gains[APPROACH_HEADING]):
+            # ``control.tracking.approach_step``
+            along = ex * c_error + ey * s_error
+            aside = ex * s_error - ey * c_error
+            if abs(along) > gains[ARRIVAL_DISTANCE]:
+                direction = 1.0 if along > 0.0 else -1.0
+                tilt = min(max(gains[TILT_GAIN] * aside, -gains[APPROACH_TILT]),
+                           gains[APPROACH_TILT])
+                target_error = heading_error - direction * tilt
+                linear = direction * min(gains[ARRIVAL_GAIN] * abs(along), max_linear) * max(
+                    1.0 - abs(target_error) / gains[APPROACH_TILT], 0.0)
+                angular = gains[TURN_GAIN] * target_error
+                if linear != 0.0:
+                    angular += direction * gains[FORCE_GAIN_STEER] * fy
+                return _saturate(linear, angular, max_linear, top)
+            if abs(heading_error) > gains[HEADING_TOLERANCE]:
+                return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear,
+                                 top)
+            return 0.0, 0.0
+        # ``control.tracking.turn_then_drive_step``
+        forwards = math.atan2(ey, ex)
+        back = _wrap(forwards - math.pi)
+        reverse = (_turn_onto_slot(gains, heading_error, back)
+                   < _turn_onto_slot(gains, heading_error, forwards))
+        bearing = back if reverse else forwards
+        direction = -1.0 if reverse else 1.0
+        linear = direction * min(gains[ARRIVAL_GAIN] * distance, max_linear) * max(
+            1.0 - abs(bearing) / gains[APPROACH_TILT], 0.0)
+        angular = gains[TURN_GAIN] * bearing
+        if linear != 0.0:
+            angular += direction * gains[FORCE_GAIN_STEER] * fy
+        return _saturate(linear, angular, max_linear, top)
     if distance > gains[ARRIVAL_DISTANCE]:
         linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,
                                    backwards)
         return _saturate(linear, angular + push, max_linear, max_angular)
     if abs(heading_error) > gains[HEADING_TOLERANCE]:
-        return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, max_angular)
+        return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, top)
     return 0.0, 0.0
 
 

@@ -26,6 +26,7 @@ from dancebots.control.tracking import (
     slot_references,
     stand_ends,
     tracking_step,
+    turn_onto_slot,
     turn_share,
 )
 from dancebots.geometry import integrate_unicycle, wrap_angle
@@ -152,13 +153,13 @@ def test_a_standing_place_a_little_farther_beside_is_reached_and_faced(beside: f
 
 
 def _turned(reference_at, start: tuple[float, float, float], seconds: float,  # type: ignore[no-untyped-def]
-            dt: float = 0.1) -> tuple[float, float, float]:
+            dt: float = 0.1, params: TrackingParams = PARAMS) -> tuple[float, float, float]:
     """A unicycle driven by the tracking law at 1/dt Hz: how much it turned in all (rad,
     summed |dtheta|), and its position and heading errors (m, rad) at the end."""
     x, y, theta = start
     turned = 0.0
     for k in range(round(seconds / dt)):
-        v, w = tracking_step(PARAMS, (x, y, theta), reference_at(k * dt))
+        v, w = tracking_step(params, (x, y, theta), reference_at(k * dt))
         nx, ny, nt = integrate_unicycle(*(np.array([q]) for q in (x, y, theta, v, w, dt)))
         turned += abs(w) * dt
         x, y, theta = float(nx[0]), float(ny[0]), float(nt[0])
@@ -363,6 +364,101 @@ def test_a_slot_beside_the_robot_is_parked_on_with_its_heading(
     assert heading[-1] <= PARAMS.heading_tolerance
     settled = np.flatnonzero(distance <= PARAMS.settle_distance)[0]
     assert np.all(np.diff(heading[settled:]) <= 1e-9)  # from there it only turns to heading
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.02, 0.043, 0.2])
+@pytest.mark.parametrize("heading_error_deg", [-144.0, -60.0, 100.0, 170.0])
+def test_a_robot_turns_onto_its_final_slot_at_the_parking_turn_rate(
+        offset: float, heading_error_deg: float) -> None:
+    """Within approach_distance of its final slot (on it, within settle_distance, beyond)
+    a robot turns at most parking_turn_rate: open-day pillars seed 29's R4 stood 4.3 cm
+    from its slot 144 deg off its heading and turned at max_angular (pi rad/s, its corners
+    at 2.1 m/s) while a child ran at it. A slot that stands only a moment on its path is
+    turned onto as fast as before (the show's timing)."""
+    theta = math.radians(heading_error_deg)
+    aside = theta + 1.0  # the slot 57 deg to its right
+    pose = (-offset * math.cos(aside), -offset * math.sin(aside), theta)
+    final = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    linear, angular = tracking_step(PARAMS, pose, final)
+    assert 0.0 < abs(angular) <= PARAMS.parking_turn_rate
+    assert abs(linear) <= PARAMS.max_linear
+    _, fast = tracking_step(PARAMS, pose, SlotReference((0.0, 0.0, 0.0), 0.0, 0.0))
+    if offset <= PARAMS.settle_distance:  # a standing slot on its path: settle or turn
+        assert abs(fast) == pytest.approx(min(PARAMS.turn_gain * abs(theta),
+                                              PARAMS.max_angular))
+
+
+def test_the_parking_turn_rate_bounds_a_whole_parking() -> None:
+    """Parking from 0.25 m beside and 150 deg off (turn_then_drive_step, then
+    settle_step): no tick turns faster than parking_turn_rate, and it ends on the slot."""
+    slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    x, y, theta = 0.1, 0.23, math.radians(150.0)
+    fastest = 0.0
+    for _ in range(400):
+        v, w = tracking_step(PARAMS, (x, y, theta), slot)
+        fastest = max(fastest, abs(w))
+        nx, ny, nt = integrate_unicycle(*(np.array([q]) for q in (x, y, theta, v, w, 0.1)))
+        x, y, theta = float(nx[0]), float(ny[0]), float(nt[0])
+    assert fastest == pytest.approx(PARAMS.parking_turn_rate)  # it did turn that fast
+    assert math.hypot(x, y) <= PARAMS.settle_distance
+    assert abs(wrap_angle(theta)) <= PARAMS.heading_tolerance
+
+
+def test_a_robot_just_past_its_final_slot_turned_away_turns_the_short_way() -> None:
+    """Dense crowd seed 135's R4 at the show's end, in its final slot's frame: 0.15 m from
+    it, just past it and 107 deg from its heading. It turns 36 deg to face the slot, drives
+    onto it and turns 143 deg to the heading: never through +-180 deg, 169 deg of turning in
+    all. The posture law went round the long way (249 deg of turning; 176 deg off at the
+    run's limit under the realistic profile's lag)."""
+    slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    start = (0.108, -0.101, 1.872)
+    distance, heading = _track(lambda t: slot, start, 30.0)
+    turned, _, _ = _turned(lambda t: slot, start, 30.0)
+    assert heading.max() < math.radians(150)
+    assert turned < math.radians(180)
+    assert distance[-1] <= PARAMS.settle_distance
+    assert heading[-1] <= PARAMS.heading_tolerance
+
+
+def test_the_turn_onto_a_slot_adds_the_handover_where_it_passes_the_approach_heading() -> None:
+    """turn_onto_slot: the turn to the slot's bearing and then to its heading, plus
+    handover_turn where the first turn passes within approach_heading of the heading."""
+    half = math.pi / 2
+    # 100 deg off, the slot 60 deg to the left: 60 + 160 deg, away from the heading
+    assert turn_onto_slot(PARAMS, -math.radians(100), math.radians(60)) == pytest.approx(
+        math.radians(220))
+    # its back to the slot: 120 deg to the right passes the heading, 20 deg back
+    assert turn_onto_slot(PARAMS, -math.radians(100), -math.radians(120)) == pytest.approx(
+        math.radians(140) + PARAMS.handover_turn)
+    # a turn through +-180 deg is continuous: 170 deg off, turning 30 deg right, 200 deg
+    # off (-160 deg) before turning back
+    assert turn_onto_slot(PARAMS, math.radians(170), -half / 3) == pytest.approx(
+        math.radians(30 + 160))
+    # turning 170 deg right from 170 deg off ends 20 deg off on the far side of +-180 deg
+    assert turn_onto_slot(PARAMS, math.radians(170), -math.radians(170)) == pytest.approx(
+        math.radians(170 + 20) + PARAMS.handover_turn)
+
+
+@pytest.mark.parametrize("handover", [0.0, math.inf])
+def test_the_handover_turn_trades_turning_against_the_error_left_beside(
+        handover: float) -> None:
+    """A robot 0.24 m right of its final slot and 0.14 m past it, turned 59 deg left of the
+    heading: putting its back to the slot (118 deg right) is 4 deg less turning but passes
+    the heading, where approach_step takes it 0.2 m short (handover_turn 0); counting the
+    handover it faces the slot instead (62 deg left) and ends on it, turning more."""
+    params = TrackingParams(handover_turn=handover)
+    slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    start = (0.138, -0.236, 1.022)
+    _, w = tracking_step(params, start, slot)
+    assert w < 0.0 if handover == 0.0 else w > 0.0
+    turned, distance, error = _turned(lambda t: slot, start, 25.0, params=params)
+    assert error <= PARAMS.heading_tolerance
+    if handover == 0.0:
+        assert distance > 0.15
+        assert turned < math.radians(100)
+    else:
+        assert distance <= PARAMS.settle_distance
+        assert turned > math.radians(180)
 
 
 def _posture_energy(pose: tuple[float, float, float], backwards: bool) -> float:
@@ -582,7 +678,7 @@ def test_the_compiled_tracking_law_is_the_reference(
         pose: tuple[float, float, float], place: tuple[float, float, float], speed: float,
         angular_speed: float, final: bool, paused: bool, backwards: bool, fy: float) -> None:
     """``robot_batch_jit._tracking`` (the batched brains' law) is ``tracking_step``, the
-    paused law included."""
+    paused law included, bit for bit."""
     from dancebots.robot_batch import _gains
     from dancebots.robot_batch_jit import _tracking
 
@@ -593,7 +689,7 @@ def test_the_compiled_tracking_law_is_the_reference(
                                                          paused, backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
                     speed, angular_speed, final, fy, paused, backwards)
-    assert got == pytest.approx(expected, abs=1e-9)
+    assert got == expected  # bit for bit (the batch and the brains run the same runs)
 
 
 @settings(max_examples=300, deadline=None)
@@ -619,4 +715,4 @@ def test_the_compiled_law_is_the_reference_near_a_place(
                                                          backwards), (0.0, fy))
     got = _tracking(_gains(_Brain()), PARAMS.max_linear, PARAMS.max_angular, *pose, *place,  # type: ignore[arg-type]
                     speed, angular, final, fy, paused, backwards)
-    assert got == pytest.approx(expected, abs=1e-9)
+    assert got == expected  # bit for bit (the batch and the brains run the same runs)
