@@ -82,7 +82,8 @@ def _gains(brain: RobotBrain) -> FloatArray:
                      t.heading_tolerance, t.arrival_gain, t.turn_gain, t.reverse_distance,
                      t.force_gain, t.heading_speed, t.park_gain_alpha, t.park_gain_theta,
                      t.wait_speed, t.approach_distance, t.approach_heading, t.approach_gain,
-                     t.approach_tilt, t.handover_turn, t.parking_turn_rate])
+                     t.approach_tilt, t.handover_turn, t.parking_turn_rate,
+                     t.face_distance])
 
 
 def _wrap_exact(angles: FloatArray) -> FloatArray:

@@ -48,7 +48,7 @@ EVENT_NONE, EVENT_SPEECH, EVENT_BEEP, EVENT_RESUME, EVENT_ERROR_POSE, EVENT_ERRO
 (GAIN_X, GAIN_Y, GAIN_THETA, ARRIVAL_DISTANCE, SETTLE_DISTANCE, HEADING_TOLERANCE,
  ARRIVAL_GAIN, TURN_GAIN, REVERSE_DISTANCE, FORCE_GAIN_STEER, HEADING_SPEED, PARK_ALPHA,
  PARK_THETA, WAIT_SPEED, APPROACH_DISTANCE, APPROACH_HEADING, TILT_GAIN,
- APPROACH_TILT, HANDOVER_TURN, PARKING_TURN_RATE) = range(20)
+ APPROACH_TILT, HANDOVER_TURN, PARKING_TURN_RATE, FACE_DISTANCE) = range(21)
 # indices of the detection parameters (``perception.obstacles.DetectorParams``) in ``detect``
 (CROP_HALF, Z_MIN, Z_MAX, STOP_DISTANCE, CORRIDOR_MARGIN, TURN_MARGIN, TURN_HORIZON,
  TURN_SHARE) = range(8)
@@ -220,6 +220,8 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
         angular = gains[TURN_GAIN] * bearing
         if linear != 0.0:
             angular += direction * gains[FORCE_GAIN_STEER] * fy
+        if linear == 0.0 and distance <= gains[FACE_DISTANCE]:  # it settles there
+            linear, angular = _settle(gains, ex, heading_error)
         return _saturate(linear, angular, max_linear, top)
     if distance > gains[ARRIVAL_DISTANCE]:
         linear, angular = _parking(gains, distance, math.atan2(ey, ex), heading_error,

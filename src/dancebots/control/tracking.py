@@ -101,6 +101,13 @@ class TrackingParams:
         ``approach_distance`` turned beyond ``approach_heading``, ``benchmarks/eval_parking.py``:
         0 left robots up to 0.21 m from their slots, infinity turned 54 deg more than their
         heading error at the median).
+    face_distance: nearer than this (m) to its final slot, turned beyond
+        ``approach_heading`` and not driving onto it, a robot turns to the heading where it
+        stands (:func:`settle_step`) instead of turning to face the slot: on the spot a
+        realistic robot's centre moves a centimetre or two, and at ``settle_distance``
+        (6 cm) that moved it in and out of the region where it faced its slot, turning it
+        left and right for 20 s (open-day crowd seed 212, R4: 360 deg beyond what it
+        tracked).
     parking_turn_rate: the fastest (rad/s) a robot turns within ``settle_distance`` or
         ``approach_distance`` of its final slot (an addition): the corners of a SIM robot
         (1.2 x 0.6 m) swing at 0.5 m/s. At ``max_angular`` (pi rad/s, 2.1 m/s at the
@@ -131,6 +138,7 @@ class TrackingParams:
     approach_tilt: float = math.radians(20.0)
     handover_turn: float = math.radians(90.0)
     parking_turn_rate: float = 0.75
+    face_distance: float = 0.12
 
 
 @dataclass(frozen=True, slots=True)
@@ -534,8 +542,13 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     if params.arrival_distance < distance <= params.approach_distance:
         if math.cos(heading_error) > math.cos(params.approach_heading):
             return _saturate(*approach_step(params, ex, ey, heading_error, fy), params, top)
-        return _saturate(*turn_then_drive_step(params, ex, ey, heading_error, fy), params,
-                         top)
+        linear, angular = turn_then_drive_step(params, ex, ey, heading_error, fy)
+        if linear == 0.0 and distance <= params.face_distance:
+            # near it and not driving onto it: it settles (turns to the heading) as within
+            # settle_distance, so that a turn there that moves it a centimetre out does not
+            # turn it back to face a slot a few centimetres away (open-day crowd seed 212)
+            linear, angular = settle_step(params, ex, heading_error)
+        return _saturate(linear, angular, params, top)
     if distance > params.arrival_distance:
         linear, angular = parking_step(params, distance, math.atan2(ey, ex), heading_error,
                                        backwards)
