@@ -27,6 +27,7 @@ from dancebots.control.tracking import (
     stand_ends,
     tracking_step,
     turn_onto_slot,
+    turn_then_drive_step,
     turn_share,
 )
 from dancebots.geometry import integrate_unicycle, wrap_angle
@@ -367,16 +368,17 @@ def test_a_slot_beside_the_robot_is_parked_on_with_its_heading(
 
 
 @pytest.mark.parametrize("offset", [0.0, 0.02, 0.043, 0.2])
-@pytest.mark.parametrize("heading_error_deg", [-144.0, -60.0, 100.0, 170.0])
+@pytest.mark.parametrize("heading_error_deg", [-144.0, -60.0, -40.0, 40.0, 100.0, 170.0])
 def test_a_robot_turns_onto_its_final_slot_at_the_parking_turn_rate(
         offset: float, heading_error_deg: float) -> None:
-    """Within approach_distance of its final slot (on it, within settle_distance, beyond)
-    a robot turns at most parking_turn_rate: open-day pillars seed 29's R4 stood 4.3 cm
-    from its slot 144 deg off its heading and turned at max_angular (pi rad/s, its corners
-    at 2.1 m/s) while a child ran at it. A slot that stands only a moment on its path is
-    turned onto as fast as before (the show's timing)."""
+    """Within approach_distance of its final slot (on it, within settle_distance, beyond;
+    approach_step within 40 deg of the heading, turn_then_drive_step beyond) a robot turns
+    at most parking_turn_rate: open-day pillars seed 29's R4 stood 4.3 cm from its slot
+    144 deg off its heading and turned at max_angular (pi rad/s, its corners at 2.1 m/s)
+    while a child ran at it. A slot that stands on its path (not final) is turned onto as
+    fast as before (the show's timing)."""
     theta = math.radians(heading_error_deg)
-    aside = theta + 1.0  # the slot 57 deg to its right
+    aside = theta + 1.0  # the slot 57 deg to its left
     pose = (-offset * math.cos(aside), -offset * math.sin(aside), theta)
     final = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
     linear, angular = tracking_step(PARAMS, pose, final)
@@ -413,6 +415,32 @@ def test_a_robot_turning_onto_its_final_heading_near_the_slot_does_not_turn_back
         theta = float(nt[0])
     assert flips == 0
     assert math.degrees(turned) < 150.0 + 30.0
+
+
+@pytest.mark.parametrize("distance", [0.07, 0.1, 0.115])
+def test_within_face_distance_a_robot_turned_away_settles_where_it_stands(
+        distance: float) -> None:
+    """Between settle_distance and face_distance (0.12 m) of its final slot, 100 deg off
+    its heading and not facing the slot (nor its back to it), a robot does what
+    settle_step says (turn clockwise to the heading) instead of what turn_then_drive_step
+    says (turn anticlockwise to face the slot 60 deg to its left: the smaller turn in all);
+    beyond face_distance it does the latter."""
+    theta = math.radians(100.0)
+    bearing = math.radians(60.0)  # the slot 60 deg to its left
+
+    def capped(command: tuple[float, float]) -> tuple[float, float]:
+        scale = min(1.0, PARAMS.parking_turn_rate / abs(command[1]))
+        return command[0] * scale, command[1] * scale
+
+    slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
+    for away, region in ((distance, "within"), (0.13, "beyond")):
+        pose = (-away * math.cos(theta + bearing), -away * math.sin(theta + bearing), theta)
+        ex, ey = away * math.cos(bearing), away * math.sin(bearing)
+        settle = capped(settle_step(PARAMS, ex, -theta))
+        turn = capped(turn_then_drive_step(PARAMS, ex, ey, -theta, 0.0))
+        assert settle[1] < 0.0 < turn[1]
+        got = tracking_step(PARAMS, pose, slot)
+        assert got == pytest.approx(settle if region == "within" else turn), region
 
 
 def test_the_parking_turn_rate_bounds_a_whole_parking() -> None:

@@ -99,8 +99,8 @@ class TrackingParams:
         robot within ``approach_heading`` short of its slot, where :func:`approach_step`
         takes it and leaves what it cannot close sideways (over 400 starts within
         ``approach_distance`` turned beyond ``approach_heading``, ``benchmarks/eval_parking.py``:
-        0 left robots up to 0.21 m from their slots, infinity turned 54 deg more than their
-        heading error at the median).
+        0 left robots up to 0.21 m from their slots, infinity turned 14 deg more than their
+        heading error at the median; docs/control.md has the table).
     face_distance: nearer than this (m) to its final slot, turned beyond
         ``approach_heading`` and not driving onto it, a robot turns to the heading where it
         stands (:func:`settle_step`) instead of turning to face the slot: on the spot a
