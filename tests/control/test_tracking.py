@@ -27,8 +27,8 @@ from dancebots.control.tracking import (
     stand_ends,
     tracking_step,
     turn_onto_slot,
-    turn_then_drive_step,
     turn_share,
+    turn_then_drive_step,
 )
 from dancebots.geometry import integrate_unicycle, wrap_angle
 
