@@ -34,6 +34,7 @@ from dancebots.geometry import Pose, wrap_angle
 SLOT = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
 TICK = 0.1  # s
 SECONDS = 25.0
+SEED_135_R4 = (0.108, -0.101, 1.872)  # m, m, rad: 0.15 m from its slot, 107 deg off
 
 
 def posture_law_step(params: TrackingParams, pose: tuple[float, float, float],
@@ -106,6 +107,12 @@ def main(argv: list[str] | None = None) -> int:
         beyond = int(np.sum(ends[:, 0] > params.settle_distance + 1e-3))
         print(f"{name:32s} {d50:14.3f} {d95:6.3f} {dmax:6.3f} {beyond:9d} "
               f"{math.degrees(ends[:, 1].max()):12.1f} {t50:23.0f} {t95:5.0f} {tmax:5.0f}")
+    # dense crowd seed 135's R4 at the show's end, in its final slot's frame (docs/control.md)
+    for name, step in (("posture law (before)", posture_law_step), ("now", tracking_step)):
+        distance, error, turned = drive(step, base, SEED_135_R4)
+        print(f"dense seed 135's R4 from {SEED_135_R4}, {name}: turned "
+              f"{math.degrees(turned):.0f} deg, ends {100 * distance:.1f} cm from the slot, "
+              f"{math.degrees(error):.1f} deg off")
     return 0
 
 

@@ -463,8 +463,9 @@ def test_a_robot_just_past_its_final_slot_turned_away_turns_the_short_way() -> N
     """Dense crowd seed 135's R4 at the show's end, in its final slot's frame: 0.15 m from
     it, just past it and 107 deg from its heading. It turns 36 deg to face the slot, drives
     onto it and turns 143 deg to the heading: never through +-180 deg, 169 deg of turning in
-    all. The posture law went round the long way (249 deg of turning; 176 deg off at the
-    run's limit under the realistic profile's lag)."""
+    all. The posture law went round the long way (256 deg of turning at 10 Hz,
+    benchmarks/eval_parking.py; 176 deg off at the run's limit under the realistic
+    profile's lag)."""
     slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
     start = (0.108, -0.101, 1.872)
     distance, heading = _track(lambda t: slot, start, 30.0)

@@ -625,7 +625,7 @@ def turn_then_drive_step(params: TrackingParams, ex: float, ey: float, heading_e
     slot to none ``approach_tilt`` or more off (plus the force term, steering off what it
     drives past), until :func:`settle_step` turns it to the heading. The posture law
     (:func:`parking_step`) here swung a robot just past its slot and turned 107 deg from
-    its heading round the long way (dense crowd seed 135, R4: 249 deg of turning as an
+    its heading round the long way (dense crowd seed 135, R4: 256 deg of turning as an
     ideal unicycle, 176 deg off at the run's limit under the realistic profile's lag)."""
     forwards = math.atan2(ey, ex)
     backwards = wrap_angle(forwards - math.pi)
