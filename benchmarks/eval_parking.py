@@ -7,7 +7,7 @@ Run: ``.venv/bin/python benchmarks/eval_parking.py [--starts N] [--seed S]``
 Draws N starts (seeded) within ``approach_distance`` of a final slot at the origin facing +x
 (0.07 m to ``approach_distance`` away, in any direction) with the robot's heading more than
 ``approach_heading`` from the slot's, and drives an ideal unicycle by ``tracking_step`` at
-10 Hz for 25 s from each. Prints, per law: the distance from the slot at the end (m: median,
+10 Hz for 25 s from each (the settling flag carried as the brain does). Prints, per law: the distance from the slot at the end (m: median,
 95th percentile, largest; how many end beyond ``settle_distance``), the largest heading error
 at the end (deg), and the turn beyond the start's heading error (summed |dtheta| minus |heading
 error at the start|, deg: median, 95th percentile, largest: a robot that only turns to the
@@ -27,6 +27,7 @@ from dancebots.control.tracking import (
     SlotReference,
     TrackingParams,
     parking_step,
+    settling_on_slot,
     tracking_step,
 )
 from dancebots.geometry import Pose, wrap_angle
@@ -38,7 +39,7 @@ SEED_135_R4 = (0.108, -0.101, 1.872)  # m, m, rad: 0.15 m from its slot, 107 deg
 
 
 def posture_law_step(params: TrackingParams, pose: tuple[float, float, float],
-                     reference: SlotReference) -> tuple[float, float]:
+                     reference: SlotReference, settling: bool = False) -> tuple[float, float]:
     """``tracking_step`` with the posture law where it now turns and drives (the law before)."""
     ex, ey = Pose(*pose).to_local(reference.pose[0], reference.pose[1])
     heading_error = wrap_angle(reference.pose[2] - pose[2])
@@ -53,16 +54,19 @@ def posture_law_step(params: TrackingParams, pose: tuple[float, float, float],
         if abs(angular) * scale > params.max_angular:
             scale = params.max_angular / abs(angular)
         return linear * scale, angular * scale
-    return tracking_step(params, pose, reference)
+    return tracking_step(params, pose, reference, settling=settling)
 
 
 def drive(step, params: TrackingParams, start: tuple[float, float, float],  # type: ignore[no-untyped-def]
           ) -> tuple[float, float, float]:
-    """(distance m, |heading error| rad at the end, turn rad summed) of an ideal unicycle."""
+    """(distance m, |heading error| rad at the end, turn rad summed) of an ideal unicycle
+    (the settling flag carried as the brain does, ``settling_on_slot``)."""
     x, y, theta = start
     turned = 0.0
+    settling = False
     for _ in range(round(SECONDS / TICK)):
-        linear, angular = step(params, (x, y, theta), SLOT)
+        linear, angular = step(params, (x, y, theta), SLOT, settling=settling)
+        settling = settling_on_slot(params, (x, y, theta), SLOT, settling)
         x += linear * math.cos(theta) * TICK
         y += linear * math.sin(theta) * TICK
         theta += angular * TICK

@@ -39,6 +39,7 @@ from dancebots.control.tracking import (
     follower_references,
     place_stand,
     references_from_motion,
+    settling_on_slot,
     stand_ends,
     tracking_step,
 )
@@ -340,7 +341,8 @@ class BrainState:
     (``strangers_seen``), and what they gave (``closing``: that stamp, each bearing sector's
     gap (S,) m, moved to the pose at that cloud, and how fast it closed since the cloud
     before (S,) m/s); the robot's clock (s) at the first tick at which its show time had
-    not advanced (``paused_since``, None while it advances)."""
+    not advanced (``paused_since``, None while it advances); whether it settles on its final
+    slot (``settling``, :func:`control.tracking.settling_on_slot`)."""
 
     follower: FollowerState = field(default_factory=FollowerState)
     safety: SafetyState = field(default_factory=SafetyState)
@@ -362,6 +364,7 @@ class BrainState:
     closing: tuple[float, np.ndarray, np.ndarray] | None = None
     pace: float = 1.0
     paused_since: float | None = None
+    settling: bool = False
 
     @property
     def holding_the_show(self) -> bool:
@@ -673,7 +676,7 @@ class RobotBrain:
         command = STOP
         pace = 1.0
         full_speed = full_angular = 0.0
-        held = holds_show = waiting = False
+        held = holds_show = waiting = settling = False
         near_since: float | None = None  # after the show: since when a stranger is near
         stranger_limit: float | None = None  # m/s: SSM's speed limit for strangers alone
         paused = state.show_time is not None and show_time <= state.show_time + ADVANCE_MIN
@@ -705,7 +708,7 @@ class RobotBrain:
                 if paused and not reference.final:
                     going = tracking_step(self.tracking, pose, replace(
                         reference, paused=True, backwards=way < 0.0) if briefly else reference,
-                        seen.force)
+                        seen.force, state.settling)
                 if paused:  # the shared show clock stopped: the place stands where it is
                     reference = replace(reference, speed=0.0, angular_speed=0.0, paused=True,
                                         backwards=reference.speed < 0.0)
@@ -723,7 +726,8 @@ class RobotBrain:
                     linear, angular = 0.0, 0.0  # near its place it waits where it is
                 else:
                     linear, angular = tracking_step(self.tracking, pose, reference,
-                                                    seen.force)
+                                                    seen.force, state.settling)
+                settling = settling_on_slot(self.tracking, pose, reference, state.settling)
             else:
                 sample = self._sample(show_time)
                 follower, (linear, angular) = thesis_follower_step(
@@ -954,7 +958,8 @@ class RobotBrain:
                                making_room=making_room if may_move and command != STOP
                                else 0.0, stranger_near_since=near_since,
                                waiting=waiting, strangers_seen=strangers_seen,
-                               closing=closing, pace=pace, paused_since=paused_since)
+                               closing=closing, pace=pace, paused_since=paused_since,
+                               settling=settling)
         return new_state, command, events
 
     def _guard_turn(self, columns: np.ndarray, height_step: float,

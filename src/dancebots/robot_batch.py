@@ -196,6 +196,7 @@ class BatchBrains:
         self.event_values = np.zeros(count)
         self.paces = np.ones(count)
         self.paused_since = np.full(count, np.nan)
+        self.settling = np.zeros(count, dtype=bool)
         self.no_rates = np.ones(count)
 
     def references(self, show_times: FloatArray,
@@ -265,7 +266,7 @@ class BatchBrains:
             self.track_count, self.track_stamp, self.cloud_stamp, self.point_velocity,
             self.point_kind, self.point_count,
             self.no_rates if rates is None else np.ascontiguousarray(rates, dtype=np.float64),
-            self.paces, self.paused_since)
+            self.paces, self.paused_since, self.settling)
         status, holding, asking, waiting = self._jit.tick_outputs(self.flags, self.safety)
         events = (tuple((i, self._event(i)) for i in np.flatnonzero(self.events).tolist())
                   if np.count_nonzero(self.events) else ())

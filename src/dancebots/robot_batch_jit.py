@@ -146,10 +146,10 @@ def _paused(gains: FloatArray, max_linear: float, ex: float, ey: float, heading_
 def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: float, py: float,
               ptheta: float, rx: float, ry: float, rtheta: float, speed: float,
               angular_speed: float, final: bool, fy: float, paused: bool,
-              backwards: bool) -> tuple[float, float]:
+              backwards: bool, settling: bool) -> tuple[float, float]:
     """``control.tracking.tracking_step`` of the robot at (px, py, ptheta) tracking the
     reference (rx, ry, rtheta, speed, angular_speed, final, paused, backwards), sideways
-    force ``fy``."""
+    force ``fy``, settling on its final slot where ``settling``."""
     dx, dy = rx - px, ry - py  # ``Pose.to_local``
     c, s = math.cos(ptheta), math.sin(ptheta)
     ex, ey = c * dx + s * dy, -s * dx + c * dy
@@ -208,6 +208,9 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
                 return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear,
                                  top)
             return 0.0, 0.0
+        if settling and distance <= gains[FACE_DISTANCE]:  # it goes on settling
+            settle_linear, settle_angular = _settle(gains, ex, heading_error)
+            return _saturate(settle_linear, settle_angular, max_linear, top)
         # ``control.tracking.turn_then_drive_step``
         forwards = math.atan2(ey, ex)
         back = _wrap(forwards - math.pi)
@@ -230,6 +233,23 @@ def _tracking(gains: FloatArray, max_linear: float, max_angular: float, px: floa
     if abs(heading_error) > gains[HEADING_TOLERANCE]:
         return _saturate(0.0, gains[TURN_GAIN] * heading_error, max_linear, top)
     return 0.0, 0.0
+
+
+@njit(cache=True)
+def _settling_on_slot(gains: FloatArray, px: float, py: float, ptheta: float, rx: float,
+                      ry: float, speed: float, angular_speed: float, final: bool,
+                      settling: bool) -> bool:
+    """``control.tracking.settling_on_slot`` of the robot at (px, py, ptheta) whose
+    reference is (rx, ry, speed, angular_speed, final), ``settling`` at the tick before."""
+    if not final or abs(speed) > 1e-9 or abs(angular_speed) > 1e-9:
+        return False
+    dx, dy = rx - px, ry - py  # ``Pose.to_local``
+    c, s = math.cos(ptheta), math.sin(ptheta)
+    ex, ey = c * dx + s * dy, -s * dx + c * dy
+    distance = math.sqrt(ex * ex + ey * ey)
+    if distance <= gains[SETTLE_DISTANCE]:
+        return True
+    return settling and distance <= gains[FACE_DISTANCE]
 
 
 @njit(cache=True)
@@ -635,7 +655,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 track_count: NDArray[np.int64], track_stamp: FloatArray,
                 cloud_stamp: FloatArray, point_velocity: FloatArray,
                 point_kind: NDArray[np.int8], point_count: NDArray[np.int64],
-                rates: FloatArray, paces: FloatArray, paused_since: FloatArray) -> None:
+                rates: FloatArray, paces: FloatArray, paused_since: FloatArray,
+                settling: NDArray[np.bool_]) -> None:
     """One control tick of every robot (``RobotBrain.step``), in place.
 
     Per tick: now (s, the robots' clock); show_times (R,) s; poses (R, 3) own map frame,
@@ -670,7 +691,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
     since its last tick; out: paces (R,), the share of the plan's speeds each can follow
     (``robot._pace_left``; 1 without it).
     State, updated: paused_since (R,) each robot's clock at the first tick at which its show
-    time had not advanced (NaN: it advances).
+    time had not advanced (NaN: it advances); settling (R,) whether each settles on its final
+    slot (``control.tracking.settling_on_slot``).
     """
     count = poses.shape[0]
     capacity = history.shape[1]
@@ -749,6 +771,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
         elif math.isnan(paused_since[r]):
             paused_since[r] = now
         stood_for = 0.0 if math.isnan(paused_since[r]) else now - paused_since[r]
+        was_settling = settling[r]  # (its last tick's; none where it does not track)
+        settling[r] = False
         if known and show_time >= 0.0:
             view = seen_from[r] if has_seen_from[r] else pose
             mates_now = mates[r]
@@ -775,7 +799,8 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 go_linear, go_angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy, stands_briefly, references[r, 5] < 0.0)
+                    angular_speed, finals[r], fy, stands_briefly, references[r, 5] < 0.0,
+                    was_settling)
             backwards = speed < 0.0  # (the slot's way when the clock stood)
             standing_briefly = False  # (as if the clock stood: ``RobotBrain.step``)
             if paused:
@@ -795,7 +820,11 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                 linear, angular = _tracking(
                     gains, limits[r, 0], limits[r, 1], pose[0], pose[1], pose[2],
                     references[r, 0], references[r, 1], references[r, 2], speed,
-                    angular_speed, finals[r], fy, paused or standing_briefly, backwards)
+                    angular_speed, finals[r], fy, paused or standing_briefly, backwards,
+                    was_settling)
+            settling[r] = _settling_on_slot(gains, pose[0], pose[1], pose[2],
+                                            references[r, 0], references[r, 1], speed,
+                                            angular_speed, finals[r], was_settling)
             wanted_linear, wanted_angular = linear, angular
             if not going:
                 go_linear, go_angular = linear, angular

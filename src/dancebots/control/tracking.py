@@ -55,7 +55,7 @@ __all__ = ["BRIEF_STAND", "FACING_AWAY_COST", "FOR_GOOD", "REFERENCE_TURN", "TUR
            "SlotReference", "TrackingParams", "approach_step", "choose_folds", "fold_reference",
            "follower_places", "follower_references", "parking_step", "path_places",
            "path_references", "paused_step", "place_stand", "references_from_motion",
-           "settle_step", "shared_pose_references", "slot_reference", "slot_references",
+           "settle_step", "settling_on_slot", "shared_pose_references", "slot_reference", "slot_references",
            "stand_ends", "tracking_step", "turn_onto_slot", "turn_share",
            "turn_then_drive_step"]
 
@@ -477,9 +477,33 @@ def parking_step(params: TrackingParams, distance: float, bearing: float,
     return (-linear if backwards else linear), angular
 
 
+def settling_on_slot(params: TrackingParams, pose: tuple[float, float, float],
+                     reference: SlotReference, settling: bool) -> bool:
+    """Whether the robot at ``pose`` (x, y, theta, own map frame) settles on its final slot
+    ``reference`` from this tick on, ``settling`` its value at the tick before (a
+    hysteresis in space, an addition): it starts within ``settle_distance`` of a final slot
+    that stands and lasts until the robot is beyond ``face_distance`` (or the slot is no
+    longer final). While it lasts, :func:`tracking_step` turns a robot turned beyond
+    ``approach_heading`` to the heading where it stands (:func:`settle_step`) instead of
+    facing the slot again: a robot that drove onto its slot still turned away reaches
+    ``settle_distance`` far off its heading, and as it turns there on the spot its centre
+    moves a centimetre or two (a skid-steer robot's does) across ``settle_distance``, where
+    without it it turned back to face the slot, and again (400 starts with the centre moved
+    2 mm a tick, ``benchmarks/eval_parking_noise.py``: 45 runs reversed their turn twice or
+    more, 5 times at most; with it 3, at most 3)."""
+    if not reference.final or reference.moving:
+        return False
+    ex, ey = Pose(*pose).to_local(reference.pose[0], reference.pose[1])
+    distance = math.sqrt(ex * ex + ey * ey)  # (as tracking_step's)
+    if distance <= params.settle_distance:
+        return True
+    return settling and distance <= params.face_distance
+
+
 def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
                   reference: SlotReference,
-                  force: tuple[float, float] = (0.0, 0.0)) -> tuple[float, float]:
+                  force: tuple[float, float] = (0.0, 0.0),
+                  settling: bool = False) -> tuple[float, float]:
     """One control tick: the robot at ``pose`` (x, y, theta, own map frame) tracks
     ``reference``; ``force`` is the virtual repulsive force (Fx, Fy) in ``base_link``.
     Returns (linear m/s, angular rad/s), within the limits.
@@ -496,7 +520,9 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     a slot that stands so, final or not, turn to its heading and close
     the distance along it (:func:`settle_step`; driven onto, a place that stood 4 cm behind
     and beside R2 at the open-day show's end turned it 50 deg and back). Within
-    ``arrival_distance``: only turn to its heading.
+    ``arrival_distance``: only turn to its heading. ``settling``
+    (:func:`settling_on_slot`, the brain's state): turned beyond ``approach_heading``
+    within ``face_distance`` of its final slot, it settles as within ``settle_distance``.
     """
     ex, ey = Pose(*pose).to_local(reference.pose[0], reference.pose[1])
     heading_error = wrap_angle(reference.pose[2] - pose[2])
@@ -542,6 +568,10 @@ def tracking_step(params: TrackingParams, pose: tuple[float, float, float],
     if params.arrival_distance < distance <= params.approach_distance:
         if math.cos(heading_error) > math.cos(params.approach_heading):
             return _saturate(*approach_step(params, ex, ey, heading_error, fy), params, top)
+        if settling and distance <= params.face_distance:
+            # it came within settle_distance and its turn there moved it a little out: it
+            # goes on settling rather than face the slot again (settling_on_slot)
+            return _saturate(*settle_step(params, ex, heading_error), params, top)
         linear, angular = turn_then_drive_step(params, ex, ey, heading_error, fy)
         if linear == 0.0 and distance <= params.face_distance:
             # near it and not driving onto it: it settles (turns to the heading) as within
