@@ -7,11 +7,12 @@ Run: ``.venv/bin/python benchmarks/eval_parking.py [--starts N] [--seed S]``
 Draws N starts (seeded) within ``approach_distance`` of a final slot at the origin facing +x
 (0.07 m to ``approach_distance`` away, in any direction) with the robot's heading more than
 ``approach_heading`` from the slot's, and drives an ideal unicycle by ``tracking_step`` at
-10 Hz for 25 s from each (the settling flag carried as the brain does). Prints, per law: the distance from the slot at the end (m: median,
-95th percentile, largest; how many end beyond ``settle_distance``), the largest heading error
-at the end (deg), and the turn beyond the start's heading error (summed |dtheta| minus |heading
-error at the start|, deg: median, 95th percentile, largest: a robot that only turns to the
-heading scores 0, one that swings out and back twice the swing). "posture law" is
+10 Hz for 25 s from each (the settling flag carried as the brain does). Prints, per law:
+the distance from the slot at the end (m: median, 95th percentile, largest; how many end
+beyond ``settle_distance``), the largest heading error at the end (deg), and the turn
+beyond the start's heading error (summed |dtheta| minus |heading error at the start|, deg:
+median, 95th percentile, largest: a robot that only turns to the heading scores 0, one that
+swings out and back twice the swing). "posture law" is
 ``parking_step`` (Aicardi et al. 1995; reverse where the slot is behind the robot) where
 ``turn_then_drive_step`` now drives, the law before 2026-11-29.
 """

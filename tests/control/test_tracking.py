@@ -449,7 +449,8 @@ def test_a_settling_robot_facing_its_slot_a_little_out_settles_instead_of_drivin
     settling = tracking_step(PARAMS, pose, slot, settling=True)
     ex, ey = 0.08 * math.cos(bearing), 0.08 * math.sin(bearing)
     assert driving == pytest.approx(turn_then_drive_step(PARAMS, ex, ey, -theta, 0.0))
-    assert driving[0] > 0.0 and driving[1] > 0.0  # onto it, turning left towards it
+    assert driving[0] > 0.0  # onto it,
+    assert driving[1] > 0.0  # turning left towards it
     assert settling[1] == pytest.approx(-PARAMS.parking_turn_rate)  # right, to the heading
     linear, angular = settle_step(PARAMS, ex, -theta)
     scale = PARAMS.parking_turn_rate / abs(angular)  # (it asks more than that)

@@ -55,8 +55,8 @@ __all__ = ["BRIEF_STAND", "FACING_AWAY_COST", "FOR_GOOD", "REFERENCE_TURN", "TUR
            "SlotReference", "TrackingParams", "approach_step", "choose_folds", "fold_reference",
            "follower_places", "follower_references", "parking_step", "path_places",
            "path_references", "paused_step", "place_stand", "references_from_motion",
-           "settle_step", "settling_on_slot", "shared_pose_references", "slot_reference", "slot_references",
-           "stand_ends", "tracking_step", "turn_onto_slot", "turn_share",
+           "settle_step", "settling_on_slot", "shared_pose_references", "slot_reference",
+           "slot_references", "stand_ends", "tracking_step", "turn_onto_slot", "turn_share",
            "turn_then_drive_step"]
 
 FloatArray = NDArray[np.float64]
