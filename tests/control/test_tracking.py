@@ -462,7 +462,7 @@ def test_a_robot_parking_with_its_centre_jittered_reverses_its_turn_at_most_once
     the brain does (the settling flag carried from tick to tick) with the centre moved 2 mm
     a tick (seeded) whenever it turns on the spot: none reverses its turn more than once
     while more than 30 deg off its heading (once: it faces the slot, drives on, turns to the
-    heading), and each ends within face_distance, on its heading. Without the flag 4 of
+    heading), and each ends within face_distance, on its heading. Without the flag 5 of
     these runs reverse two to three times at settle_distance (``benchmarks/
     eval_parking_noise.py`` counts 45 of 400 there)."""
     slot = SlotReference((0.0, 0.0, 0.0), 0.0, 0.0, final=True)
