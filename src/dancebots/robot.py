@@ -773,7 +773,7 @@ class RobotBrain:
                 predicted = self._predicted_gaps(
                     obstacles, height_step, seen_from or pose, pose, point_velocity,
                     point_kind, now - (cloud_stamp if cloud_stamp is not None else now),
-                    show_time, mates_heard, abs(go_linear) / sensing.ssm.deceleration)
+                    show_time, mates_heard)
             # the nearest point that is no mate's body where every mate should be or said it
             # is (a stranger beside a mate, within its place's wider disc: MATE_BODY_MARGIN);
             # never farther than the strangers' nearest
@@ -1076,14 +1076,11 @@ class RobotBrain:
                         seen_from: tuple[float, float, float],
                         pose: tuple[float, float, float], velocity: np.ndarray,
                         kind: np.ndarray, age: float, show_time: float,
-                        mates_heard: np.ndarray | None = None,
-                        braking: float = 0.0) -> tuple[float, float, float]:
+                        mates_heard: np.ndarray | None = None) -> tuple[float, float, float]:
         """The ``predicted`` stop rule: the points of tracked moving strangers (``kind``
         TRACKED, ``velocity`` (N, 2) in the own map frame, of the cloud's columns seen from
-        ``seen_from``) moved on at their velocity for ``age`` s, for ``age`` +
-        :data:`PREDICTED_STOP_TIME` s and for that and ``braking`` s (the time the robot
-        brakes until it stands, v / a: the person's way while the robot stops, ISO/TS
-        15066's v_h T_s), and how far (m) the nearest
+        ``seen_from``) moved on at their velocity for ``age`` s and for ``age`` +
+        :data:`PREDICTED_STOP_TIME` s, and how far (m) the nearest
         of them is ahead and behind in the corridor the robot sweeps
         (``perception.obstacles.clear_distances``) and from its footprint
         (``footprint_clearance``); inf where none. A stranger: no point within
@@ -1103,11 +1100,9 @@ class RobotBrain:
             moving &= ~near_any(points, local, self.mate_radius)  # (base_link now)
         if not moving.any():
             return math.inf, math.inf, math.inf
-        ahead = np.concatenate([  # now, by the time a stop took effect, and it stands
+        ahead = np.concatenate([  # now, and by the time a stop took effect
             predicted_points(points, velocity, moving, pose[2], age),
-            predicted_points(points, velocity, moving, pose[2], age + PREDICTED_STOP_TIME),
-            predicted_points(points, velocity, moving, pose[2],
-                             age + PREDICTED_STOP_TIME + braking)])
+            predicted_points(points, velocity, moving, pose[2], age + PREDICTED_STOP_TIME)])
         ahead = ahead[np.isfinite(ahead).all(axis=1)]  # (as the kernel's min skips NaN)
         front, rear = clear_distances(ahead, self.sensing.length, self.sensing.width,
                                       self.sensing.detection)

@@ -431,13 +431,11 @@ def _predicted_gaps(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
                     width: float, detect: FloatArray, mates: FloatArray,
                     heard: FloatArray, use_heard: bool, robot: int,
                     frame_cos_sin: FloatArray, own_frame: FloatArray,
-                    mate_radius: float, stop_time: float,
-                    braking: float) -> tuple[float, float, float]:
+                    mate_radius: float, stop_time: float) -> tuple[float, float, float]:
     """``RobotBrain._predicted_gaps`` on the points (N, 2) of the latest cloud in
     ``base_link`` at ``pose`` now (the tracker's kinds (N,) and velocities (N, 2), own map
     frame; none when their counts differ: tracks of an older cloud): the tracked
-    strangers' points moved on for ``age`` s, for ``age`` + ``stop_time`` s and for that
-    and ``braking`` s (until the robot stands), and how far
+    strangers' points moved on for ``age`` s and for ``age`` + ``stop_time`` s, and how far
     (m) the nearest is ahead and behind in the corridor and from the footprint (inf: none);
     strangers are more than
     ``mate_radius`` from every mate's place ``mates`` (M, 2) and, where ``use_heard``, from
@@ -475,10 +473,9 @@ def _predicted_gaps(points: FloatArray, velocity: FloatArray, kind: NDArray[np.i
         if near:
             continue
         # ``predicted_points``: moved on at its velocity, in ``base_link``, for the data's
-        # age, for that and the robot's stopping time, and for its braking too
+        # age and for that and the robot's stopping time
         vx, vy = velocity[i, 0], velocity[i, 1]
-        for span in (max(age, 0.0), max(age + stop_time, 0.0),
-                     max(age + stop_time + braking, 0.0)):
+        for span in (max(age, 0.0), max(age + stop_time, 0.0)):
             x = px + (vx * c + vy * s) * span
             y = py + (vx * -s + vy * c) * span
             if abs(y) <= 0.5 * width + detect[CORRIDOR_MARGIN]:  # ``clear_distances``
@@ -869,8 +866,7 @@ def brains_tick(now: float, show_times: FloatArray, poses: FloatArray,
                     point_velocity[r, :point_count[r]], point_kind[r, :point_count[r]], pose,
                     now - (cloud_stamp[r] if not math.isnan(cloud_stamp[r]) else now),
                     length, width, detect, mates_now, heard, use_heard, r,
-                    frame_cos_sin[r], own_frames[r], mate_radius[r], rules[PREDICTED_STOP_TIME],
-                    abs(go_linear) / rules[SSM_DECELERATION])
+                    frame_cos_sin[r], own_frames[r], mate_radius[r], rules[PREDICTED_STOP_TIME])
             # ``RobotBrain.step``'s body_nearest: no mate's body where every mate said it is
             sweep_reach = (0.5 * math.hypot(length, width) - 0.5 * min(length, width))
             b_nearest = n_nearest
