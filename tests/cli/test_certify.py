@@ -344,3 +344,47 @@ def test_the_certificate_tells_contacts_of_a_robot_moving_away_apart() -> None:
     assert _failures(cert)[0] == (
         "3 contacts of a moving robot with a person in 2 of 3 runs (seeds 0, 2); in 1 of them "
         "it moved away from the person or slid past")
+
+
+def test_the_certificate_tells_contacts_with_a_runner_apart() -> None:
+    """A contact in which the person had run at the robot faster than the 1.6 m/s the stop
+    rules assume (``metrics.json`` ``person_approach_mps``, their run-up) still counts against
+    the certificate, and is told apart for the reader: the thesis's fixed distance driving
+    at a visitor running head-on at 2.5 m/s, and at one walking at 1.0 m/s."""
+    from dataclasses import replace
+
+    from dancebots.cli.certify import _failures
+    from dancebots.plan.placement import place_show
+    from dancebots.report.certify import summarise
+    from dancebots.report.metrics import run_metrics
+    from dancebots.robot import BrainOptions
+    from dancebots.shows.formation import SimConfig, simulate
+    from dancebots.sim import REALISTIC, prepare_show
+    from dancebots.sim.spectators import Spectator
+    from tests_support import plan_of
+
+    plan = plan_of("robots R1\nrow R1 0 0\nmove 6 0\n")
+    arena, placement = prepare_show(place_show(plan))
+    x, y, theta = (float(v) for v in placement.starts[0])
+    ahead = np.array([np.cos(theta), np.sin(theta)])
+    summaries = []
+    for seed, speed in enumerate((2.5, 1.0)):
+        person = Spectator("visitor", 0.25, 1.7, speed, np.array(
+            [[x, y] + 5.0 * ahead, [x, y] - 3.0 * ahead]), np.zeros(2), False, 1.0, 0)
+        result = simulate(plan, replace(arena, spectators=(person,)), placement,
+                          SimConfig(profile=REALISTIC, brain=BrainOptions(
+                              follower="path", stop_rule="fixed")))
+        metrics = run_metrics(result)
+        first = metrics.collision_events[0]
+        assert first["person_approach_mps"] == pytest.approx(speed, abs=0.05)
+        summaries.append(summarise(seed, metrics, (), 1.0))
+    runner, walker = summaries
+    assert runner.contacts_moving_runners >= 1  # (the first at least)
+    assert walker.contacts_moving >= 1
+    assert walker.contacts_moving_runners == 0
+    cert = certificate(CertifyJob("show.dance", "world.toml"), summaries, 1.0, 1)
+    assert not cert.passed
+    assert cert.to_json()["contacts_moving_runners"] == runner.contacts_moving_runners
+    assert (f"; in {runner.contacts_moving_runners} of them the person ran at the robot "
+            "faster than 1.6 m/s (the walking speed the stop rules assume)"
+            ) in _failures(cert)[0]

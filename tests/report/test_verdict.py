@@ -50,6 +50,18 @@ def test_every_failure_is_named() -> None:
     )
 
 
+def test_a_contact_with_a_person_says_how_fast_both_came() -> None:
+    """With the robot's closing speed and the person's run-up recorded (``metrics.json``
+    ``robot_closing_mps``, ``person_approach_mps``), the contact's line says both: a child
+    running at 2.5 m/s, beyond the 1.6 m/s the stop rules assume, reads so."""
+    event = {**contact("spectator", "kid 8", 1.3), "robot_closing_mps": 0.114,
+             "person_approach_mps": 2.46}
+    verdict = run_verdict(metrics((robot("R1"),), (event,)))
+    assert verdict.failures == (
+        "1 contact with a person (first: R1 with kid 8 at t = 1.3 s: the robot closing at "
+        "0.11 m/s, the person at 2.46 m/s)",)
+
+
 def test_the_final_tolerance_is_a_parameter() -> None:
     assert run_verdict(metrics((robot("R1", final=0.7),)), final_tolerance=1.0).clean
     assert not run_verdict(metrics((robot("R1", final=0.7),)), final_tolerance=0.6).clean

@@ -199,6 +199,31 @@ def test_a_robot_touching_a_person_is_left_to_the_numpy_steps() -> None:
     assert fast.pose.tobytes() == slow.pose.tobytes()
 
 
+@pytest.mark.parametrize("speed", [0.0, 1.0, 2.5])
+def test_a_contact_says_how_fast_the_person_came_at_the_robot(speed: float) -> None:
+    """A robot driving at 0.5 m/s into a visitor walking at it at ``speed`` m/s (or standing
+    there): the contact's ``approach`` is the visitor's run-up (their fastest step at the
+    robot in the last APPROACH_SPAN s: they stand rather than step into it), and its
+    ``closing`` the robot's 0.5 m/s."""
+    from dancebots.world.model import Spectator
+
+    far = 1.2 + 4.0 * speed
+    visitor = Spectator("visitor", 0.25, 1.7, max(speed, 0.1),
+                        np.array([[far, 0.0], [-5.0, 0.0]] if speed else [[far, 0.0]]),
+                        np.zeros(2 if speed else 1), False, 0.0, 1)
+    placement = Placement(("R0",), (BUILTIN_ROBOT_TYPES["SIM"],), np.zeros((1, 3)),
+                          Pose(0.0, 0.0, 0.0))
+    stage = Stage(Arena(ROOM, 1.0, (), None, (visitor,)), placement, IDEAL, 0.1, None)
+    for k in range(60):
+        stage.advance(0.1 * k, np.array([[0.5, 0.0]]), np.full(1, 0.1 * k))
+        if stage.collisions:
+            break
+    (contact,) = stage.collisions
+    assert contact.kind == "spectator"
+    assert contact.closing == pytest.approx(0.5)
+    assert contact.approach == pytest.approx(speed)
+
+
 def test_numbers_that_are_not_finite_take_the_numpy_steps() -> None:
     """A command that is not a number: the free step declines, the NumPy steps decide."""
     from dancebots.sim.stage_jit import free_step

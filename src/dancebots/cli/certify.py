@@ -270,6 +270,7 @@ def _outcome(job: CertifyJob, summaries: list[RunSummary], wall: float, processe
 
 
 def _failures(cert: Certificate) -> tuple[str, ...]:
+    from dancebots.report.certify import RUNNING_SPEED
     from dancebots.report.metrics import PERSON_NEAR
     from dancebots.report.verdict import STALL_CAUSES, STALL_TOLERANCE
 
@@ -278,6 +279,10 @@ def _failures(cert: Certificate) -> tuple[str, ...]:
         runs = [r.seed for r in cert.runs if r.contacts_moving]
         away = (f"; in {cert.contacts_moving_away} of them it moved away from the person or "
                 "slid past" if cert.contacts_moving_away else "")
+        if cert.contacts_moving_runners:
+            away += (f"; in {cert.contacts_moving_runners} of them the person ran at the "
+                     f"robot faster than {RUNNING_SPEED:g} m/s (the walking speed the stop "
+                     "rules assume)")
         lines.append(f"{cert.contacts_moving} contacts of a moving robot with a person in "
                      f"{len(runs)} of {len(cert.runs)} runs (seeds {_seeds(runs)}){away}")
     if cert.robot_contacts:

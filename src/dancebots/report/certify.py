@@ -23,13 +23,18 @@ if TYPE_CHECKING:
     from dancebots.shows.formation import RunResult
     from dancebots.sim.setup import Arena, Placement
 
-__all__ = ["PEOPLE_KEPT_WAITING", "Certificate", "CertifyJob", "RunSummary", "certificate",
-           "job_has_crowds", "load_job", "run_seed", "simulate_seed", "summarise"]
+__all__ = ["PEOPLE_KEPT_WAITING", "RUNNING_SPEED", "Certificate", "CertifyJob", "RunSummary",
+           "certificate", "job_has_crowds", "load_job", "run_seed", "simulate_seed",
+           "summarise"]
 
 PEOPLE_KEPT_WAITING = 0.9
 """The share of the stood clock with a person near that says people, not the show, kept the
 unfinished shows waiting (``Certificate.people_kept_waiting``: the certificate then says to
 give the show room)."""
+RUNNING_SPEED = 1.6
+"""m/s: the walking speed ISO 13855 (and ``perception.ssm.SsmParams.walking_speed``) takes a
+person to approach at; a contact whose person came at the robot faster (a child running) is
+told apart in a certificate (``RunSummary.contacts_moving_runners``)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,7 +84,9 @@ class RunSummary:
     contacts_moving, those in which the robot's footprint moved away from the person or
     slid past (its speed towards them, ``CollisionEvent.closing``, 0 or less: ISO/TS 15066
     counts the speed towards the person), told apart for the reader, still counted as the
-    robot's (``report.metrics.RunMetrics``).
+    robot's (``report.metrics.RunMetrics``); contacts_moving_runners: of contacts_moving,
+    those in which the person had come at the robot faster than :data:`RUNNING_SPEED` (their
+    run-up, ``CollisionEvent.approach``), also still the robot's.
     """
 
     seed: int
@@ -104,6 +111,7 @@ class RunSummary:
     max_excess_turn: float = 0.0
     show_reached: float = 1.0
     contacts_moving_away: int = 0
+    contacts_moving_runners: int = 0
 
     @property
     def clock_stood_otherwise(self) -> float:
@@ -203,7 +211,15 @@ def summarise(seed: int, metrics: RunMetrics, failures: Sequence[str],
         metrics.clock_stood_for_people, metrics.angular_sign_flips, metrics.reverse_fraction,
         metrics.clock_brief_runs, metrics.max_excess_turn, metrics.show_reached,
         sum(1 for e in people if e.get("robot_moving", True)
-            and _away(e.get("robot_closing_mps"))))
+            and _away(e.get("robot_closing_mps"))),
+        sum(1 for e in people if e.get("robot_moving", True)
+            and _running(e.get("person_approach_mps"))))
+
+
+def _running(approach: object) -> bool:
+    """Whether a contact's person came at the robot faster than :data:`RUNNING_SPEED` (m/s,
+    None: not measured)."""
+    return isinstance(approach, (int, float)) and approach > RUNNING_SPEED
 
 
 def _away(closing: object) -> bool:
@@ -232,6 +248,10 @@ class Certificate:
     @property
     def contacts_moving_away(self) -> int:
         return sum(r.contacts_moving_away for r in self.runs)
+
+    @property
+    def contacts_moving_runners(self) -> int:
+        return sum(r.contacts_moving_runners for r in self.runs)
 
     @property
     def contacts_standing(self) -> int:
@@ -289,6 +309,7 @@ class Certificate:
             "contacts_moving": self.contacts_moving,
             "runs_with_contacts_moving": sum(1 for r in self.runs if r.contacts_moving),
             "contacts_moving_away": self.contacts_moving_away,
+            "contacts_moving_runners": self.contacts_moving_runners,
             "contacts_standing": self.contacts_standing,
             "robot_contacts": self.robot_contacts,
             "runs_not_clean": sum(1 for r in self.runs if not r.clean),

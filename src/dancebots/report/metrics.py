@@ -422,7 +422,8 @@ def run_metrics(result: RunResult) -> RunMetrics:
         float(result.times[-1]), robots, tuple(_rows(result)), len(result.collisions),
         tuple({"t_s": c.time, "robot": c.robot, "with": c.other, "kind": c.kind,
                "x_m": round(c.x, 3), "y_m": round(c.y, 3), "robot_moving": c.moving,
-               "robot_closing_mps": None if c.closing is None else round(c.closing, 3)}
+               "robot_closing_mps": None if c.closing is None else round(c.closing, 3),
+               "person_approach_mps": None if c.approach is None else round(c.approach, 3)}
               for c in result.collisions),
         result.min_clearance,
         tuple({"t_s": e.time, "robot": e.robot, "kind": e.kind, "text": e.text}

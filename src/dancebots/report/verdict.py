@@ -77,9 +77,14 @@ def _contacts(events: Sequence[dict[str, object]]) -> list[str]:
         found = [e for e in events if e.get("kind") == kind]
         if found:
             first = found[0]
+            speeds = ""
+            robot, person = first.get("robot_closing_mps"), first.get("person_approach_mps")
+            if isinstance(robot, (int, float)) and isinstance(person, (int, float)):
+                speeds = (f": the robot closing at {robot:.2f} m/s, the person at "
+                          f"{person:.2f} m/s")
             failures.append(f"{len(found)} {one if len(found) == 1 else many} (first: "
                             f"{first['robot']} with {first['with']} at t = "
-                            f"{float(str(first['t_s'])):.1f} s)")
+                            f"{float(str(first['t_s'])):.1f} s{speeds})")
     return failures
 
 
