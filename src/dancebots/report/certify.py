@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from dancebots.perception.ssm import SsmParams
+
 if TYPE_CHECKING:
     from dancebots.loading import LoadedShow
     from dancebots.plan.planner import Plan
@@ -31,10 +33,11 @@ PEOPLE_KEPT_WAITING = 0.9
 """The share of the stood clock with a person near that says people, not the show, kept the
 unfinished shows waiting (``Certificate.people_kept_waiting``: the certificate then says to
 give the show room)."""
-RUNNING_SPEED = 1.6
-"""m/s: the walking speed ISO 13855 (and ``perception.ssm.SsmParams.walking_speed``) takes a
-person to approach at; a contact whose person came at the robot faster (a child running) is
-told apart in a certificate (``RunSummary.contacts_moving_runners``)."""
+RUNNING_SPEED = SsmParams().walking_speed
+"""m/s: the walking speed ISO 13855 takes a person to approach at, SSM's
+(``perception.ssm.SsmParams.walking_speed``, 1.6); a contact whose person came at the robot
+faster (a child running) is told apart in a certificate
+(``RunSummary.contacts_moving_runners``)."""
 
 
 @dataclass(frozen=True, slots=True)
